@@ -1,0 +1,71 @@
+// Character: the editable, in-memory form of one imported glTF character (node hierarchy,
+// skeleton, skinned mesh, animation clips as keyframes). Every bake reads one of these.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+#include <glm/gtc/quaternion.hpp>
+
+namespace crowd {
+
+struct Node {
+  std::string name;
+  int parent = -1;
+  // Rest transform: TRS, or a matrix when the glTF node gives one (never animated then).
+  glm::dvec3 translation{0.0};
+  glm::dquat rotation{1.0, 0.0, 0.0, 0.0};
+  glm::dvec3 scale{1.0};
+  bool hasMatrix = false;
+  glm::dmat4 matrix{1.0};
+};
+
+enum class Interpolation { Linear, Step, CubicSpline };
+enum class ChannelPath { Translation, Rotation, Scale };
+
+struct Channel {
+  int node = 0;
+  ChannelPath path = ChannelPath::Translation;
+  Interpolation interpolation = Interpolation::Linear;
+  std::vector<double> times; // strictly increasing
+  // Components per key: 3 (T, S) or 4 (R, xyzw); CUBICSPLINE stores in-tangent, value,
+  // out-tangent per key, as glTF does.
+  std::vector<double> values;
+};
+
+struct AnimationClip {
+  std::string name;
+  double start = 0, end = 0; // seconds: the clip's key time range
+  std::vector<Channel> channels;
+};
+
+struct SkinnedMesh {
+  std::vector<glm::vec3> positions; // bind pose (model space)
+  std::vector<glm::vec3> normals;
+  std::vector<glm::vec2> uvs; // empty when the source has none
+  std::vector<std::array<uint16_t, 4>> joints;
+  std::vector<glm::vec4> weights; // sum to 1
+  std::vector<uint32_t> indices;
+  struct Part {
+    std::string name;
+    uint32_t firstIndex = 0, indexCount = 0;
+  };
+  std::vector<Part> parts;
+  size_t vertexCount() const { return positions.size(); }
+};
+
+struct Character {
+  std::vector<Node> nodes;
+  std::vector<int> nodeOrder;          // parents before children
+  std::vector<int> jointNodes;         // node index of each joint
+  std::vector<glm::dmat4> inverseBind; // per joint
+  SkinnedMesh mesh;
+  std::vector<AnimationClip> clips;
+
+  size_t jointCount() const { return jointNodes.size(); }
+  std::string jointName(size_t j) const { return nodes[size_t(jointNodes[j])].name; }
+};
+
+} // namespace crowd

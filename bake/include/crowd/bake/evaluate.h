@@ -1,0 +1,20 @@
+// Exact evaluation of a Character's glTF animation at any time (no resampling) and the
+// reference CPU skinning every accuracy figure is measured against. All in double precision.
+#pragma once
+#include <vector>
+
+#include "crowd/bake/character.h"
+
+namespace crowd {
+
+// Global transform of every node at time t of `clip` (null: the rest pose).
+std::vector<glm::dmat4> nodeGlobals(const Character &c, const AnimationClip *clip, double t);
+// Joint matrices (global joint transform x inverse bind) at time t.
+std::vector<glm::dmat4> jointMatrices(const Character &c, const AnimationClip *clip, double t);
+// Skinned vertex positions for the given joint matrices.
+std::vector<glm::dvec3> skinPositions(const Character &c, const std::vector<glm::dmat4> &joints);
+
+// Diagonal of the bounding box of the rest-pose skinned mesh: the unit of relative errors.
+double restDiagonal(const Character &c);
+
+} // namespace crowd

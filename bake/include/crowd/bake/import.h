@@ -1,0 +1,20 @@
+// glTF 2.0 import (tinygltf): .glb/.gltf with external or data-URI buffers into a Character.
+// Bad input throws crowd::Error naming file and place; repairable oddities are fixed and
+// reported through the Reporter with counts.
+#pragma once
+#include <string>
+
+#include "crowd/bake/character.h"
+#include "crowd/bake/report.h"
+
+namespace crowd {
+
+struct ImportOptions {
+  // Mesh to bake, by name. Empty: every mesh bound to the largest skin, merged, plus meshes
+  // rigidly parented to its joints (or, without skins, every mesh as a rigid part).
+  std::string mesh;
+};
+
+Character importGltf(const std::string &path, const ImportOptions &options, Reporter &reporter);
+
+} // namespace crowd

@@ -1,0 +1,285 @@
+#include "crowd/bake/anim_bake.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "crowd/bake/evaluate.h"
+#include "crowd/bake/parallel.h"
+#include "crowd/formats/error.h"
+#include "crowd/runtime/texture_skinning.h"
+
+namespace crowd {
+
+const std::vector<Precision> &precisions() {
+  using E = pack::JointEncoding;
+  using F = pack::TexelFormat;
+  static const std::vector<Precision> all = {{"float", E::Matrix3x4, F::RGBA32F},
+                                             {"half", E::Matrix3x4, F::RGBA16F},
+                                             {"qts", E::QuatTransScale, F::RGBA32F},
+                                             {"qts-half", E::QuatTransScale, F::RGBA16F}};
+  return all;
+}
+
+const Precision &precisionByName(const std::string &name) {
+  for (const auto &p : precisions())
+    if (p.name == name)
+      return p;
+  throw Error("unknown precision '" + name + "' (float, half, qts, qts-half)");
+}
+
+namespace {
+
+struct ClipFrames {
+  const AnimationClip *clip; // null: rest pose
+  std::string name;
+  double start, step; // frame i sits at start + i * step
+  uint32_t count;
+  double fps;
+};
+
+// Texels of one joint: 3 matrix rows, or quaternion + (translation, uniform scale).
+void encodeJoint(const glm::dmat4 &m, pack::JointEncoding enc, float *out) {
+  if (enc == pack::JointEncoding::Matrix3x4) {
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 4; ++c)
+        out[r * 4 + c] = float(m[c][r]);
+    return;
+  }
+  glm::dmat3 a(m);
+  double s = std::cbrt(glm::determinant(a));
+  if (s == 0)
+    s = 1e-30;
+  glm::dquat q = glm::normalize(glm::quat_cast(a / s));
+  if (q.w < 0)
+    q = -q; // canonical sign; the sampler picks the short arc between frames
+  const double v[8] = {q.x, q.y, q.z, q.w, m[3][0], m[3][1], m[3][2], s};
+  for (int k = 0; k < 8; ++k)
+    out[k] = float(v[k]);
+}
+
+pack::AnimationTexture buildTexture(const std::vector<std::vector<glm::dmat4>> &frames,
+                                    size_t jointCount, const Precision &p, uint32_t maxWidth) {
+  pack::AnimationTexture t;
+  t.encoding = p.encoding;
+  t.format = p.format;
+  t.jointCount = uint32_t(jointCount);
+  t.frameCount = uint32_t(frames.size());
+  uint64_t frameTexels = uint64_t(jointCount) * pack::texelsPerJoint(p.encoding);
+  t.framesPerRow = uint32_t(maxWidth / frameTexels);
+  if (t.framesPerRow == 0)
+    throw Error("a frame of " + std::to_string(jointCount) + " joints needs " +
+                std::to_string(frameTexels) + " texels, more than --max-width " +
+                std::to_string(maxWidth));
+  t.framesPerRow = std::min(t.framesPerRow, t.frameCount);
+  t.width = uint32_t(t.framesPerRow * frameTexels);
+  t.height = (t.frameCount + t.framesPerRow - 1) / t.framesPerRow;
+  if (t.height > 65536)
+    throw Error("animation texture would be taller than 65536 rows");
+  size_t texelCount = size_t(t.width) * t.height;
+  std::vector<float> values(texelCount * 4, 0.0f);
+  for (uint32_t f = 0; f < t.frameCount; ++f)
+    for (uint32_t j = 0; j < jointCount; ++j) {
+      auto [x, y] = t.texelOf(f, j);
+      encodeJoint(frames[f][j], p.encoding, &values[(size_t(y) * t.width + x) * 4]);
+    }
+  if (p.format == pack::TexelFormat::RGBA32F) {
+    t.texels.resize(values.size() * 4);
+    std::memcpy(t.texels.data(), values.data(), t.texels.size());
+  } else {
+    t.texels.resize(values.size() * 2);
+    for (size_t i = 0; i < values.size(); ++i) {
+      uint16_t h = pack::floatToHalf(values[i]);
+      std::memcpy(&t.texels[i * 2], &h, 2);
+    }
+  }
+  return t;
+}
+
+pack::SkinTexture buildSkin(const SkinnedMesh &m, uint32_t maxWidth) {
+  pack::SkinTexture s;
+  s.vertexCount = uint32_t(m.vertexCount());
+  uint64_t texels = uint64_t(s.vertexCount) * 2;
+  s.width = uint32_t(std::min<uint64_t>(maxWidth & ~1u, texels));
+  s.height = uint32_t((texels + s.width - 1) / s.width);
+  if (s.height > 65536)
+    throw Error("skin texture would be taller than 65536 rows");
+  s.texels.assign(size_t(s.width) * s.height * 4, 0.0f);
+  for (size_t v = 0; v < m.vertexCount(); ++v)
+    for (int k = 0; k < 4; ++k) {
+      s.texels[v * 8 + size_t(k)] = float(m.joints[v][size_t(k)]);
+      s.texels[v * 8 + 4 + size_t(k)] = m.weights[v][k];
+    }
+  return s;
+}
+
+} // namespace
+
+AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
+                             Reporter &reporter) {
+  if (!(options.fps > 0 && options.fps <= 1000))
+    throw Error("--fps must be in (0, 1000]");
+  if (options.maxWidth < 2 || options.maxWidth > 65536)
+    throw Error("--max-width must be in [2, 65536]");
+  const Precision &chosen = precisionByName(options.precision);
+
+  std::vector<ClipFrames> clips;
+  for (const auto &clip : c.clips) {
+    if (!options.clip.empty() && clip.name != options.clip)
+      continue;
+    double duration = clip.end - clip.start;
+    uint32_t intervals =
+        duration > 0 ? uint32_t(std::max(1.0, std::round(duration * options.fps))) : 0;
+    if (intervals > 100000)
+      throw Error("clip '" + clip.name + "' would need more than 100000 frames");
+    ClipFrames cf{&clip,         clip.name,
+                  clip.start,    intervals ? duration / intervals : 0.0,
+                  intervals + 1, intervals ? intervals / duration : options.fps};
+    clips.push_back(cf);
+  }
+  if (clips.empty()) {
+    if (!options.clip.empty()) {
+      std::string names;
+      for (const auto &clip : c.clips)
+        names += (names.empty() ? "" : ", ") + clip.name;
+      throw Error("no clip named '" + options.clip +
+                  "' (clips: " + (names.empty() ? "none" : names) + ")");
+    }
+    reporter.warn("no_animation", "no animation: baked the rest pose as one-frame clip 'rest'");
+    clips.push_back({nullptr, "rest", 0, 0, 1, options.fps});
+  }
+
+  // Every frame's joint matrices and reference vertex positions, exact and in double.
+  std::vector<std::pair<size_t, uint32_t>> frameList;
+  for (size_t ci = 0; ci < clips.size(); ++ci)
+    for (uint32_t i = 0; i < clips[ci].count; ++i)
+      frameList.push_back({ci, i});
+  size_t total = frameList.size();
+  std::vector<std::vector<glm::dmat4>> joints(total);
+  std::vector<std::vector<glm::dvec3>> reference(total), midReference(total);
+  parallelFor(total, options.threads, [&](size_t f) {
+    const auto &cf = clips[frameList[f].first];
+    uint32_t i = frameList[f].second;
+    joints[f] = jointMatrices(c, cf.clip, cf.start + i * cf.step);
+    reference[f] = skinPositions(c, joints[f]);
+    if (i + 1 < cf.count)
+      midReference[f] = skinPositions(c, jointMatrices(c, cf.clip, cf.start + (i + 0.5) * cf.step));
+  });
+
+  AnimBakeResult result;
+  result.diagonal = restDiagonal(c);
+  auto &pk = result.pack;
+
+  pk.skeleton.names.resize(c.jointCount());
+  for (size_t j = 0; j < c.jointCount(); ++j) {
+    pk.skeleton.names[j] = c.jointName(j);
+    int parent = -1;
+    for (int p = c.nodes[size_t(c.jointNodes[j])].parent; p >= 0 && parent < 0;
+         p = c.nodes[size_t(p)].parent) {
+      auto it = std::find(c.jointNodes.begin(), c.jointNodes.end(), p);
+      if (it != c.jointNodes.end())
+        parent = int(it - c.jointNodes.begin());
+    }
+    pk.skeleton.parents.push_back(parent);
+    for (int k = 0; k < 16; ++k)
+      pk.skeleton.inverseBind.push_back(float(c.inverseBind[j][k / 4][k % 4]));
+  }
+
+  uint32_t first = 0;
+  for (const auto &cf : clips) {
+    pack::Clip clip;
+    clip.name = cf.name;
+    clip.fps = float(cf.fps);
+    clip.startTime = float(cf.start);
+    clip.firstFrame = first;
+    clip.frameCount = cf.count;
+    double gap = 0;
+    for (size_t v = 0; v < c.mesh.vertexCount(); ++v)
+      gap = std::max(gap, glm::length(reference[first][v] - reference[first + cf.count - 1][v]));
+    clip.loop = cf.count > 2 && gap <= 1e-4 * result.diagonal;
+    pk.clips.push_back(clip);
+    first += cf.count;
+  }
+
+  // Accuracy of every precision, with the player's interpolation.
+  for (const auto &p : precisions()) {
+    PrecisionAccuracy pa{p, 0, {}};
+    pack::AnimationTexture tex = buildTexture(joints, c.jointCount(), p, options.maxWidth);
+    pa.textureBytes = tex.texels.size();
+    pack::SkinTexture skin = buildSkin(c.mesh, options.maxWidth);
+    std::vector<double> frameMax(total), frameSum(total), midMax(total), midSum(total);
+    parallelFor(total, options.threads, [&](size_t f) {
+      const pack::Clip &clip = pk.clips[frameList[f].first];
+      uint32_t i = frameList[f].second;
+      for (uint32_t v = 0; v < c.mesh.vertexCount(); ++v) {
+        double e = glm::length(
+            glm::dvec3(runtime::skinVertex(tex, skin, clip, i, 0.0f, v, c.mesh.positions[v])) -
+            reference[f][v]);
+        frameMax[f] = std::max(frameMax[f], e);
+        frameSum[f] += e;
+        if (!midReference[f].empty()) {
+          e = glm::length(
+              glm::dvec3(runtime::skinVertex(tex, skin, clip, i, 0.5f, v, c.mesh.positions[v])) -
+              midReference[f][v]);
+          midMax[f] = std::max(midMax[f], e);
+          midSum[f] += e;
+        }
+      }
+    });
+    size_t f = 0;
+    for (const auto &clip : pk.clips) {
+      ClipAccuracy a{clip.name, clip.frameCount, 0, 0, 0, 0};
+      double vc = double(c.mesh.vertexCount());
+      for (uint32_t i = 0; i < clip.frameCount; ++i, ++f) {
+        a.maxAtFrames = std::max(a.maxAtFrames, frameMax[f]);
+        a.meanAtFrames += frameSum[f] / (vc * clip.frameCount);
+        a.maxAtMidframes = std::max(a.maxAtMidframes, midMax[f]);
+        if (clip.frameCount > 1)
+          a.meanAtMidframes += midSum[f] / (vc * (clip.frameCount - 1));
+      }
+      pa.clips.push_back(a);
+    }
+    if (p.name == chosen.name) {
+      result.baked = result.accuracy.size();
+      pk.animation = std::move(tex);
+      pk.skin = std::move(skin);
+    }
+    result.accuracy.push_back(std::move(pa));
+  }
+
+  // Mesh, with a bounding sphere over every frame of every clip. Matrix blends keep mid-frame
+  // positions inside the frames' hull; the baked precision's worst error is added on top.
+  auto &mesh = pk.mesh;
+  for (size_t v = 0; v < c.mesh.vertexCount(); ++v) {
+    for (int k = 0; k < 3; ++k) {
+      mesh.positions.push_back(c.mesh.positions[v][k]);
+      mesh.normals.push_back(c.mesh.normals[v][k]);
+    }
+    if (!c.mesh.uvs.empty()) {
+      mesh.uvs.push_back(c.mesh.uvs[v].x);
+      mesh.uvs.push_back(c.mesh.uvs[v].y);
+    }
+  }
+  mesh.indices = c.mesh.indices;
+  for (const auto &part : c.mesh.parts)
+    mesh.subMeshes.push_back({part.name, part.firstIndex, part.indexCount});
+  glm::dvec3 lo(INFINITY), hi(-INFINITY);
+  for (const auto &frame : reference)
+    for (const auto &q : frame) {
+      lo = glm::min(lo, q);
+      hi = glm::max(hi, q);
+    }
+  glm::dvec3 centre = (lo + hi) * 0.5;
+  double radius = 0;
+  for (const auto &frame : reference)
+    for (const auto &q : frame)
+      radius = std::max(radius, glm::length(q - centre));
+  double slack = 0;
+  for (const auto &a : result.accuracy[result.baked].clips)
+    slack = std::max({slack, a.maxAtFrames, a.maxAtMidframes});
+  radius = (radius + slack) * (1 + 1e-6) + 1e-6 * result.diagonal;
+  mesh.boundingSphere = {float(centre.x), float(centre.y), float(centre.z), float(radius)};
+  return result;
+}
+
+} // namespace crowd

@@ -1,0 +1,151 @@
+#include "crowd/bake/evaluate.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace crowd {
+namespace {
+
+glm::dquat quatAt(const std::vector<double> &v, size_t offset) {
+  return glm::dquat(v[offset + 3], v[offset], v[offset + 1], v[offset + 2]);
+}
+
+// Spherical interpolation along the shorter arc, as the glTF specification describes.
+glm::dquat slerp(glm::dquat a, glm::dquat b, double s) {
+  double d = glm::dot(a, b);
+  if (d < 0) {
+    b = -b;
+    d = -d;
+  }
+  if (d > 1.0 - 1e-12)
+    return glm::normalize(a * (1 - s) + b * s);
+  double theta = std::acos(std::min(d, 1.0));
+  double sn = std::sin(theta);
+  return a * (std::sin((1 - s) * theta) / sn) + b * (std::sin(s * theta) / sn);
+}
+
+// Value of a channel at time t: `out` gets 3 or 4 components.
+void sample(const Channel &ch, double t, double out[4]) {
+  const size_t n = ch.path == ChannelPath::Rotation ? 4 : 3;
+  const bool cubic = ch.interpolation == Interpolation::CubicSpline;
+  const size_t stride = cubic ? 3 * n : n;
+  const size_t valueOffset = cubic ? n : 0; // cubic keys are (in-tangent, value, out-tangent)
+  const auto &times = ch.times;
+  size_t k1 = size_t(std::upper_bound(times.begin(), times.end(), t) - times.begin());
+  if (k1 == 0 || k1 == times.size()) {
+    size_t k = k1 == 0 ? 0 : times.size() - 1;
+    for (size_t c = 0; c < n; ++c)
+      out[c] = ch.values[k * stride + valueOffset + c];
+  } else {
+    size_t k0 = k1 - 1;
+    double td = times[k1] - times[k0];
+    double s = (t - times[k0]) / td;
+    const double *v0 = &ch.values[k0 * stride + valueOffset];
+    const double *v1 = &ch.values[k1 * stride + valueOffset];
+    switch (ch.interpolation) {
+    case Interpolation::Step:
+      for (size_t c = 0; c < n; ++c)
+        out[c] = v0[c];
+      break;
+    case Interpolation::Linear:
+      if (n == 4) {
+        glm::dquat q = slerp(quatAt(ch.values, k0 * stride), quatAt(ch.values, k1 * stride), s);
+        out[0] = q.x, out[1] = q.y, out[2] = q.z, out[3] = q.w;
+      } else {
+        for (size_t c = 0; c < n; ++c)
+          out[c] = v0[c] + (v1[c] - v0[c]) * s;
+      }
+      break;
+    case Interpolation::CubicSpline: {
+      const double *outTangent0 = &ch.values[k0 * stride + 2 * n];
+      const double *inTangent1 = &ch.values[k1 * stride];
+      double s2 = s * s, s3 = s2 * s;
+      double h00 = 2 * s3 - 3 * s2 + 1, h10 = s3 - 2 * s2 + s, h01 = -2 * s3 + 3 * s2,
+             h11 = s3 - s2;
+      for (size_t c = 0; c < n; ++c)
+        out[c] = h00 * v0[c] + h10 * td * outTangent0[c] + h01 * v1[c] + h11 * td * inTangent1[c];
+      break;
+    }
+    }
+  }
+  if (n == 4) {
+    double len = std::sqrt(out[0] * out[0] + out[1] * out[1] + out[2] * out[2] + out[3] * out[3]);
+    if (len > 0)
+      for (size_t c = 0; c < 4; ++c)
+        out[c] /= len;
+  }
+}
+
+} // namespace
+
+std::vector<glm::dmat4> nodeGlobals(const Character &c, const AnimationClip *clip, double t) {
+  std::vector<glm::dvec3> tr(c.nodes.size()), sc(c.nodes.size());
+  std::vector<glm::dquat> rot(c.nodes.size());
+  for (size_t i = 0; i < c.nodes.size(); ++i) {
+    tr[i] = c.nodes[i].translation;
+    rot[i] = c.nodes[i].rotation;
+    sc[i] = c.nodes[i].scale;
+  }
+  if (clip)
+    for (const auto &ch : clip->channels) {
+      double v[4];
+      sample(ch, t, v);
+      size_t n = size_t(ch.node);
+      if (ch.path == ChannelPath::Translation)
+        tr[n] = {v[0], v[1], v[2]};
+      else if (ch.path == ChannelPath::Scale)
+        sc[n] = {v[0], v[1], v[2]};
+      else
+        rot[n] = glm::dquat(v[3], v[0], v[1], v[2]);
+    }
+  std::vector<glm::dmat4> global(c.nodes.size());
+  for (int i : c.nodeOrder) {
+    const Node &node = c.nodes[size_t(i)];
+    glm::dmat4 local;
+    if (node.hasMatrix) {
+      local = node.matrix;
+    } else {
+      glm::dmat4 r = glm::mat4_cast(rot[size_t(i)]);
+      local = r;
+      for (int col = 0; col < 3; ++col)
+        local[col] *= sc[size_t(i)][col];
+      local[3] = glm::dvec4(tr[size_t(i)], 1.0);
+    }
+    global[size_t(i)] = node.parent >= 0 ? global[size_t(node.parent)] * local : local;
+  }
+  return global;
+}
+
+std::vector<glm::dmat4> jointMatrices(const Character &c, const AnimationClip *clip, double t) {
+  auto global = nodeGlobals(c, clip, t);
+  std::vector<glm::dmat4> out(c.jointCount());
+  for (size_t j = 0; j < c.jointCount(); ++j)
+    out[j] = global[size_t(c.jointNodes[j])] * c.inverseBind[j];
+  return out;
+}
+
+std::vector<glm::dvec3> skinPositions(const Character &c, const std::vector<glm::dmat4> &joints) {
+  const auto &m = c.mesh;
+  std::vector<glm::dvec3> out(m.vertexCount());
+  for (size_t v = 0; v < out.size(); ++v) {
+    glm::dvec4 p(glm::dvec3(m.positions[v]), 1.0);
+    glm::dvec3 acc(0.0);
+    for (int k = 0; k < 4; ++k)
+      if (m.weights[v][k] != 0)
+        acc += double(m.weights[v][k]) * glm::dvec3(joints[m.joints[v][size_t(k)]] * p);
+    out[v] = acc;
+  }
+  return out;
+}
+
+double restDiagonal(const Character &c) {
+  auto p = skinPositions(c, jointMatrices(c, nullptr, 0));
+  glm::dvec3 lo(INFINITY), hi(-INFINITY);
+  for (const auto &q : p) {
+    lo = glm::min(lo, q);
+    hi = glm::max(hi, q);
+  }
+  return glm::length(hi - lo);
+}
+
+} // namespace crowd

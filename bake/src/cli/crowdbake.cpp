@@ -1,0 +1,500 @@
+// crowdbake: the command-line front of the bake library. Sub-commands like git; every
+// failure is one line on stderr and a non-zero exit (1 bad input or failed bake, 2 bad usage).
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <unistd.h>
+
+#include <OpenImageIO/imageio.h>
+#include <nlohmann/json.hpp>
+
+#include "crowd/bake/anim_bake.h"
+#include "crowd/bake/import.h"
+#include "crowd/bake/provenance.h"
+#include "crowd/formats/chunks.h"
+#include "crowd/formats/error.h"
+#include "crowd/samples/samples.h"
+
+using nlohmann::ordered_json;
+
+namespace {
+
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+const char *kTopHelp = R"(crowdbake: bake glTF characters into crowdpack files for real-time crowds
+
+usage: crowdbake <command> [options]
+
+commands:
+  samples   write the bundled sample characters (humanoid and three outfits) as .glb
+  anim      bake animation textures, skin weights and mesh from a glTF character
+  inspect   list a pack's chunks, joints, clips, textures and sizes
+  verify    check every offset, size, checksum and cross-reference of a pack
+  export    write a pack's textures as images
+
+Run 'crowdbake <command> --help' for a command's options.
+
+example:
+  crowdbake samples --out s && crowdbake anim s/humanoid.glb -o h.crowdpack --report r.json
+)";
+
+const std::map<std::string, std::string> kHelp = {
+    {"samples", R"(usage: crowdbake samples --out DIR
+
+Writes humanoid.glb, outfit_dress.glb, outfit_jumper_skirt.glb and outfit_shirt_trousers.glb
+into DIR. The output is deterministic: the same bytes on every run.
+
+example:
+  crowdbake samples --out samples_out
+)"},
+    {"anim", R"(usage: crowdbake anim IN.glb|IN.gltf -o OUT.crowdpack [options]
+
+Samples every clip's joint matrices (global joint transform x inverse bind) into one animation
+texture, stores skin weights (2 texels per vertex) and the mesh, then checks the texture against
+exact evaluation of the glTF with the player's interpolation and reports the error.
+
+options:
+  -o, --output FILE    pack to write (written atomically)
+  --clip NAME          bake only this clip (default: every clip)
+  --mesh NAME          bake only this mesh (default: every mesh bound to the largest skin)
+  --fps N              sampling rate, frames per second (default 30)
+  --max-width N        texture width limit in texels (default 4096)
+  --precision P        float (3 RGBA32F texels per joint, default), half (3 RGBA16F),
+                       qts (2 RGBA32F: quaternion, translation, uniform scale), qts-half
+  --threads N          worker threads (default: all cores); output never depends on it
+  --report FILE.json   write timings, sizes, warnings and per-clip errors
+  --quiet              no warnings or progress on stderr
+
+example:
+  crowdbake anim humanoid.glb -o humanoid.crowdpack --fps 30 --report report.json
+)"},
+    {"inspect", R"(usage: crowdbake inspect PACK [--json]
+
+Lists the chunk table, provenance, joints, clips, texture sizes and bytes.
+
+example:
+  crowdbake inspect humanoid.crowdpack --json
+)"},
+    {"verify", R"(usage: crowdbake verify PACK
+
+Validates the container (magic, version, sizes, checksums) and every chunk and
+cross-reference. Exit code 0 when the pack is sound, 1 with the first problem otherwise.
+
+example:
+  crowdbake verify humanoid.crowdpack
+)"},
+    {"export", R"(usage: crowdbake export PACK --images DIR
+
+Writes the pack's textures through OpenImageIO: float textures as OpenEXR
+(animation.exr, skin.exr).
+
+example:
+  crowdbake export humanoid.crowdpack --images textures/
+)"},
+};
+
+struct Args {
+  std::vector<std::string> positional;
+  std::map<std::string, std::string> options;
+  std::set<std::string> flags;
+  bool has(const std::string &k) const { return options.count(k) || flags.count(k); }
+  std::string get(const std::string &k, const std::string &def = "") const {
+    auto it = options.find(k);
+    return it == options.end() ? def : it->second;
+  }
+};
+
+Args parse(int argc, char **argv, const std::set<std::string> &valued,
+           const std::set<std::string> &flags) {
+  Args a;
+  for (int i = 2; i < argc; ++i) {
+    std::string s = argv[i];
+    if (s == "-o")
+      s = "--output";
+    if (s.rfind("--", 0) == 0) {
+      std::string key = s.substr(2), value;
+      bool inlineValue = false;
+      if (auto eq = key.find('='); eq != std::string::npos) {
+        value = key.substr(eq + 1);
+        key = key.substr(0, eq);
+        inlineValue = true;
+      }
+      if (valued.count(key)) {
+        if (!inlineValue) {
+          if (i + 1 >= argc)
+            throw UsageError("option --" + key + " needs a value");
+          value = argv[++i];
+        }
+        a.options[key] = value;
+      } else if (flags.count(key) && !inlineValue) {
+        a.flags.insert(key);
+      } else {
+        throw UsageError("unknown option " + s);
+      }
+    } else {
+      a.positional.push_back(s);
+    }
+  }
+  return a;
+}
+
+double number(const Args &a, const std::string &key, double def) {
+  if (!a.options.count(key))
+    return def;
+  const std::string &s = a.options.at(key);
+  try {
+    size_t used = 0;
+    double v = std::stod(s, &used);
+    if (used != s.size())
+      throw std::invalid_argument(s);
+    return v;
+  } catch (const std::exception &) {
+    throw UsageError("--" + key + " expects a number, got '" + s + "'");
+  }
+}
+
+void oneInput(const Args &a, const char *command) {
+  if (a.positional.size() != 1)
+    throw UsageError(std::string(command) + " takes exactly one input (see crowdbake " + command +
+                     " --help)");
+}
+
+bool progressWanted(const Args &a) { return !a.has("quiet") && isatty(2); }
+
+int cmdSamples(const Args &a) {
+  if (!a.positional.empty() || !a.options.count("out"))
+    throw UsageError("samples needs --out DIR");
+  crowd::samples::writeSamples(a.get("out"));
+  for (const auto &f : crowd::samples::kFiles)
+    std::cout << a.get("out") << "/" << f << "\n";
+  return 0;
+}
+
+ordered_json accuracyJson(const crowd::PrecisionAccuracy &pa, double diagonal) {
+  ordered_json j;
+  j["precision"] = pa.precision.name;
+  j["encoding"] = crowd::pack::name(pa.precision.encoding);
+  j["texel_format"] = crowd::pack::name(pa.precision.format);
+  j["bytes_per_joint_per_frame"] = pa.precision.bytesPerJointPerFrame();
+  j["texture_bytes"] = pa.textureBytes;
+  for (const auto &c : pa.clips) {
+    ordered_json cj;
+    cj["clip"] = c.clip;
+    cj["frames"] = c.frames;
+    cj["max_error_at_frames"] = c.maxAtFrames / diagonal;
+    cj["mean_error_at_frames"] = c.meanAtFrames / diagonal;
+    cj["max_error_at_midframes"] = c.maxAtMidframes / diagonal;
+    cj["mean_error_at_midframes"] = c.meanAtMidframes / diagonal;
+    cj["max_error_at_frames_model_units"] = c.maxAtFrames;
+    cj["mean_error_at_frames_model_units"] = c.meanAtFrames;
+    cj["max_error_at_midframes_model_units"] = c.maxAtMidframes;
+    cj["mean_error_at_midframes_model_units"] = c.meanAtMidframes;
+    j["clips"].push_back(cj);
+  }
+  return j;
+}
+
+void writeJson(const std::string &path, const ordered_json &j) {
+  std::string tmp = path + ".tmp";
+  {
+    std::ofstream f(tmp);
+    f << j.dump(2) << "\n";
+    if (!f)
+      throw crowd::Error(path + ": cannot write report");
+  }
+  std::filesystem::rename(tmp, path);
+}
+
+int cmdAnim(const Args &a) {
+  oneInput(a, "anim");
+  if (!a.options.count("output"))
+    throw UsageError("anim needs -o OUT.crowdpack");
+  using Clock = std::chrono::steady_clock;
+  auto t0 = Clock::now();
+  crowd::Reporter reporter;
+  reporter.quiet = a.has("quiet");
+  crowd::AnimBakeOptions opt;
+  opt.clip = a.get("clip");
+  opt.fps = number(a, "fps", 30);
+  if (!(opt.fps > 0 && opt.fps <= 1000))
+    throw UsageError("--fps must be in (0, 1000]");
+  double width = number(a, "max-width", 4096);
+  if (width < 2 || width > 65536 || width != std::floor(width))
+    throw UsageError("--max-width must be an integer in [2, 65536]");
+  opt.maxWidth = uint32_t(width);
+  opt.precision = a.get("precision", "float");
+  try {
+    crowd::precisionByName(opt.precision);
+  } catch (const crowd::Error &e) {
+    throw UsageError(e.what());
+  }
+  double threads = number(a, "threads", 0);
+  if (threads < 0 || threads > 1024)
+    throw UsageError("--threads must be in [0, 1024]");
+  opt.threads = int(threads);
+  const std::string input = a.positional[0];
+  crowd::ImportOptions io;
+  io.mesh = a.get("mesh");
+  bool progress = progressWanted(a);
+  if (progress)
+    std::fprintf(stderr, "crowdbake: importing %s\n", input.c_str());
+  crowd::Character character = crowd::importGltf(input, io, reporter);
+  auto t1 = Clock::now();
+
+  if (progress)
+    std::fprintf(stderr, "crowdbake: sampling and checking %zu clip(s)\n", character.clips.size());
+  crowd::AnimBakeResult result = crowd::bakeAnimation(character, opt, reporter);
+  auto t2 = Clock::now();
+
+  std::ostringstream fps;
+  fps << opt.fps;
+  result.pack.provenance =
+      crowd::makeProvenance({input}, {{"command", "anim"},
+                                      {"clip", opt.clip},
+                                      {"mesh", io.mesh},
+                                      {"fps", fps.str()},
+                                      {"max-width", std::to_string(opt.maxWidth)},
+                                      {"precision", opt.precision}});
+  std::vector<uint8_t> bytes = crowd::pack::packBytes(result.pack);
+  crowd::pack::writeFileAtomic(a.get("output"), bytes);
+  auto t3 = Clock::now();
+
+  if (a.options.count("report")) {
+    auto secs = [](auto d) { return std::chrono::duration<double>(d).count(); };
+    ordered_json r;
+    r["command"] = "anim";
+    r["input"] = input;
+    r["output"] = a.get("output");
+    r["baker_version"] = crowd::kBakerVersion;
+    r["joints"] = character.jointCount();
+    r["vertices"] = character.mesh.vertexCount();
+    r["triangles"] = character.mesh.indices.size() / 3;
+    r["diagonal"] = result.diagonal;
+    r["pack_bytes"] = bytes.size();
+    r["precision"] = opt.precision;
+    r["time_s"] = {{"import", secs(t1 - t0)},
+                   {"bake_and_check", secs(t2 - t1)},
+                   {"write", secs(t3 - t2)},
+                   {"total", secs(t3 - t0)}};
+    const auto &baked = result.accuracy[result.baked];
+    r["bytes_per_joint_per_frame"] = baked.precision.bytesPerJointPerFrame();
+    for (size_t i = 0; i < result.pack.clips.size(); ++i) {
+      const auto &c = result.pack.clips[i];
+      const auto &acc = baked.clips[i];
+      ordered_json cj;
+      cj["name"] = c.name;
+      cj["frames"] = c.frameCount;
+      cj["fps"] = c.fps;
+      cj["start_time"] = c.startTime;
+      cj["loop"] = c.loop;
+      cj["max_error_at_frames"] = acc.maxAtFrames / result.diagonal;
+      cj["mean_error_at_frames"] = acc.meanAtFrames / result.diagonal;
+      cj["max_error_at_midframes"] = acc.maxAtMidframes / result.diagonal;
+      cj["mean_error_at_midframes"] = acc.meanAtMidframes / result.diagonal;
+      cj["max_error_at_frames_model_units"] = acc.maxAtFrames;
+      cj["max_error_at_midframes_model_units"] = acc.maxAtMidframes;
+      r["clips"].push_back(cj);
+    }
+    for (const auto &pa : result.accuracy)
+      r["precisions"].push_back(accuracyJson(pa, result.diagonal));
+    r["warnings"] = ordered_json::array();
+    for (const auto &w : reporter.warnings())
+      r["warnings"].push_back({{"code", w.code}, {"message", w.message}, {"count", w.count}});
+    writeJson(a.get("report"), r);
+  }
+  if (progress)
+    std::fprintf(stderr, "crowdbake: wrote %s (%zu bytes)\n", a.get("output").c_str(),
+                 bytes.size());
+  return 0;
+}
+
+std::string hex32(uint32_t v) {
+  char b[16];
+  std::snprintf(b, sizeof b, "%08x", v);
+  return b;
+}
+
+int cmdInspect(const Args &a) {
+  oneInput(a, "inspect");
+  auto reader = crowd::pack::Reader::open(a.positional[0]);
+  auto p = crowd::pack::loadAnimationPack(reader);
+  using namespace crowd::pack;
+  const auto &t = p.animation;
+  ordered_json j;
+  j["file"] = std::filesystem::path(a.positional[0]).filename().string();
+  j["bytes"] = reader.fileSize();
+  j["pack_checksum"] = hex32(crc32(reader.fileBytes()));
+  j["container_version"] = reader.version();
+  for (const auto &c : reader.chunks())
+    j["chunks"].push_back({{"type", fourccName(c.type)},
+                           {"version", c.version},
+                           {"offset", c.offset},
+                           {"size", c.size},
+                           {"crc32", hex32(c.crc)}});
+  j["provenance"]["baker"] = p.provenance.bakerVersion;
+  for (const auto &[k, v] : p.provenance.settings)
+    j["provenance"]["settings"][k] = v;
+  for (const auto &in : p.provenance.inputs)
+    j["provenance"]["inputs"].push_back({{"file", in.path}, {"bytes", in.size}, {"hash", in.hash}});
+  for (size_t i = 0; i < p.skeleton.jointCount(); ++i)
+    j["joints"].push_back(
+        {{"index", i}, {"name", p.skeleton.names[i]}, {"parent", p.skeleton.parents[i]}});
+  for (const auto &c : p.clips)
+    j["clips"].push_back({{"name", c.name},
+                          {"frames", c.frameCount},
+                          {"fps", c.fps},
+                          {"start_time", c.startTime},
+                          {"first_frame", c.firstFrame},
+                          {"loop", c.loop}});
+  uint32_t bpjf = texelsPerJoint(t.encoding) * bytesPerTexel(t.format);
+  j["animation_texture"] = {{"encoding", name(t.encoding)},
+                            {"format", name(t.format)},
+                            {"width", t.width},
+                            {"height", t.height},
+                            {"joints", t.jointCount},
+                            {"frames", t.frameCount},
+                            {"frames_per_row", t.framesPerRow},
+                            {"bytes", t.texels.size()},
+                            {"bytes_per_joint_per_frame", bpjf}};
+  j["skin_texture"] = {{"format", "rgba32f"},
+                       {"width", p.skin.width},
+                       {"height", p.skin.height},
+                       {"vertices", p.skin.vertexCount},
+                       {"bytes", p.skin.texels.size() * 4}};
+  const auto &m = p.mesh;
+  j["mesh"] = {
+      {"vertices", m.vertexCount()},
+      {"triangles", m.indices.size() / 3},
+      {"uvs", !m.uvs.empty()},
+      {"bounding_sphere",
+       {m.boundingSphere[0], m.boundingSphere[1], m.boundingSphere[2], m.boundingSphere[3]}}};
+  for (const auto &s : m.subMeshes)
+    j["mesh"]["sub_meshes"].push_back(
+        {{"name", s.name}, {"first_index", s.firstIndex}, {"triangles", s.indexCount / 3}});
+  if (a.has("json")) {
+    std::cout << j.dump(2) << "\n";
+    return 0;
+  }
+  std::ostringstream o;
+  o << "pack " << j["file"].get<std::string>() << ": " << reader.fileSize() << " bytes, container v"
+    << reader.version() << ", crc32 " << j["pack_checksum"].get<std::string>() << "\n";
+  o << "chunks:\n";
+  for (const auto &c : reader.chunks())
+    o << "  " << fourccName(c.type) << " v" << c.version << "  offset " << c.offset << "  size "
+      << c.size << "  crc32 " << hex32(c.crc) << "\n";
+  o << "provenance: " << p.provenance.bakerVersion << "\n";
+  for (const auto &[k, v] : p.provenance.settings)
+    o << "  setting " << k << " = " << v << "\n";
+  for (const auto &in : p.provenance.inputs)
+    o << "  input " << in.path << " (" << in.size << " bytes, " << in.hash << ")\n";
+  o << "skeleton: " << p.skeleton.jointCount() << " joints\n";
+  for (size_t i = 0; i < p.skeleton.jointCount(); ++i)
+    o << "  " << i << " " << p.skeleton.names[i] << " (parent " << p.skeleton.parents[i] << ")\n";
+  o << "clips: " << p.clips.size() << "\n";
+  for (const auto &c : p.clips)
+    o << "  " << c.name << ": " << c.frameCount << " frames at " << c.fps
+      << " fps from t=" << c.startTime << " s, texture frames " << c.firstFrame << ".."
+      << c.firstFrame + c.frameCount - 1 << (c.loop ? ", loops" : ", plays once") << "\n";
+  o << "animation texture: " << t.width << "x" << t.height << " " << name(t.format) << ", "
+    << name(t.encoding) << ", " << t.jointCount << " joints x " << t.frameCount << " frames ("
+    << t.framesPerRow << " per row), " << t.texels.size() << " bytes, " << bpjf
+    << " bytes per joint per frame\n";
+  o << "skin texture: " << p.skin.width << "x" << p.skin.height << " rgba32f, "
+    << p.skin.vertexCount << " vertices, " << p.skin.texels.size() * 4 << " bytes\n";
+  o << "mesh: " << m.vertexCount() << " vertices, " << m.indices.size() / 3 << " triangles, "
+    << (m.uvs.empty() ? "no uvs" : "uvs") << ", bounding sphere (" << m.boundingSphere[0] << ", "
+    << m.boundingSphere[1] << ", " << m.boundingSphere[2] << ") r " << m.boundingSphere[3] << "\n";
+  for (const auto &s : m.subMeshes)
+    o << "  sub-mesh " << s.name << ": " << s.indexCount / 3 << " triangles\n";
+  std::cout << o.str();
+  return 0;
+}
+
+int cmdVerify(const Args &a) {
+  oneInput(a, "verify");
+  auto reader = crowd::pack::Reader::open(a.positional[0]);
+  auto p = crowd::pack::loadAnimationPack(reader);
+  std::cout << "ok: " << a.positional[0] << " (" << reader.chunks().size() << " chunks, "
+            << reader.fileSize() << " bytes, " << p.skeleton.jointCount() << " joints, "
+            << p.clips.size() << " clips)\n";
+  return 0;
+}
+
+void writeExr(const std::string &path, int width, int height, OIIO::TypeDesc type,
+              const void *data) {
+  auto out = OIIO::ImageOutput::create(path);
+  OIIO::ImageSpec spec(width, height, 4, type);
+  spec.attribute("compression", "zip");
+  if (!out || !out->open(path, spec) || !out->write_image(type, data) || !out->close())
+    throw crowd::Error(path +
+                       ": cannot write image: " + (out ? out->geterror() : OIIO::geterror()));
+}
+
+int cmdExport(const Args &a) {
+  oneInput(a, "export");
+  if (!a.options.count("images"))
+    throw UsageError("export needs --images DIR");
+  auto p = crowd::pack::loadAnimationPack(crowd::pack::Reader::open(a.positional[0]));
+  std::string dir = a.get("images");
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec)
+    throw crowd::Error(dir + ": cannot create directory: " + ec.message());
+  const auto &t = p.animation;
+  writeExr(dir + "/animation.exr", int(t.width), int(t.height),
+           t.format == crowd::pack::TexelFormat::RGBA32F ? OIIO::TypeDesc::FLOAT
+                                                         : OIIO::TypeDesc::HALF,
+           t.texels.data());
+  writeExr(dir + "/skin.exr", int(p.skin.width), int(p.skin.height), OIIO::TypeDesc::FLOAT,
+           p.skin.texels.data());
+  std::cout << dir << "/animation.exr\n" << dir << "/skin.exr\n";
+  return 0;
+}
+
+} // namespace
+
+int main(int argc, char **argv) {
+  std::string command = argc > 1 ? argv[1] : "";
+  try {
+    if (command.empty() || command == "--help" || command == "-h" || command == "help") {
+      std::cout << kTopHelp;
+      return command.empty() ? 2 : 0;
+    }
+    if (!kHelp.count(command))
+      throw UsageError("unknown command '" + command + "' (see crowdbake --help)");
+    for (int i = 2; i < argc; ++i)
+      if (std::string(argv[i]) == "--help" || std::string(argv[i]) == "-h") {
+        std::cout << kHelp.at(command);
+        return 0;
+      }
+    if (command == "samples")
+      return cmdSamples(parse(argc, argv, {"out"}, {}));
+    if (command == "anim")
+      return cmdAnim(
+          parse(argc, argv,
+                {"output", "clip", "mesh", "fps", "max-width", "precision", "threads", "report"},
+                {"quiet"}));
+    if (command == "inspect")
+      return cmdInspect(parse(argc, argv, {}, {"json"}));
+    if (command == "verify")
+      return cmdVerify(parse(argc, argv, {}, {}));
+    return cmdExport(parse(argc, argv, {"images"}, {}));
+  } catch (const UsageError &e) {
+    std::fprintf(stderr, "crowdbake: usage: %s\n", e.what());
+    return 2;
+  } catch (const std::exception &e) {
+    std::string msg = e.what();
+    for (char &ch : msg)
+      if (ch == '\n')
+        ch = ' ';
+    std::fprintf(stderr, "crowdbake: error: %s\n", msg.c_str());
+    return 1;
+  }
+}

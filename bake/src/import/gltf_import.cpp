@@ -1,0 +1,691 @@
+#include "crowd/bake/import.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <set>
+
+#include <glm/gtc/type_ptr.hpp>
+#include <tiny_gltf.h>
+
+#include "crowd/formats/error.h"
+
+namespace crowd {
+namespace {
+
+using tinygltf::Model;
+
+// Extensions that change nothing the bakes read, or that the accessor reader already covers.
+const std::set<std::string> kSupportedRequired = {"KHR_mesh_quantization", "KHR_texture_transform",
+                                                  "KHR_materials_emissive_strength",
+                                                  "KHR_materials_unlit", "KHR_texture_basisu"};
+
+std::string oneLine(std::string s) {
+  while (!s.empty() && (s.back() == '\n' || s.back() == ' '))
+    s.pop_back();
+  std::replace(s.begin(), s.end(), '\n', ' ');
+  return s;
+}
+
+// Images are not decoded: the animation bake never reads pixels, and a missing image must not
+// stop a bake that does not need it.
+bool skipImage(tinygltf::Image *, const int, std::string *, std::string *, int, int,
+               const unsigned char *, int, void *) {
+  return true;
+}
+
+class Importer {
+public:
+  Importer(std::string path, Reporter &reporter) : path_(std::move(path)), reporter_(reporter) {}
+
+  Character run(const ImportOptions &options) {
+    load();
+    buildHierarchy();
+    selectMeshes(options);
+    readMeshes();
+    readAnimations();
+    return std::move(out_);
+  }
+
+private:
+  [[noreturn]] void fail(const std::string &what) const { throw Error(path_ + ": " + what); }
+
+  void load() {
+    std::ifstream probe(path_, std::ios::binary);
+    if (!probe)
+      fail("cannot open file");
+    char magic[4] = {};
+    probe.read(magic, 4);
+    bool binary = probe.gcount() == 4 && std::string(magic, 4) == "glTF";
+    tinygltf::TinyGLTF loader;
+    loader.SetImageLoader(skipImage, nullptr);
+    std::string err, warn;
+    bool ok = binary ? loader.LoadBinaryFromFile(&model_, &err, &warn, path_)
+                     : loader.LoadASCIIFromFile(&model_, &err, &warn, path_);
+    if (!ok)
+      fail("not a readable glTF: " + oneLine(err.empty() ? warn : err));
+    for (const auto &ext : model_.extensionsRequired)
+      if (!kSupportedRequired.count(ext))
+        fail("unsupported required extension " + ext);
+  }
+
+  // --- accessors -------------------------------------------------------------------------
+
+  static int components(int type) {
+    switch (type) {
+    case TINYGLTF_TYPE_SCALAR:
+      return 1;
+    case TINYGLTF_TYPE_VEC2:
+      return 2;
+    case TINYGLTF_TYPE_VEC3:
+      return 3;
+    case TINYGLTF_TYPE_VEC4:
+      return 4;
+    case TINYGLTF_TYPE_MAT2:
+      return 4;
+    case TINYGLTF_TYPE_MAT3:
+      return 9;
+    case TINYGLTF_TYPE_MAT4:
+      return 16;
+    default:
+      return 0;
+    }
+  }
+
+  static double readComponent(const uint8_t *p, int componentType, bool normalized) {
+    switch (componentType) {
+    case TINYGLTF_COMPONENT_TYPE_BYTE: {
+      int8_t v;
+      std::memcpy(&v, p, 1);
+      return normalized ? std::max(v / 127.0, -1.0) : v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+      return normalized ? *p / 255.0 : *p;
+    case TINYGLTF_COMPONENT_TYPE_SHORT: {
+      int16_t v;
+      std::memcpy(&v, p, 2);
+      return normalized ? std::max(v / 32767.0, -1.0) : v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+      uint16_t v;
+      std::memcpy(&v, p, 2);
+      return normalized ? v / 65535.0 : v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: {
+      uint32_t v;
+      std::memcpy(&v, p, 4);
+      return v;
+    }
+    default: {
+      float v;
+      std::memcpy(&v, p, 4);
+      return v;
+    }
+    }
+  }
+
+  static int componentSize(int componentType) {
+    switch (componentType) {
+    case TINYGLTF_COMPONENT_TYPE_BYTE:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+      return 1;
+    case TINYGLTF_COMPONENT_TYPE_SHORT:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+      return 2;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+    case TINYGLTF_COMPONENT_TYPE_FLOAT:
+      return 4;
+    default:
+      return 0;
+    }
+  }
+
+  // Bytes of `count` elements of `elemSize` at `offset` with `stride` inside buffer view `view`.
+  const uint8_t *viewRange(int view, size_t offset, size_t count, size_t stride, size_t elemSize,
+                           const std::string &what) const {
+    if (view < 0 || size_t(view) >= model_.bufferViews.size())
+      fail(what + ": bufferView " + std::to_string(view) + " does not exist");
+    const auto &bv = model_.bufferViews[size_t(view)];
+    if (bv.buffer < 0 || size_t(bv.buffer) >= model_.buffers.size())
+      fail(what + ": buffer " + std::to_string(bv.buffer) + " does not exist");
+    const auto &buf = model_.buffers[size_t(bv.buffer)].data;
+    if (bv.byteOffset > buf.size() || bv.byteLength > buf.size() - bv.byteOffset)
+      fail(what + ": bufferView " + std::to_string(view) + " lies outside buffer " +
+           std::to_string(bv.buffer) + " (" + std::to_string(buf.size()) + " bytes)");
+    if (count > 0) {
+      // Division avoids overflow on absurd counts.
+      if (offset > bv.byteLength || elemSize > bv.byteLength - offset ||
+          (count - 1) > (bv.byteLength - offset - elemSize) / stride)
+        fail(what + ": " + std::to_string(count) + " elements run past the end of bufferView " +
+             std::to_string(view));
+    }
+    return buf.data() + bv.byteOffset + offset;
+  }
+
+  // Every element of accessor `index` as doubles (count * components), normalised per spec.
+  std::vector<double> readAccessor(int index, const std::string &what, bool finite = true) const {
+    std::string ctx = what + ", accessor " + std::to_string(index);
+    if (index < 0 || size_t(index) >= model_.accessors.size())
+      fail(ctx + ": does not exist");
+    const auto &acc = model_.accessors[size_t(index)];
+    int nc = components(acc.type);
+    int cs = componentSize(acc.componentType);
+    if (nc == 0 || cs == 0)
+      fail(ctx + ": unsupported type or component type");
+    if (acc.count > (size_t(1) << 28))
+      fail(ctx + ": absurd count " + std::to_string(acc.count));
+    size_t elemSize = size_t(nc) * size_t(cs);
+    std::vector<double> out(acc.count * size_t(nc), 0.0);
+    if (acc.bufferView >= 0) {
+      size_t stride = model_.bufferViews.size() > size_t(acc.bufferView) &&
+                              model_.bufferViews[size_t(acc.bufferView)].byteStride
+                          ? model_.bufferViews[size_t(acc.bufferView)].byteStride
+                          : elemSize;
+      const uint8_t *p =
+          viewRange(acc.bufferView, acc.byteOffset, acc.count, stride, elemSize, ctx);
+      for (size_t i = 0; i < acc.count; ++i)
+        for (int c = 0; c < nc; ++c)
+          out[i * size_t(nc) + size_t(c)] =
+              readComponent(p + i * stride + size_t(c * cs), acc.componentType, acc.normalized);
+    }
+    if (acc.sparse.isSparse) {
+      size_t n = size_t(std::max(acc.sparse.count, 0));
+      int ics = componentSize(acc.sparse.indices.componentType);
+      if (ics == 0 || n > acc.count)
+        fail(ctx + ": bad sparse block");
+      const uint8_t *ip = viewRange(acc.sparse.indices.bufferView,
+                                    size_t(std::max(acc.sparse.indices.byteOffset, 0)), n,
+                                    size_t(ics), size_t(ics), ctx + " sparse indices");
+      const uint8_t *vp =
+          viewRange(acc.sparse.values.bufferView, size_t(std::max(acc.sparse.values.byteOffset, 0)),
+                    n, elemSize, elemSize, ctx + " sparse values");
+      for (size_t k = 0; k < n; ++k) {
+        auto target =
+            size_t(readComponent(ip + k * size_t(ics), acc.sparse.indices.componentType, false));
+        if (target >= acc.count)
+          fail(ctx + ": sparse index out of range");
+        for (int c = 0; c < nc; ++c)
+          out[target * size_t(nc) + size_t(c)] =
+              readComponent(vp + k * elemSize + size_t(c * cs), acc.componentType, acc.normalized);
+      }
+    }
+    if (finite)
+      for (size_t i = 0; i < out.size(); ++i)
+        if (!std::isfinite(out[i]))
+          fail(ctx + ": element " + std::to_string(i / size_t(nc)) + " is NaN or infinite");
+    return out;
+  }
+
+  size_t accessorCount(int index) const { return model_.accessors.at(size_t(index)).count; }
+  int accessorType(int index, const std::string &what) const {
+    if (index < 0 || size_t(index) >= model_.accessors.size())
+      fail(what + ", accessor " + std::to_string(index) + ": does not exist");
+    return model_.accessors[size_t(index)].type;
+  }
+
+  // --- nodes -----------------------------------------------------------------------------
+
+  void buildHierarchy() {
+    const size_t n = model_.nodes.size();
+    out_.nodes.resize(n);
+    for (size_t i = 0; i < n; ++i) {
+      const auto &src = model_.nodes[i];
+      Node &node = out_.nodes[i];
+      node.name = src.name.empty() ? "node" + std::to_string(i) : src.name;
+      std::string ctx = "node " + std::to_string(i) + " '" + node.name + "'";
+      auto finite = [&](const std::vector<double> &v, const char *field) {
+        for (double d : v)
+          if (!std::isfinite(d))
+            fail(ctx + ": " + field + " is not finite");
+      };
+      finite(src.translation, "translation");
+      finite(src.rotation, "rotation");
+      finite(src.scale, "scale");
+      finite(src.matrix, "matrix");
+      if (src.matrix.size() == 16) {
+        node.hasMatrix = true;
+        node.matrix = glm::make_mat4(src.matrix.data());
+      }
+      if (src.translation.size() == 3)
+        node.translation = glm::make_vec3(src.translation.data());
+      if (src.rotation.size() == 4)
+        node.rotation = glm::normalize(
+            glm::dquat(src.rotation[3], src.rotation[0], src.rotation[1], src.rotation[2]));
+      if (src.scale.size() == 3)
+        node.scale = glm::make_vec3(src.scale.data());
+      for (int child : src.children) {
+        if (child < 0 || size_t(child) >= n)
+          fail(ctx + ": child " + std::to_string(child) + " does not exist");
+        if (size_t(child) == i)
+          fail("node graph has a cycle: " + ctx + " is its own child");
+        if (out_.nodes[size_t(child)].parent >= 0)
+          fail("node " + std::to_string(child) +
+               " has two parents (the node graph must be a forest)");
+        out_.nodes[size_t(child)].parent = int(i);
+      }
+    }
+    // Depth-first from the roots; a node never reached sits on a cycle.
+    std::vector<std::vector<int>> children(n);
+    for (size_t i = 0; i < n; ++i)
+      if (out_.nodes[i].parent >= 0)
+        children[size_t(out_.nodes[i].parent)].push_back(int(i));
+    std::vector<int> stack;
+    for (size_t i = n; i-- > 0;)
+      if (out_.nodes[i].parent < 0)
+        stack.push_back(int(i));
+    while (!stack.empty()) {
+      int v = stack.back();
+      stack.pop_back();
+      out_.nodeOrder.push_back(v);
+      for (auto it = children[size_t(v)].rbegin(); it != children[size_t(v)].rend(); ++it)
+        stack.push_back(*it);
+    }
+    if (out_.nodeOrder.size() != n)
+      fail("node graph has a cycle");
+  }
+
+  bool hasAncestorIn(int node, const std::set<int> &set) const {
+    for (int p = out_.nodes[size_t(node)].parent; p >= 0; p = out_.nodes[size_t(p)].parent)
+      if (set.count(p))
+        return true;
+    return false;
+  }
+
+  void selectMeshes(const ImportOptions &options) {
+    const auto &nodes = model_.nodes;
+    auto checkRef = [&](size_t i) {
+      const auto &nd = nodes[i];
+      if (nd.mesh >= 0 && size_t(nd.mesh) >= model_.meshes.size())
+        fail("node " + std::to_string(i) + ": mesh " + std::to_string(nd.mesh) + " does not exist");
+      if (nd.skin >= 0 && size_t(nd.skin) >= model_.skins.size())
+        fail("node " + std::to_string(i) + ": skin " + std::to_string(nd.skin) + " does not exist");
+    };
+    for (size_t i = 0; i < nodes.size(); ++i)
+      checkRef(i);
+
+    skin_ = -1;
+    if (!options.mesh.empty()) {
+      bool found = false;
+      for (size_t i = 0; i < nodes.size(); ++i) {
+        const auto &nd = nodes[i];
+        if (nd.mesh >= 0 && model_.meshes[size_t(nd.mesh)].name == options.mesh) {
+          if (!found)
+            skin_ = nd.skin;
+          found = true;
+        }
+      }
+      if (!found) {
+        std::string names;
+        for (const auto &m : model_.meshes)
+          names += (names.empty() ? "" : ", ") + m.name;
+        fail("no mesh named '" + options.mesh + "' used by a node (meshes: " + names + ")");
+      }
+    } else {
+      for (size_t s = 0; s < model_.skins.size(); ++s)
+        if (skin_ < 0 || model_.skins[s].joints.size() > model_.skins[size_t(skin_)].joints.size())
+          skin_ = int(s);
+    }
+
+    std::set<int> jointSet;
+    if (skin_ >= 0) {
+      const auto &skin = model_.skins[size_t(skin_)];
+      std::string ctx = "skin " + std::to_string(skin_);
+      if (skin.joints.empty())
+        fail(ctx + " has no joints");
+      for (int j : skin.joints) {
+        if (j < 0 || size_t(j) >= nodes.size())
+          fail(ctx + ": joint node " + std::to_string(j) + " does not exist");
+        if (!jointSet.insert(j).second)
+          fail(ctx + ": node " + std::to_string(j) + " is listed twice as a joint");
+      }
+      std::vector<double> ibm;
+      if (skin.inverseBindMatrices >= 0) {
+        ibm = readAccessor(skin.inverseBindMatrices, ctx + " inverseBindMatrices");
+        if (accessorType(skin.inverseBindMatrices, ctx) != TINYGLTF_TYPE_MAT4 ||
+            accessorCount(skin.inverseBindMatrices) < skin.joints.size())
+          fail(ctx + ": inverseBindMatrices must be MAT4 with one per joint");
+      }
+      for (size_t j = 0; j < skin.joints.size(); ++j) {
+        skinJoints_.push_back(skin.joints[j]);
+        skinIbm_.push_back(ibm.empty() ? glm::dmat4(1.0) : glm::make_mat4(&ibm[j * 16]));
+      }
+    }
+
+    for (size_t i = 0; i < nodes.size(); ++i) {
+      const auto &nd = nodes[i];
+      if (nd.mesh < 0)
+        continue;
+      bool named = options.mesh.empty() || model_.meshes[size_t(nd.mesh)].name == options.mesh;
+      if (!named)
+        continue;
+      if (skin_ >= 0 && nd.skin == skin_) {
+        meshNodes_.push_back({int(i), -1});
+      } else if (nd.skin < 0 && (skin_ < 0 || hasAncestorIn(int(i), jointSet))) {
+        meshNodes_.push_back({int(i), int(i)}); // rigid: the node itself becomes a joint
+      }
+    }
+    if (meshNodes_.empty())
+      fail("no mesh to bake (no node uses a mesh with the chosen skin)");
+
+    // Joints in parent-before-child order so the pack's skeleton can require parent < index.
+    std::vector<int> jointNodes = skinJoints_;
+    std::vector<glm::dmat4> ibms = skinIbm_;
+    std::vector<size_t> rigidOld(meshNodes_.size());
+    for (size_t m = 0; m < meshNodes_.size(); ++m)
+      if (meshNodes_[m].rigid >= 0) {
+        rigidOld[m] = jointNodes.size();
+        jointNodes.push_back(meshNodes_[m].rigid);
+        ibms.push_back(glm::dmat4(1.0));
+      }
+    if (jointNodes.size() > 65535)
+      fail("more than 65535 joints");
+    std::vector<size_t> rank(nodes.size());
+    for (size_t k = 0; k < out_.nodeOrder.size(); ++k)
+      rank[size_t(out_.nodeOrder[k])] = k;
+    std::vector<size_t> perm(jointNodes.size());
+    for (size_t k = 0; k < perm.size(); ++k)
+      perm[k] = k;
+    std::sort(perm.begin(), perm.end(), [&](size_t a, size_t b) {
+      return rank[size_t(jointNodes[a])] < rank[size_t(jointNodes[b])];
+    });
+    oldToNew_.assign(perm.size(), 0);
+    for (size_t k = 0; k < perm.size(); ++k) {
+      oldToNew_[perm[k]] = uint16_t(k);
+      out_.jointNodes.push_back(jointNodes[perm[k]]);
+      out_.inverseBind.push_back(ibms[perm[k]]);
+    }
+    for (size_t m = 0; m < meshNodes_.size(); ++m)
+      if (meshNodes_[m].rigid >= 0)
+        meshNodes_[m].rigidJoint = oldToNew_[rigidOld[m]];
+  }
+
+  // --- meshes ----------------------------------------------------------------------------
+
+  void readMeshes() {
+    std::vector<std::string> partOrder;
+    std::vector<std::vector<uint32_t>> partTriangles;
+    auto &mesh = out_.mesh;
+    size_t moreThan4 = 0, renormalised = 0, morphTargets = 0, missingNormals = 0;
+    for (const auto &mn : meshNodes_) {
+      const auto &gm = model_.meshes[size_t(model_.nodes[size_t(mn.node)].mesh)];
+      for (size_t pi = 0; pi < gm.primitives.size(); ++pi) {
+        const auto &prim = gm.primitives[pi];
+        std::string ctx = "mesh '" + gm.name + "', primitive " + std::to_string(pi);
+        if (prim.mode != -1 && prim.mode != TINYGLTF_MODE_TRIANGLES)
+          fail(ctx + ": mode " + std::to_string(prim.mode) +
+               " is not supported (only triangle lists)");
+        morphTargets += prim.targets.size();
+        auto attr = [&](const std::string &name) {
+          auto it = prim.attributes.find(name);
+          return it == prim.attributes.end() ? -1 : it->second;
+        };
+        int posAcc = attr("POSITION");
+        if (posAcc < 0)
+          fail(ctx + ": no POSITION attribute");
+        if (accessorType(posAcc, ctx + " POSITION") != TINYGLTF_TYPE_VEC3)
+          fail(ctx + " POSITION: must be VEC3");
+        auto pos = readAccessor(posAcc, ctx + " POSITION");
+        size_t vc = pos.size() / 3;
+        auto sameCount = [&](int acc, const char *name, int type) {
+          if (accessorType(acc, ctx + " " + name) != type || accessorCount(acc) != vc)
+            fail(ctx + " " + name + ": type or count differs from POSITION");
+        };
+        std::vector<double> nrm, uv;
+        if (int a = attr("NORMAL"); a >= 0) {
+          sameCount(a, "NORMAL", TINYGLTF_TYPE_VEC3);
+          nrm = readAccessor(a, ctx + " NORMAL");
+        } else {
+          ++missingNormals;
+        }
+        if (int a = attr("TEXCOORD_0"); a >= 0) {
+          sameCount(a, "TEXCOORD_0", TINYGLTF_TYPE_VEC2);
+          uv = readAccessor(a, ctx + " TEXCOORD_0");
+        }
+        std::vector<uint32_t> idx;
+        if (prim.indices >= 0) {
+          auto raw = readAccessor(prim.indices, ctx + " indices");
+          for (size_t k = 0; k < raw.size(); ++k) {
+            if (raw[k] < 0 || raw[k] >= double(vc))
+              fail(ctx + " indices: index " + std::to_string(k) + " = " +
+                   std::to_string(uint64_t(raw[k])) + " >= vertex count " + std::to_string(vc));
+            idx.push_back(uint32_t(raw[k]));
+          }
+        } else {
+          for (size_t k = 0; k < vc; ++k)
+            idx.push_back(uint32_t(k));
+        }
+        if (idx.size() % 3 != 0)
+          fail(ctx + ": index count " + std::to_string(idx.size()) + " is not a multiple of 3");
+
+        // Influences: every JOINTS_n/WEIGHTS_n pair, largest 4 kept.
+        std::vector<std::vector<std::pair<double, int>>> infl(vc);
+        if (mn.rigid < 0) {
+          size_t jointCount = skinJoints_.size();
+          for (int set = 0;; ++set) {
+            int ja = attr("JOINTS_" + std::to_string(set)),
+                wa = attr("WEIGHTS_" + std::to_string(set));
+            if (ja < 0 && wa < 0)
+              break;
+            if (ja < 0 || wa < 0)
+              fail(ctx + ": JOINTS_" + std::to_string(set) + " without WEIGHTS_" +
+                   std::to_string(set));
+            sameCount(ja, "JOINTS", TINYGLTF_TYPE_VEC4);
+            sameCount(wa, "WEIGHTS", TINYGLTF_TYPE_VEC4);
+            auto jv = readAccessor(ja, ctx + " JOINTS_" + std::to_string(set));
+            auto wv = readAccessor(wa, ctx + " WEIGHTS_" + std::to_string(set));
+            for (size_t v = 0; v < vc; ++v)
+              for (int k = 0; k < 4; ++k) {
+                double w = wv[v * 4 + size_t(k)], j = jv[v * 4 + size_t(k)];
+                if (w < 0)
+                  fail(ctx + " WEIGHTS_" + std::to_string(set) + ": vertex " + std::to_string(v) +
+                       " has negative weight " + std::to_string(w));
+                if (w == 0)
+                  continue;
+                if (j < 0 || j >= double(jointCount))
+                  fail(ctx + " JOINTS_" + std::to_string(set) + ": vertex " + std::to_string(v) +
+                       " uses joint " + std::to_string(int64_t(j)) + " but the skin has " +
+                       std::to_string(jointCount));
+                infl[v].push_back({w, int(j)});
+              }
+          }
+          if (attr("JOINTS_0") < 0)
+            fail(ctx + ": skinned node without JOINTS_0/WEIGHTS_0");
+        }
+
+        uint32_t base = uint32_t(mesh.positions.size());
+        for (size_t v = 0; v < vc; ++v) {
+          mesh.positions.push_back(glm::vec3(pos[v * 3], pos[v * 3 + 1], pos[v * 3 + 2]));
+          mesh.normals.push_back(
+              nrm.empty() ? glm::vec3(0) : glm::vec3(nrm[v * 3], nrm[v * 3 + 1], nrm[v * 3 + 2]));
+          mesh.uvs.push_back(uv.empty() ? glm::vec2(0) : glm::vec2(uv[v * 2], uv[v * 2 + 1]));
+          std::array<uint16_t, 4> ids{0, 0, 0, 0};
+          glm::vec4 ws(0);
+          if (mn.rigid >= 0) {
+            ids[0] = mn.rigidJoint;
+            ws[0] = 1;
+          } else {
+            auto &list = infl[v];
+            if (list.empty())
+              fail(ctx + ": vertex " + std::to_string(v) + " has all-zero weights");
+            std::sort(list.begin(), list.end(), [](auto &a, auto &b) {
+              return a.first != b.first ? a.first > b.first : a.second < b.second;
+            });
+            if (list.size() > 4) {
+              ++moreThan4;
+              list.resize(4);
+            }
+            double sum = 0;
+            for (auto &[w, j] : list)
+              sum += w;
+            if (std::abs(sum - 1.0) > 2e-3)
+              ++renormalised;
+            for (size_t k = 0; k < list.size(); ++k) {
+              ids[k] = oldToNew_[size_t(list[k].second)];
+              ws[int(k)] = float(list[k].first / sum);
+            }
+          }
+          mesh.joints.push_back(ids);
+          mesh.weights.push_back(ws);
+        }
+        if (nrm.empty())
+          computeNormals(base, idx);
+        hasUvs_ = hasUvs_ || !uv.empty();
+
+        std::string partName = prim.material >= 0 && size_t(prim.material) < model_.materials.size()
+                                   ? model_.materials[size_t(prim.material)].name
+                                   : "";
+        if (partName.empty())
+          partName = prim.material >= 0 ? "material" + std::to_string(prim.material) : "default";
+        auto it = std::find(partOrder.begin(), partOrder.end(), partName);
+        size_t part = size_t(it - partOrder.begin());
+        if (it == partOrder.end()) {
+          partOrder.push_back(partName);
+          partTriangles.emplace_back();
+        }
+        for (uint32_t i : idx)
+          partTriangles[part].push_back(base + i);
+      }
+    }
+    for (size_t p = 0; p < partOrder.size(); ++p) {
+      mesh.parts.push_back(
+          {partOrder[p], uint32_t(mesh.indices.size()), uint32_t(partTriangles[p].size())});
+      mesh.indices.insert(mesh.indices.end(), partTriangles[p].begin(), partTriangles[p].end());
+    }
+    if (mesh.indices.empty())
+      fail("mesh has no triangles");
+    if (!hasUvs_)
+      mesh.uvs.clear();
+    if (moreThan4)
+      reporter_.warn(
+          "more_than_4_influences",
+          std::to_string(moreThan4) +
+              " vertices had more than 4 joint influences: kept the 4 largest, renormalised",
+          moreThan4);
+    if (renormalised)
+      reporter_.warn("weights_renormalised",
+                     std::to_string(renormalised) +
+                         " vertices had weights not summing to 1: renormalised",
+                     renormalised);
+    if (morphTargets)
+      reporter_.warn("morph_targets_ignored",
+                     std::to_string(morphTargets) +
+                         " morph targets are not baked yet: the mesh is baked without them",
+                     morphTargets);
+    if (missingNormals)
+      reporter_.warn("normals_computed",
+                     std::to_string(missingNormals) +
+                         " primitives had no NORMAL: computed from faces",
+                     missingNormals);
+  }
+
+  void computeNormals(uint32_t base, const std::vector<uint32_t> &idx) {
+    auto &m = out_.mesh;
+    for (size_t t = 0; t + 2 < idx.size(); t += 3) {
+      glm::vec3 a = m.positions[base + idx[t]], b = m.positions[base + idx[t + 1]],
+                c = m.positions[base + idx[t + 2]];
+      glm::vec3 n = glm::cross(b - a, c - a);
+      for (int k = 0; k < 3; ++k)
+        m.normals[base + idx[t + size_t(k)]] += n;
+    }
+    for (size_t v = base; v < m.normals.size(); ++v) {
+      float len = glm::length(m.normals[v]);
+      m.normals[v] = len > 0 ? m.normals[v] / len : glm::vec3(0, 1, 0);
+    }
+  }
+
+  // --- animations ------------------------------------------------------------------------
+
+  void readAnimations() {
+    size_t weightChannels = 0;
+    for (size_t ai = 0; ai < model_.animations.size(); ++ai) {
+      const auto &anim = model_.animations[ai];
+      AnimationClip clip;
+      clip.name = anim.name.empty() ? "clip" + std::to_string(ai) : anim.name;
+      std::string actx = "animation '" + clip.name + "'";
+      bool first = true;
+      for (size_t ci = 0; ci < anim.channels.size(); ++ci) {
+        const auto &ch = anim.channels[ci];
+        std::string ctx = actx + ", channel " + std::to_string(ci);
+        if (ch.target_path == "weights") {
+          ++weightChannels;
+          continue;
+        }
+        Channel out;
+        if (ch.target_node < 0 || size_t(ch.target_node) >= out_.nodes.size())
+          fail(ctx + ": target node " + std::to_string(ch.target_node) + " does not exist");
+        out.node = ch.target_node;
+        if (ch.target_path == "translation")
+          out.path = ChannelPath::Translation;
+        else if (ch.target_path == "rotation")
+          out.path = ChannelPath::Rotation;
+        else if (ch.target_path == "scale")
+          out.path = ChannelPath::Scale;
+        else
+          fail(ctx + ": unknown target path '" + ch.target_path + "'");
+        if (out_.nodes[size_t(out.node)].hasMatrix)
+          fail(ctx + ": animates node " + std::to_string(out.node) + " which has a matrix");
+        if (ch.sampler < 0 || size_t(ch.sampler) >= anim.samplers.size())
+          fail(ctx + ": sampler " + std::to_string(ch.sampler) + " does not exist");
+        const auto &s = anim.samplers[size_t(ch.sampler)];
+        if (s.interpolation == "STEP")
+          out.interpolation = Interpolation::Step;
+        else if (s.interpolation == "CUBICSPLINE")
+          out.interpolation = Interpolation::CubicSpline;
+        else if (s.interpolation == "LINEAR" || s.interpolation.empty())
+          out.interpolation = Interpolation::Linear;
+        else
+          fail(ctx + ": unknown interpolation '" + s.interpolation + "'");
+        out.times = readAccessor(s.input, ctx + " input");
+        if (out.times.empty())
+          fail(ctx + ": sampler has no keyframes");
+        for (size_t k = 1; k < out.times.size(); ++k)
+          if (!(out.times[k] > out.times[k - 1]))
+            fail(ctx + " input: key times not strictly increasing at key " + std::to_string(k));
+        out.values = readAccessor(s.output, ctx + " output");
+        size_t comps = out.path == ChannelPath::Rotation ? 4 : 3;
+        size_t per = out.interpolation == Interpolation::CubicSpline ? 3 : 1;
+        if (out.values.size() != out.times.size() * comps * per)
+          fail(ctx + " output: " + std::to_string(out.values.size()) + " values for " +
+               std::to_string(out.times.size()) + " keys of " + std::to_string(comps * per));
+        clip.start = first ? out.times.front() : std::min(clip.start, out.times.front());
+        clip.end = first ? out.times.back() : std::max(clip.end, out.times.back());
+        first = false;
+        clip.channels.push_back(std::move(out));
+      }
+      if (!clip.channels.empty())
+        out_.clips.push_back(std::move(clip));
+    }
+    if (weightChannels)
+      reporter_.warn("morph_animation_ignored",
+                     std::to_string(weightChannels) +
+                         " morph-weight animation channels are not baked yet",
+                     weightChannels);
+  }
+
+  struct MeshNode {
+    int node;
+    int rigid; // node that acts as the joint of a rigid mesh, or -1 when skinned
+    uint16_t rigidJoint = 0;
+  };
+
+  std::string path_;
+  Reporter &reporter_;
+  Model model_;
+  Character out_;
+  int skin_ = -1;
+  std::vector<int> skinJoints_;
+  std::vector<glm::dmat4> skinIbm_;
+  std::vector<uint16_t> oldToNew_;
+  std::vector<MeshNode> meshNodes_;
+  bool hasUvs_ = false;
+};
+
+} // namespace
+
+Character importGltf(const std::string &path, const ImportOptions &options, Reporter &reporter) {
+  return Importer(path, reporter).run(options);
+}
+
+} // namespace crowd

@@ -1,0 +1,132 @@
+// Chunk schemas of a crowdpack: plain structs, an encoder and a validating decoder for each,
+// and a whole-pack load that cross-checks the chunks against each other.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "crowd/formats/container.h"
+
+namespace crowd::pack {
+
+inline constexpr uint32_t kProvenance = fourcc("PROV");
+inline constexpr uint32_t kSkeleton = fourcc("SKEL");
+inline constexpr uint32_t kClips = fourcc("CLIP");
+inline constexpr uint32_t kAnimationTexture = fourcc("ANIM");
+inline constexpr uint32_t kSkinTexture = fourcc("SKIN");
+inline constexpr uint32_t kMesh = fourcc("MESH");
+
+struct InputFile {
+  std::string path;  // as given on the command line
+  uint64_t size = 0; // bytes
+  std::string hash;  // content hash, "algorithm:hex"
+};
+
+struct Provenance {
+  std::string bakerVersion;
+  std::vector<std::pair<std::string, std::string>> settings; // in a fixed order
+  std::vector<InputFile> inputs;
+};
+
+struct Skeleton {
+  std::vector<std::string> names;
+  std::vector<int32_t> parents;   // -1 for a root; always < the joint's own index
+  std::vector<float> inverseBind; // 16 floats per joint, column-major
+  size_t jointCount() const { return names.size(); }
+};
+
+struct Clip {
+  std::string name;
+  float fps = 30;          // frames per second of the stored frames (duration / (frames - 1))
+  float startTime = 0;     // seconds: the source time of the clip's frame 0
+  uint32_t firstFrame = 0; // frame index within the animation texture
+  uint32_t frameCount = 0; // including the closing frame of a looping clip
+  bool loop = false;       // the last frame equals the first: playback wraps over frameCount - 1
+};
+
+enum class JointEncoding : uint32_t {
+  Matrix3x4 = 0, // 3 texels: the rows of the 3x4 joint matrix (global transform x inverse bind)
+  QuatTransScale = 1, // 2 texels: rotation quaternion (xyzw); translation xyz + uniform scale
+};
+enum class TexelFormat : uint32_t { RGBA32F = 0, RGBA16F = 1 };
+
+const char *name(JointEncoding e);
+const char *name(TexelFormat f);
+uint32_t texelsPerJoint(JointEncoding e);
+uint32_t bytesPerTexel(TexelFormat f);
+
+// Joint transforms of every frame of every clip. A frame is jointCount * texelsPerJoint
+// consecutive texels in one row; rows hold framesPerRow frames and never split a frame.
+struct AnimationTexture {
+  JointEncoding encoding = JointEncoding::Matrix3x4;
+  TexelFormat format = TexelFormat::RGBA32F;
+  uint32_t width = 0, height = 0;
+  uint32_t jointCount = 0;
+  uint32_t framesPerRow = 0;
+  uint32_t frameCount = 0;
+  std::vector<uint8_t> texels; // width * height * bytesPerTexel, row-major
+  // Texel coordinates of joint `joint` in global frame `frame`.
+  std::pair<uint32_t, uint32_t> texelOf(uint32_t frame, uint32_t joint) const;
+  std::array<float, 4> texel(uint32_t x, uint32_t y) const;
+};
+
+// Two RGBA32F texels per vertex: (joint ids as floats), (weights). Vertex v sits at texel 2v.
+struct SkinTexture {
+  uint32_t width = 0, height = 0;
+  uint32_t vertexCount = 0;
+  std::vector<float> texels; // width * height * 4
+};
+
+struct SubMesh {
+  std::string name; // material or region name
+  uint32_t firstIndex = 0;
+  uint32_t indexCount = 0;
+};
+
+struct Mesh {
+  std::vector<float> positions; // xyz per vertex, bind pose
+  std::vector<float> normals;   // xyz per vertex
+  std::vector<float> uvs;       // uv per vertex, or empty
+  std::vector<uint32_t> indices;
+  std::vector<SubMesh> subMeshes;
+  std::array<float, 4> boundingSphere{}; // centre xyz, radius: covers every frame of every clip
+  size_t vertexCount() const { return positions.size() / 3; }
+};
+
+std::vector<uint8_t> encode(const Provenance &);
+std::vector<uint8_t> encode(const Skeleton &);
+std::vector<uint8_t> encode(const std::vector<Clip> &);
+std::vector<uint8_t> encode(const AnimationTexture &);
+std::vector<uint8_t> encode(const SkinTexture &);
+std::vector<uint8_t> encode(const Mesh &);
+
+// Decoders validate everything local to the chunk; `context` prefixes error messages.
+Provenance decodeProvenance(std::span<const uint8_t>, const std::string &context);
+Skeleton decodeSkeleton(std::span<const uint8_t>, const std::string &context);
+std::vector<Clip> decodeClips(std::span<const uint8_t>, const std::string &context);
+AnimationTexture decodeAnimationTexture(std::span<const uint8_t>, const std::string &context);
+SkinTexture decodeSkinTexture(std::span<const uint8_t>, const std::string &context);
+Mesh decodeMesh(std::span<const uint8_t>, const std::string &context);
+
+// Every chunk of an animation pack, decoded and cross-checked (joint ids < joint count,
+// clip frames inside the texture, one skin entry per mesh vertex, ...).
+struct AnimationPack {
+  Provenance provenance;
+  Skeleton skeleton;
+  std::vector<Clip> clips;
+  AnimationTexture animation;
+  SkinTexture skin;
+  Mesh mesh;
+};
+AnimationPack loadAnimationPack(const Reader &reader);
+void writePack(const AnimationPack &pack, const std::string &path);
+std::vector<uint8_t> packBytes(const AnimationPack &pack);
+
+// IEEE 754 binary16 conversion (round to nearest even), used for RGBA16F texels.
+uint16_t floatToHalf(float f);
+float halfToFloat(uint16_t h);
+
+} // namespace crowd::pack

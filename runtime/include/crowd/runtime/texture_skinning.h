@@ -1,0 +1,31 @@
+// CPU mirror of the player's skinning vertex shader: fetches a joint's transform for two
+// frames from the animation texture, interpolates them exactly as the shader does, and skins a
+// vertex with the ids and weights of the skin-weight texture. Single precision, like the GPU.
+// The bake's accuracy check uses it, so the figures it reports are the figures the player gets.
+#pragma once
+#include <array>
+#include <cstdint>
+
+#include <glm/glm.hpp>
+
+#include "crowd/formats/chunks.h"
+
+namespace crowd::runtime {
+
+// Rows of a 3x4 affine transform: p' = (dot(r0, p1), dot(r1, p1), dot(r2, p1)), p1 = (p, 1).
+using JointRows = std::array<glm::vec4, 3>;
+
+// Transform of `joint` at `alpha` in [0, 1] between clip frames `frame` and `frame + 1`
+// (the second is clamped to the clip's last frame).
+JointRows sampleJoint(const pack::AnimationTexture &texture, const pack::Clip &clip, uint32_t frame,
+                      float alpha, uint32_t joint);
+
+// Frame index and blend factor for a time in seconds since the clip started: looping clips
+// wrap over frameCount - 1 intervals (the closing frame equals the first), others clamp.
+void frameAt(const pack::Clip &clip, float seconds, uint32_t &frame, float &alpha);
+
+glm::vec3 skinVertex(const pack::AnimationTexture &texture, const pack::SkinTexture &skin,
+                     const pack::Clip &clip, uint32_t frame, float alpha, uint32_t vertex,
+                     const glm::vec3 &position);
+
+} // namespace crowd::runtime

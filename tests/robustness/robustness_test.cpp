@@ -1,0 +1,247 @@
+// Malformed inputs through the real CLI: each must exit 1 with one line naming the problem.
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <sys/wait.h>
+
+#include <gtest/gtest.h>
+
+#include "../unit/gltf_writer.h"
+#include "crowd/formats/chunks.h"
+
+using crowd::test::GltfBuilder;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct CliRun {
+  int code;
+  std::string err;
+};
+
+CliRun crowdbake(const std::string &args) {
+  std::string cmd = std::string(CROWDBAKE) + " " + args + " 2>&1 >/dev/null";
+  FILE *p = popen(cmd.c_str(), "r");
+  std::string out;
+  std::array<char, 4096> buf;
+  while (size_t n = fread(buf.data(), 1, buf.size(), p))
+    out.append(buf.data(), n);
+  int status = pclose(p);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+void expectOneLineError(const CliRun &r, const std::string &needle) {
+  EXPECT_EQ(r.code, 1) << r.err;
+  ASSERT_FALSE(r.err.empty());
+  EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << "more than one line: " << r.err;
+  EXPECT_EQ(r.err.rfind("crowdbake: error: ", 0), 0u) << r.err;
+  EXPECT_NE(r.err.find(needle), std::string::npos) << "expected '" << needle << "' in: " << r.err;
+}
+
+struct Case {
+  const char *name;
+  const char *expected;
+  std::function<std::string(const std::string &dir)> make; // returns the input path
+};
+
+GltfBuilder quad() {
+  GltfBuilder b;
+  b.skinnedQuad();
+  return b;
+}
+
+// Overwrites float `index` of accessor `acc` in the builder's binary buffer.
+void poke(GltfBuilder &b, int acc, size_t index, float value) {
+  size_t view = b.j["accessors"][size_t(acc)]["bufferView"];
+  size_t offset = b.j["bufferViews"][view]["byteOffset"];
+  std::memcpy(b.bin.data() + offset + index * 4, &value, 4);
+}
+
+const float kNaN = std::numeric_limits<float>::quiet_NaN();
+
+const std::vector<Case> kCases = {
+    {"truncated_glb", "not a readable glTF",
+     [](const std::string &d) {
+       std::string p = quad().writeGlb(d, "t");
+       fs::resize_file(p, fs::file_size(p) / 2);
+       return p;
+     }},
+    {"bad_magic", "not a readable glTF",
+     [](const std::string &d) {
+       std::string p = quad().writeGlb(d, "m");
+       std::fstream f(p, std::ios::in | std::ios::out | std::ios::binary);
+       f.write("glTX", 4);
+       return p;
+     }},
+    {"missing_buffer_file", "not a readable glTF",
+     [](const std::string &d) {
+       std::string p = quad().write(d, "ext", true);
+       fs::remove(d + "/ext.bin");
+       return p;
+     }},
+    {"accessor_out_of_range", "run past the end of bufferView",
+     [](const std::string &d) {
+       auto b = quad();
+       b.j["accessors"][0]["count"] = 400;
+       return b.write(d, "a");
+     }},
+    {"nan_position", "POSITION, accessor 0: element 1 is NaN",
+     [](const std::string &d) {
+       auto b = quad();
+       poke(b, 0, 4, kNaN);
+       return b.write(d, "n");
+     }},
+    {"nan_keyframe", "animation 'move', channel 0 output, accessor 6: element 1 is NaN",
+     [](const std::string &d) {
+       auto b = quad();
+       b.animation("move", 1, "translation", {0, 1}, {0, 0.5f, 0, kNaN, 0, 0});
+       return b.write(d, "k");
+     }},
+    {"joint_out_of_range", "uses joint 7 but the skin has 2",
+     [](const std::string &d) {
+       auto b = quad();
+       size_t view = b.j["accessors"][1]["bufferView"];
+       size_t offset = b.j["bufferViews"][view]["byteOffset"];
+       b.bin[offset + 4] = 7;
+       return b.write(d, "j");
+     }},
+    {"negative_weight", "negative weight",
+     [](const std::string &d) {
+       auto b = quad();
+       poke(b, 2, 1, -0.5f);
+       return b.write(d, "w");
+     }},
+    {"all_zero_weights", "vertex 0 has all-zero weights",
+     [](const std::string &d) {
+       auto b = quad();
+       poke(b, 2, 0, 0.0f);
+       return b.write(d, "z");
+     }},
+    {"skin_without_joints", "skin 0 has no joints",
+     [](const std::string &d) {
+       auto b = quad();
+       b.j["skins"][0]["joints"] = nlohmann::json::array();
+       b.j["skins"][0].erase("inverseBindMatrices");
+       return b.write(d, "s");
+     }},
+    {"cyclic_nodes", "cycle",
+     [](const std::string &d) {
+       auto b = quad();
+       b.j["nodes"][1]["children"] = {0};
+       return b.write(d, "c");
+     }},
+    {"lines_primitive", "mode 1 is not supported",
+     [](const std::string &d) {
+       auto b = quad();
+       b.j["meshes"][0]["primitives"][0]["mode"] = 1;
+       return b.write(d, "l");
+     }},
+    {"empty_mesh", "mesh has no triangles",
+     [](const std::string &d) {
+       auto b = quad();
+       int empty = b.accessor(std::vector<uint16_t>{0, 0}, 5123, "SCALAR");
+       b.j["accessors"][size_t(empty)]["count"] = 0;
+       b.j["meshes"][0]["primitives"][0]["indices"] = empty;
+       return b.write(d, "e");
+     }},
+    {"unsupported_required_extension", "unsupported required extension KHR_draco_mesh_compression",
+     [](const std::string &d) {
+       auto b = quad();
+       b.j["extensionsUsed"] = {"KHR_draco_mesh_compression"};
+       b.j["extensionsRequired"] = {"KHR_draco_mesh_compression"};
+       return b.write(d, "x");
+     }},
+    {"absurd_count", "absurd count",
+     [](const std::string &d) {
+       auto b = quad();
+       b.j["accessors"][3]["count"] = 1099511627776LL;
+       return b.write(d, "big");
+     }},
+    {"buffer_view_outside_buffer", "lies outside buffer",
+     [](const std::string &d) {
+       auto b = quad();
+       b.j["bufferViews"][0]["byteOffset"] = 100000;
+       return b.write(d, "bv");
+     }},
+    {"not_json", "not a readable glTF",
+     [](const std::string &d) {
+       std::ofstream(d + "/bad.gltf") << "{ this is not json";
+       return d + "/bad.gltf";
+     }},
+    {"missing_file", "cannot open file", [](const std::string &d) { return d + "/nothing.glb"; }},
+    {"joint_node_missing", "joint node 42 does not exist",
+     [](const std::string &d) {
+       auto b = quad();
+       b.j["skins"][0]["joints"][1] = 42;
+       return b.write(d, "jn");
+     }},
+    {"key_times_decreasing", "key times not strictly increasing",
+     [](const std::string &d) {
+       auto b = quad();
+       b.animation("back", 1, "translation", {1, 0}, {0, 0, 0, 0, 1, 0});
+       return b.write(d, "kt");
+     }},
+};
+
+void PrintTo(const Case &c, std::ostream *os) { *os << c.name; }
+
+class Malformed : public ::testing::TestWithParam<Case> {};
+
+TEST_P(Malformed, ExitsOneWithOneLineError) {
+  const Case &c = GetParam();
+  std::string dir = crowd::test::tempDir(std::string("robust_") + c.name);
+  std::string input = c.make(dir);
+  expectOneLineError(crowdbake("anim " + input + " -o " + dir + "/out.crowdpack --quiet"),
+                     c.expected);
+  EXPECT_FALSE(fs::exists(dir + "/out.crowdpack")) << "a failed bake must leave no pack";
+  fs::remove_all(dir);
+}
+
+INSTANTIATE_TEST_SUITE_P(Inputs, Malformed, ::testing::ValuesIn(kCases),
+                         [](const auto &info) { return std::string(info.param.name); });
+
+TEST(Malformed, TheValidQuadBakes) {
+  std::string dir = crowd::test::tempDir("robust_valid");
+  std::string input = quad().write(dir, "ok");
+  CliRun r = crowdbake("anim " + input + " -o " + dir + "/out.crowdpack --quiet");
+  EXPECT_EQ(r.code, 0) << r.err;
+  fs::remove_all(dir);
+}
+
+TEST(Usage, BadUsageExitsTwo) {
+  EXPECT_EQ(crowdbake("").code, 2);
+  EXPECT_EQ(crowdbake("frobnicate").code, 2);
+  EXPECT_EQ(crowdbake("anim a.glb").code, 2);
+  EXPECT_EQ(crowdbake("anim a.glb -o x --fps banana").code, 2);
+  EXPECT_EQ(crowdbake("anim a.glb -o x --precision triple").code, 2);
+  EXPECT_EQ(crowdbake("anim --help").code, 0);
+}
+
+// A damaged pack fails verify with a message naming what is wrong.
+TEST(DamagedPack, TruncatedAndBitFlippedPacksFailVerify) {
+  std::string dir = crowd::test::tempDir("robust_pack");
+  std::string input = quad().write(dir, "q");
+  ASSERT_EQ(crowdbake("anim " + input + " -o " + dir + "/p.crowdpack --quiet").code, 0);
+  std::ifstream f(dir + "/p.crowdpack", std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(crowdbake("verify " + dir + "/p.crowdpack").code, 0);
+
+  std::ofstream(dir + "/t.crowdpack", std::ios::binary) << bytes.substr(0, bytes.size() - 100);
+  expectOneLineError(crowdbake("verify " + dir + "/t.crowdpack"), "truncated");
+
+  std::string flipped = bytes;
+  flipped[flipped.size() - 70] ^= 0x10;
+  std::ofstream(dir + "/f.crowdpack", std::ios::binary) << flipped;
+  expectOneLineError(crowdbake("verify " + dir + "/f.crowdpack"), "checksum mismatch");
+
+  std::string magic = bytes;
+  magic[0] = 'X';
+  std::ofstream(dir + "/m.crowdpack", std::ios::binary) << magic;
+  expectOneLineError(crowdbake("verify " + dir + "/m.crowdpack"), "bad magic");
+  fs::remove_all(dir);
+}
+
+} // namespace

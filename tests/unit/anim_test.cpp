@@ -1,0 +1,181 @@
+#include <filesystem>
+
+#include <gtest/gtest.h>
+
+#include "crowd/bake/anim_bake.h"
+#include "crowd/bake/evaluate.h"
+#include "crowd/bake/import.h"
+#include "crowd/formats/error.h"
+#include "crowd/runtime/texture_skinning.h"
+#include "crowd/samples/samples.h"
+#include "gltf_writer.h"
+
+using namespace crowd;
+
+namespace {
+
+const Character &humanoid() {
+  static Character c = [] {
+    std::string dir = test::tempDir("anim_samples");
+    samples::writeSamples(dir);
+    Reporter r;
+    return importGltf(dir + "/humanoid.glb", {}, r);
+  }();
+  return c;
+}
+
+AnimBakeResult bake(const Character &c, AnimBakeOptions o = {}) {
+  Reporter r;
+  r.quiet = true;
+  return bakeAnimation(c, o, r);
+}
+
+TEST(Samples, HumanoidHasWhatLaterBakesNeed) {
+  const Character &c = humanoid();
+  EXPECT_GE(c.jointCount(), 20u);
+  EXPECT_GE(c.mesh.indices.size() / 3, 3000u);
+  std::vector<std::string> parts;
+  for (const auto &p : c.mesh.parts)
+    parts.push_back(p.name);
+  EXPECT_EQ(parts, (std::vector<std::string>{"head", "torso", "arms", "hands", "legs", "feet"}));
+  ASSERT_EQ(c.clips.size(), 3u);
+  EXPECT_EQ(c.clips[0].name, "walk");
+  EXPECT_EQ(c.clips[1].name, "run");
+  EXPECT_EQ(c.clips[2].name, "idle");
+  EXPECT_FALSE(c.mesh.uvs.empty());
+}
+
+TEST(AnimBake, FrameTimesMeetTheFp32TargetAndLoopsClose) {
+  const Character &c = humanoid();
+  AnimBakeResult r = bake(c);
+  const auto &acc = r.accuracy[r.baked];
+  EXPECT_EQ(acc.precision.name, "float");
+  for (const auto &clip : acc.clips) {
+    EXPECT_LE(clip.maxAtFrames, 1e-5 * r.diagonal) << clip.clip;
+    EXPECT_LE(clip.maxAtMidframes, 1e-2 * r.diagonal) << clip.clip;
+  }
+  for (const auto &clip : r.pack.clips) {
+    EXPECT_TRUE(clip.loop) << clip.name;
+    // The closing frame is stored and equals the first, so wrapping interpolates exactly.
+    for (uint32_t j = 0; j < r.pack.animation.jointCount; ++j)
+      for (uint32_t k = 0; k < 3; ++k) {
+        auto [x0, y0] = r.pack.animation.texelOf(clip.firstFrame, j);
+        auto [x1, y1] = r.pack.animation.texelOf(clip.firstFrame + clip.frameCount - 1, j);
+        auto a = r.pack.animation.texel(x0 + k, y0), b = r.pack.animation.texel(x1 + k, y1);
+        for (int i = 0; i < 4; ++i)
+          EXPECT_NEAR(a[size_t(i)], b[size_t(i)], 1e-5f);
+      }
+  }
+  EXPECT_EQ(r.pack.clips[0].frameCount, 31u); // 1 s at 30 fps, closing frame included
+  EXPECT_EQ(r.pack.clips[1].frameCount, 22u); // 0.7 s: 21 intervals
+}
+
+TEST(AnimBake, RowsWrapWithoutSplittingAFrame) {
+  const Character &c = humanoid();
+  AnimBakeOptions o;
+  o.maxWidth = 22 * 3 * 5 + 17; // five frames fit, with room to spare
+  AnimBakeResult r = bake(c, o);
+  const auto &t = r.pack.animation;
+  EXPECT_EQ(t.framesPerRow, 5u);
+  EXPECT_EQ(t.width, 22u * 3 * 5);
+  EXPECT_EQ(t.height, (t.frameCount + 4) / 5);
+  for (uint32_t f = 0; f < t.frameCount; ++f) {
+    auto [x0, y0] = t.texelOf(f, 0);
+    auto [x1, y1] = t.texelOf(f, 21);
+    EXPECT_EQ(y0, y1);
+    EXPECT_LT(x1 + 2, t.width);
+  }
+  for (const auto &clip : r.accuracy[r.baked].clips)
+    EXPECT_LE(clip.maxAtFrames, 1e-5 * r.diagonal);
+}
+
+TEST(AnimBake, BytesDoNotDependOnThreadCount) {
+  AnimBakeOptions one, many;
+  one.threads = 1;
+  many.threads = 7;
+  for (std::string p : {"float", "qts-half"}) {
+    one.precision = many.precision = p;
+    EXPECT_EQ(pack::packBytes(bake(humanoid(), one).pack),
+              pack::packBytes(bake(humanoid(), many).pack))
+        << p;
+  }
+}
+
+TEST(AnimBake, CompactPrecisionsCostFewerBytesAndReportTheirError) {
+  AnimBakeResult r = bake(humanoid());
+  ASSERT_EQ(r.accuracy.size(), 4u);
+  EXPECT_EQ(r.accuracy[0].precision.bytesPerJointPerFrame(), 48);
+  EXPECT_EQ(r.accuracy[1].precision.bytesPerJointPerFrame(), 24);
+  EXPECT_EQ(r.accuracy[2].precision.bytesPerJointPerFrame(), 32);
+  EXPECT_EQ(r.accuracy[3].precision.bytesPerJointPerFrame(), 16);
+  for (const auto &pa : r.accuracy)
+    for (const auto &clip : pa.clips) {
+      // Half precision keeps about 3 decimal digits: under a millimetre-scale bound here.
+      EXPECT_LE(clip.maxAtFrames, 2e-3 * r.diagonal) << pa.precision.name << " " << clip.clip;
+      EXPECT_GT(clip.maxAtFrames, 0.0);
+    }
+}
+
+TEST(AnimBake, BoundingSphereCoversEveryFrameAndMidFrame) {
+  const Character &c = humanoid();
+  AnimBakeResult r = bake(c);
+  const auto &s = r.pack.mesh.boundingSphere;
+  glm::vec3 centre(s[0], s[1], s[2]);
+  for (const auto &clip : r.pack.clips)
+    for (uint32_t f = 0; f < clip.frameCount; ++f)
+      for (float alpha : {0.0f, 0.25f, 0.5f})
+        for (uint32_t v = 0; v < c.mesh.vertexCount(); v += 7) {
+          glm::vec3 p = runtime::skinVertex(r.pack.animation, r.pack.skin, clip, f, alpha, v,
+                                            c.mesh.positions[v]);
+          ASSERT_LE(glm::length(p - centre), s[3]) << clip.name << " frame " << f;
+        }
+}
+
+TEST(AnimBake, UnknownClipListsTheClips) {
+  AnimBakeOptions o;
+  o.clip = "dance";
+  try {
+    bake(humanoid(), o);
+    FAIL();
+  } catch (const Error &e) {
+    EXPECT_STREQ(e.what(), "no clip named 'dance' (clips: walk, run, idle)");
+  }
+}
+
+TEST(TextureSkinning, FrameAtWrapsLoopsAndClampsOthers) {
+  pack::Clip loop{"l", 10, 0, 0, 11, true}, once{"o", 10, 0, 0, 11, false};
+  uint32_t f;
+  float a;
+  runtime::frameAt(loop, 1.25f, f, a); // 12.5 frames on a 10-interval loop: frame 2.5
+  EXPECT_EQ(f, 2u);
+  EXPECT_NEAR(a, 0.5f, 1e-5f);
+  runtime::frameAt(once, 1.25f, f, a);
+  EXPECT_EQ(f, 10u);
+  EXPECT_EQ(a, 0.0f);
+}
+
+// Every real glTF character in ../shared/assets/gltf, held to the fp32 target at frame times.
+TEST(RealAssets, EveryModelBakesWithinTheFp32Target) {
+  std::string dir = CROWD_SHARED_ASSETS;
+  if (!std::filesystem::exists(dir))
+    GTEST_SKIP() << "shared assets absent at " << dir;
+  std::vector<std::filesystem::path> files;
+  for (const auto &e : std::filesystem::recursive_directory_iterator(dir))
+    if (e.path().extension() == ".glb" || e.path().extension() == ".gltf")
+      files.push_back(e.path());
+  std::sort(files.begin(), files.end());
+  ASSERT_FALSE(files.empty());
+  for (const auto &f : files) {
+    SCOPED_TRACE(f.string());
+    Reporter r;
+    r.quiet = true;
+    Character c = importGltf(f.string(), {}, r);
+    AnimBakeResult res = bakeAnimation(c, {}, r);
+    pack::Reader reader(pack::packBytes(res.pack), f.string());
+    EXPECT_NO_THROW(pack::loadAnimationPack(reader));
+    for (const auto &clip : res.accuracy[res.baked].clips)
+      EXPECT_LE(clip.maxAtFrames, 1e-5 * res.diagonal) << clip.clip;
+  }
+}
+
+} // namespace

@@ -1,0 +1,125 @@
+#include <cmath>
+#include <cstring>
+
+#include <gtest/gtest.h>
+
+#include "crowd/formats/chunks.h"
+#include "crowd/formats/error.h"
+
+using namespace crowd::pack;
+
+namespace {
+
+AnimationPack tinyPack() {
+  AnimationPack p;
+  p.provenance = {"test", {{"fps", "30"}}, {{"in.glb", 10, "farmhash64:0"}}};
+  p.skeleton.names = {"root", "child"};
+  p.skeleton.parents = {-1, 0};
+  p.skeleton.inverseBind.assign(32, 0.0f);
+  for (int k = 0; k < 4; ++k)
+    p.skeleton.inverseBind[size_t(k * 5)] = p.skeleton.inverseBind[size_t(16 + k * 5)] = 1;
+  p.clips = {{"walk", 30, 0, 0, 2, false}};
+  p.animation.width = 6;
+  p.animation.height = 2;
+  p.animation.jointCount = 2;
+  p.animation.framesPerRow = 1;
+  p.animation.frameCount = 2;
+  p.animation.texels.assign(6 * 2 * 16, 0);
+  p.skin.width = 6;
+  p.skin.height = 1;
+  p.skin.vertexCount = 3;
+  p.skin.texels.assign(24, 0.0f);
+  for (int v = 0; v < 3; ++v)
+    p.skin.texels[size_t(v * 8 + 4)] = 1;
+  p.mesh.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  p.mesh.normals = {0, 0, 1, 0, 0, 1, 0, 0, 1};
+  p.mesh.indices = {0, 1, 2};
+  p.mesh.subMeshes = {{"body", 0, 3}};
+  p.mesh.boundingSphere = {0.5f, 0.5f, 0, 1};
+  return p;
+}
+
+TEST(Container, RoundTripsEveryChunk) {
+  auto bytes = packBytes(tinyPack());
+  EXPECT_EQ(bytes.size() % kAlignment, 0u);
+  Reader r(bytes, "mem");
+  for (const auto &c : r.chunks())
+    EXPECT_EQ(c.offset % kAlignment, 0u) << fourccName(c.type);
+  AnimationPack back = loadAnimationPack(r);
+  EXPECT_EQ(back.skeleton.names, tinyPack().skeleton.names);
+  EXPECT_EQ(back.clips[0].name, "walk");
+  EXPECT_EQ(back.mesh.indices, tinyPack().mesh.indices);
+  EXPECT_EQ(back.provenance.settings, tinyPack().provenance.settings);
+  EXPECT_EQ(packBytes(back), bytes) << "decode then encode must give the same bytes";
+}
+
+TEST(Container, EveryTruncationIsAnError) {
+  auto bytes = packBytes(tinyPack());
+  for (size_t n = 0; n < bytes.size(); ++n) {
+    std::vector<uint8_t> cut(bytes.begin(), bytes.begin() + long(n));
+    EXPECT_THROW(loadAnimationPack(Reader(cut, "cut")), crowd::Error) << "length " << n;
+  }
+}
+
+TEST(Container, EveryBitFlipIsCaught) {
+  auto bytes = packBytes(tinyPack());
+  size_t caught = 0, flips = 0;
+  for (size_t i = 0; i < bytes.size(); ++i) {
+    std::vector<uint8_t> bad = bytes;
+    bad[i] ^= 0x04;
+    ++flips;
+    try {
+      loadAnimationPack(Reader(bad, "flip"));
+    } catch (const crowd::Error &) {
+      ++caught;
+      continue;
+    }
+    // Only padding and reserved bytes may change without notice.
+    Reader r(bytes, "ok");
+    bool inPayload = false;
+    for (const auto &c : r.chunks())
+      inPayload |= i >= c.offset && i < c.offset + c.size;
+    EXPECT_FALSE(inPayload || i < kHeaderSize - 4) << "undetected flip at byte " << i;
+  }
+  EXPECT_GT(caught, flips / 2);
+}
+
+TEST(Container, CrossChunkChecksNameTheField) {
+  auto p = tinyPack();
+  p.skin.texels[0] = 5; // joint 5 of 2
+  try {
+    loadAnimationPack(Reader(packBytes(p), "x.crowdpack"));
+    FAIL();
+  } catch (const crowd::Error &e) {
+    EXPECT_NE(std::string(e.what()).find("chunk SKIN, field 'texels': vertex 0 uses joint 5"),
+              std::string::npos)
+        << e.what();
+  }
+  p = tinyPack();
+  p.mesh.indices[1] = 9;
+  EXPECT_THROW(loadAnimationPack(Reader(packBytes(p), "x")), crowd::Error);
+  p = tinyPack();
+  p.skeleton.parents[0] = 1; // parent after child
+  EXPECT_THROW(loadAnimationPack(Reader(packBytes(p), "x")), crowd::Error);
+  p = tinyPack();
+  p.clips[0].frameCount = 3; // past the texture
+  EXPECT_THROW(loadAnimationPack(Reader(packBytes(p), "x")), crowd::Error);
+}
+
+TEST(Container, WriterIsDeterministic) { EXPECT_EQ(packBytes(tinyPack()), packBytes(tinyPack())); }
+
+TEST(Half, RoundTripsEveryHalfAndRoundsToNearestEven) {
+  for (uint32_t h = 0; h < 65536; ++h) {
+    float f = halfToFloat(uint16_t(h));
+    if (std::isnan(f))
+      continue;
+    ASSERT_EQ(floatToHalf(f), h) << std::hex << h;
+  }
+  EXPECT_EQ(halfToFloat(floatToHalf(1.0f + 1.0f / 4096)), 1.0f); // tie goes to even
+  EXPECT_EQ(floatToHalf(1e-10f), 0u);                            // far below subnormals
+  EXPECT_EQ(floatToHalf(-2e-10f), 0x8000u);
+  EXPECT_EQ(floatToHalf(1e6f), 0x7c00u);                         // overflow to infinity
+  EXPECT_NEAR(halfToFloat(floatToHalf(6e-8f)), 5.96e-8f, 1e-9f); // smallest subnormal
+}
+
+} // namespace

@@ -1,0 +1,227 @@
+#include <cmath>
+#include <filesystem>
+#include <map>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <gtest/gtest.h>
+
+#include "crowd/bake/evaluate.h"
+#include "crowd/bake/import.h"
+#include "crowd/formats/error.h"
+#include "gltf_writer.h"
+
+using namespace crowd;
+using crowd::test::GltfBuilder;
+
+namespace {
+
+Character load(const GltfBuilder &b, const std::string &name, Reporter *reporter = nullptr,
+               bool external = false) {
+  std::string dir = test::tempDir("import_" + name);
+  Reporter local;
+  local.quiet = true;
+  return importGltf(b.write(dir, name, external), {}, reporter ? *reporter : local);
+}
+
+glm::dvec3 nodePosition(const Character &c, const std::string &name, double t) {
+  auto g = nodeGlobals(c, c.clips.empty() ? nullptr : &c.clips[0], t);
+  for (size_t i = 0; i < c.nodes.size(); ++i)
+    if (c.nodes[i].name == name)
+      return glm::dvec3(g[i][3]);
+  ADD_FAILURE() << "no node " << name;
+  return {};
+}
+
+TEST(Import, LinearTranslationInAClipThatStartsLate) {
+  GltfBuilder b;
+  b.skinnedQuad();
+  b.animation("lift", 1, "translation", {1, 3}, {0, 0.5f, 0, 0, 1.5f, 0});
+  Character c = load(b, "linear");
+  ASSERT_EQ(c.clips.size(), 1u);
+  EXPECT_DOUBLE_EQ(c.clips[0].start, 1.0);
+  EXPECT_DOUBLE_EQ(c.clips[0].end, 3.0);
+  EXPECT_NEAR(nodePosition(c, "b", 2.0).y, 1.0, 1e-12);
+  EXPECT_NEAR(nodePosition(c, "b", 0.0).y, 0.5, 1e-12); // before the first key: first value
+  EXPECT_NEAR(nodePosition(c, "b", 9.0).y, 1.5, 1e-12); // after the last key: last value
+}
+
+TEST(Import, StepHoldsTheEarlierKey) {
+  GltfBuilder b;
+  b.skinnedQuad();
+  b.animation("step", 1, "translation", {0, 1}, {0, 0.5f, 0, 0, 1.5f, 0}, "STEP");
+  Character c = load(b, "step");
+  EXPECT_NEAR(nodePosition(c, "b", 0.99).y, 0.5, 1e-12);
+  EXPECT_NEAR(nodePosition(c, "b", 1.0).y, 1.5, 1e-12);
+}
+
+TEST(Import, CubicSplineUsesScaledTangents) {
+  GltfBuilder b;
+  b.skinnedQuad();
+  // Keys: (in, value, out). Value 0 -> 1 over 2 s, out-tangent 2 at key 0, in-tangent 0 at key 1:
+  // p(0.5) = 0.5*0 + 0.125*2*2 + 0.5*1 - 0.125*2*0 = 1.0
+  b.animation("cubic", 1, "translation", {0, 2},
+              {0, 0, 0, 0, 0, 0, 0, 2, 0, /* key 1 */ 0, 0, 0, 0, 1, 0, 0, 0, 0}, "CUBICSPLINE");
+  Character c = load(b, "cubic");
+  EXPECT_NEAR(nodePosition(c, "b", 1.0).y, 1.0, 1e-12);
+  EXPECT_NEAR(nodePosition(c, "b", 2.0).y, 1.0, 1e-12);
+}
+
+TEST(Import, RotationsSlerpAlongTheShortArc) {
+  GltfBuilder b;
+  b.skinnedQuad();
+  float s = float(std::sqrt(0.5));
+  // Identity to 90 degrees about z, the second key given with flipped sign (same rotation).
+  b.animation("turn", 0, "rotation", {0, 1}, {0, 0, 0, 1, 0, 0, -s, -s});
+  Character c = load(b, "slerp");
+  auto g = nodeGlobals(c, &c.clips[0], 0.5);
+  glm::dvec3 x = glm::normalize(glm::dvec3(g[0][0]));
+  EXPECT_NEAR(std::atan2(x.y, x.x), glm::radians(45.0), 1e-7); // keys are single precision
+}
+
+TEST(Import, ChannelsOfDifferentLengthsSpanTheLongest) {
+  GltfBuilder b;
+  b.skinnedQuad();
+  b.animation("two", 1, "translation", {0, 1}, {0, 0.5f, 0, 0, 1, 0});
+  int in = b.floats({0, 4}, "SCALAR");
+  int out = b.floats({0, 0, 0, 2, 0, 0}, "VEC3");
+  b.j["animations"][0]["samplers"].push_back({{"input", in}, {"output", out}});
+  b.j["animations"][0]["channels"].push_back(
+      {{"sampler", 1}, {"target", {{"node", 0}, {"path", "translation"}}}});
+  Character c = load(b, "lengths");
+  EXPECT_DOUBLE_EQ(c.clips[0].end, 4.0);
+  glm::dvec3 p = nodePosition(c, "b", 2.0);
+  EXPECT_NEAR(p.x, 1.0, 1e-12);
+  EXPECT_NEAR(p.y, 1.0, 1e-12);
+}
+
+TEST(Import, MatrixNodesAndMissingInverseBindMatrices) {
+  GltfBuilder b;
+  b.skinnedQuad();
+  b.j["nodes"][0]["matrix"] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 2, 0, 0, 1};
+  b.j["skins"][0].erase("inverseBindMatrices");
+  Character c = load(b, "matrix");
+  auto joints = jointMatrices(c, nullptr, 0);
+  EXPECT_EQ(joints[0][3], glm::dvec4(2, 0, 0, 1));
+  EXPECT_EQ(joints[1][3], glm::dvec4(2, 0.5, 0, 1)); // identity inverse bind
+}
+
+TEST(Import, SkinnedMeshNodeTransformIsIgnored) {
+  GltfBuilder b;
+  int node = b.skinnedQuad();
+  b.j["nodes"][size_t(node)]["translation"] = {10, 0, 0};
+  Character c = load(b, "meshnode");
+  auto p = skinPositions(c, jointMatrices(c, nullptr, 0));
+  EXPECT_NEAR(p[1].x, 1.0, 1e-12); // bind pose: the file's positions, without the +10
+}
+
+TEST(Import, FiveInfluencesKeepTheLargestFourAndWarn) {
+  GltfBuilder b;
+  b.skinnedQuad();
+  int j0 = b.accessor(std::vector<uint8_t>{0, 1, 0, 1, 0, 1, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0}, 5121,
+                      "VEC4");
+  int w0 =
+      b.floats({0.3f, 0.3f, 0.2f, 0.1f, 2, 0, 0, 0, 0.5f, 0.5f, 0, 0, 0.25f, 0.75f, 0, 0}, "VEC4");
+  int j1 = b.accessor(std::vector<uint8_t>{1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0}, 5121,
+                      "VEC4");
+  int w1 = b.floats({0.05f, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0}, "VEC4");
+  auto &attrs = b.j["meshes"][0]["primitives"][0]["attributes"];
+  attrs["JOINTS_0"] = j0;
+  attrs["WEIGHTS_0"] = w0;
+  attrs["JOINTS_1"] = j1;
+  attrs["WEIGHTS_1"] = w1;
+  Reporter r;
+  r.quiet = true;
+  Character c = load(b, "five", &r);
+  std::map<std::string, size_t> counts;
+  for (const auto &w : r.warnings())
+    counts[w.code] = w.count;
+  EXPECT_EQ(counts["more_than_4_influences"], 1u);
+  EXPECT_EQ(counts["weights_renormalised"],
+            2u); // vertex 0 (0.9 once 0.05 is dropped), vertex 1 (2)
+  EXPECT_EQ(counts["normals_computed"], 1u);
+  glm::vec4 w = c.mesh.weights[0];
+  EXPECT_NEAR(w.x + w.y + w.z + w.w, 1.0f, 1e-6f);
+  EXPECT_NEAR(w.w, 0.1f / 0.9f, 1e-6f); // 0.05 dropped, the rest renormalised
+  EXPECT_EQ(c.mesh.weights[1], glm::vec4(1, 0, 0, 0));
+}
+
+TEST(Import, NormalizedByteWeights) {
+  GltfBuilder b;
+  b.skinnedQuad();
+  int w =
+      b.accessor(std::vector<uint8_t>{255, 0, 0, 0, 255, 0, 0, 0, 128, 127, 0, 0, 64, 191, 0, 0},
+                 5121, "VEC4", true);
+  b.j["meshes"][0]["primitives"][0]["attributes"]["WEIGHTS_0"] = w;
+  Character c = load(b, "u8");
+  EXPECT_NEAR(c.mesh.weights[2].x, 128.0f / 255, 1e-6f);
+  EXPECT_NEAR(c.mesh.weights[3].x, 191.0f / 255, 1e-6f); // influences sorted, largest first
+  EXPECT_EQ(c.mesh.joints[3][0], 0);
+}
+
+TEST(Import, MeshRigidlyParentedToAJointBecomesOneInfluenceSkinning) {
+  GltfBuilder b;
+  b.skinnedQuad();
+  nlohmann::json prim = b.j["meshes"][0]["primitives"][0];
+  prim["attributes"].erase("JOINTS_0");
+  prim["attributes"].erase("WEIGHTS_0");
+  b.j["meshes"].push_back({{"name", "prop"}, {"primitives", {prim}}});
+  b.j["nodes"].push_back({{"name", "prop"}, {"mesh", 1}, {"translation", {0, 0, 1}}});
+  b.j["nodes"][1]["children"] = {3};
+  b.animation("lift", 1, "translation", {0, 1}, {0, 0.5f, 0, 0, 1.5f, 0});
+  Character c = load(b, "rigid");
+  ASSERT_EQ(c.jointCount(), 3u);
+  EXPECT_EQ(c.mesh.vertexCount(), 8u);
+  auto p = skinPositions(c, jointMatrices(c, &c.clips[0], 1.0));
+  EXPECT_NEAR(p[4 + 3].y, 1.0 + 1.5, 1e-12); // vertex (1,1,0) of the prop under b at y = 1.5
+  EXPECT_NEAR(p[4 + 3].z, 1.0, 1e-12);
+}
+
+TEST(Import, ExternalBufferAndGlbGiveTheSameCharacter) {
+  GltfBuilder b;
+  b.skinnedQuad();
+  Character ext = load(b, "external", nullptr, true);
+  std::string dir = test::tempDir("import_glb");
+  Reporter r;
+  Character glb = importGltf(b.writeGlb(dir, "q"), {}, r);
+  EXPECT_EQ(ext.mesh.positions, glb.mesh.positions);
+  EXPECT_EQ(ext.mesh.indices, glb.mesh.indices);
+}
+
+TEST(Import, MeshByNameAndAClearErrorForAnUnknownOne) {
+  GltfBuilder b;
+  b.skinnedQuad();
+  std::string path = b.write(test::tempDir("import_byname"), "n");
+  Reporter r;
+  EXPECT_EQ(importGltf(path, {"quad"}, r).mesh.vertexCount(), 4u);
+  try {
+    importGltf(path, {"nope"}, r);
+    FAIL();
+  } catch (const Error &e) {
+    EXPECT_NE(std::string(e.what()).find("no mesh named 'nope'"), std::string::npos);
+  }
+}
+
+TEST(Import, SharedAssetsWithOddities) {
+  std::string dir = CROWD_SHARED_ASSETS;
+  if (!std::filesystem::exists(dir))
+    GTEST_SKIP() << "shared assets absent at " << dir;
+  Reporter r;
+  r.quiet = true;
+  Character q = importGltf(dir + "/quad_skin/quad_skin.glb", {}, r);
+  bool more = false;
+  for (const auto &w : r.warnings())
+    more |= w.code == "more_than_4_influences";
+  EXPECT_TRUE(more) << "quad_skin has 10 influences per vertex";
+  Reporter m;
+  m.quiet = true;
+  importGltf(dir + "/AnimatedMorphCube/AnimatedMorphCube.glb", {}, m);
+  bool morph = false;
+  for (const auto &w : m.warnings())
+    morph |= w.code == "morph_targets_ignored";
+  EXPECT_TRUE(morph);
+  Reporter s;
+  Character simple = importGltf(dir + "/SimpleSkin/SimpleSkin.gltf", {}, s); // external buffers
+  EXPECT_EQ(simple.mesh.vertexCount(), 10u);
+}
+
+} // namespace
