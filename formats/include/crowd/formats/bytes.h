@@ -15,9 +15,9 @@ class ByteWriter {
 public:
   template <class T> void put(T value) {
     static_assert(std::is_arithmetic_v<T>);
-    uint8_t raw[sizeof(T)];
-    std::memcpy(raw, &value, sizeof(T)); // host is little-endian (checked in container.cpp)
-    bytes_.insert(bytes_.end(), raw, raw + sizeof(T));
+    size_t at = bytes_.size(); // resize + memcpy: vector::insert trips a GCC 12 false warning
+    bytes_.resize(at + sizeof(T));
+    std::memcpy(bytes_.data() + at, &value, sizeof(T)); // host is little-endian (container.cpp)
   }
   void putString(const std::string &s);
   template <class T> void putArray(const std::vector<T> &values) {
@@ -58,7 +58,8 @@ public:
     if (count > (bytes_.size() - pos_) / sizeof(T))
       fail(field, "array of " + std::to_string(count) + " elements runs past the chunk end");
     std::vector<T> values(count);
-    if (count) std::memcpy(values.data(), bytes_.data() + pos_, count * sizeof(T));
+    if (count)
+      std::memcpy(values.data(), bytes_.data() + pos_, count * sizeof(T));
     pos_ += count * sizeof(T);
     return values;
   }
