@@ -113,11 +113,13 @@ struct Bones {
   }
 };
 
-// A closed tube along a straight axis from `a` to `b` with an elliptic section of radii
-// radius(s) * (rx, rz) in the (side, front) directions; closed by a cap fan at each end.
-// UVs wrap around (a seam where u goes from 1 back to 0) into the atlas cell `cell`.
+// A tube along a straight axis from `a` to `b` with an elliptic section of radii
+// radius(s) = (rx, rz) in the (side, front) directions; closed by a cap fan at each end for body
+// parts, open for garments. UVs wrap around (a seam where u goes from 1 back to 0) into the
+// atlas cell `cell`.
 void addTube(Part &part, glm::vec3 a, glm::vec3 b, glm::vec3 side, int rings, int segments,
-             const std::function<glm::vec2(float)> &radius, const Bones &bones, glm::vec4 cell) {
+             const std::function<glm::vec2(float)> &radius, const Bones &bones, glm::vec4 cell,
+             bool caps = true) {
   glm::vec3 axis = glm::normalize(b - a);
   glm::vec3 front = glm::normalize(glm::cross(side, axis));
   side = glm::normalize(glm::cross(axis, front));
@@ -146,7 +148,7 @@ void addTube(Part &part, glm::vec3 a, glm::vec3 b, glm::vec3 side, int rings, in
       part.indices.insert(part.indices.end(), {i0, i2, i1, i1, i2, i3});
     }
   // Caps: a centre vertex with its own normal; shares no vertex with the wall (a normal seam).
-  for (int end = 0; end < 2; ++end) {
+  for (int end = 0; end < 2 && caps; ++end) {
     float s = float(end);
     glm::vec2 rad = radius(s);
     if (rad.x < 1e-4f)
@@ -182,6 +184,14 @@ const glm::vec4 kCells[6] = {{0, 0, 0.5f, 0.33f},     {0.5f, 0, 0.5f, 0.33f},
                              {0, 0.66f, 0.5f, 0.34f}, {0.5f, 0.66f, 0.5f, 0.34f}};
 const glm::vec3 kX(1, 0, 0);
 
+// Torso section at height y: the body's, and the base every top garment is inflated from.
+constexpr float kTorsoBottom = 0.86f, kTorsoTop = 1.45f;
+glm::vec2 torsoRadius(float y, float inflate = 0) {
+  float s = (y - kTorsoBottom) / (kTorsoTop - kTorsoBottom);
+  float r = 0.15f + 0.02f * std::sin(float(kPi) * s) - (s > 0.85f ? (s - 0.85f) * 0.5f : 0);
+  return glm::vec2(r + inflate, r * 0.65f + inflate);
+}
+
 std::vector<Part> humanoidParts() {
   std::vector<Part> parts(6);
   parts[0].material = "head";
@@ -196,11 +206,8 @@ std::vector<Part> humanoidParts() {
       {{Neck, Head}, {0.3f}}, kCells[0]);
   parts[1].material = "torso";
   addTube(
-      parts[1], {0, 0.86f, 0}, {0, 1.45f, 0}, kX, 24, 32,
-      [](float s) {
-        float r = 0.15f + 0.02f * std::sin(float(kPi) * s) - (s > 0.85f ? (s - 0.85f) * 0.5f : 0);
-        return glm::vec2(r, r * 0.65f);
-      },
+      parts[1], {0, kTorsoBottom, 0}, {0, kTorsoTop, 0}, kX, 24, 32,
+      [](float s) { return torsoRadius(kTorsoBottom + s * (kTorsoTop - kTorsoBottom)); },
       {{Hips, Spine, Chest, Neck}, {0.22f, 0.62f, 0.95f}}, kCells[1]);
   parts[2].material = "arms";
   parts[3].material = "hands";
@@ -233,19 +240,17 @@ std::vector<Part> humanoidParts() {
 // Garments: inflated tubes over the body, skinned with the same bones.
 std::vector<Part> outfitParts(int kind) {
   std::vector<Part> parts;
-  auto torso = [](float inflate, float top) {
-    return [=](float s) {
-      float r = 0.15f + 0.02f * std::sin(float(kPi) * s) + inflate;
-      if (s > top)
-        r = 0;
-      return glm::vec2(r, (r - inflate) * 0.65f + inflate);
-    };
+  // An open garment tube around the torso from height y0 to y1.
+  auto top = [](Part &p, float y0, float y1, float inflate, const Bones &bones) {
+    addTube(
+        p, {0, y0, 0}, {0, y1, 0}, kX, 16, 32,
+        [=](float s) { return torsoRadius(y0 + s * (y1 - y0), inflate); }, bones, kCells[1], false);
   };
   auto skirt = [&](Part &p, float bottom, float flare) {
     addTube(
         p, {0, 0.98f, 0}, {0, bottom, 0}, kX, 14, 36,
         [=](float s) { return glm::vec2(0.175f + flare * s, 0.125f + flare * s); }, {{Hips}, {}},
-        kCells[4]);
+        kCells[4], false);
   };
   auto sleeves = [&](Part &p, float length) {
     for (int side = 0; side < 2; ++side) {
@@ -254,39 +259,36 @@ std::vector<Part> outfitParts(int kind) {
       glm::vec3 end = top + (jp(ha) - top) * length;
       addTube(
           p, top, end, kX, 12, 16, [](float) { return glm::vec2(0.06f); },
-          {{ua, fa}, {0.5f / length}}, kCells[2]);
+          {{ua, fa}, {0.5f / length}}, kCells[2], false);
     }
   };
   if (kind == 0) { // dress: bodice and a long flared skirt
     parts.resize(1);
     parts[0].material = "dress";
-    addTube(parts[0], {0, 0.95f, 0}, {0, 1.45f, 0}, kX, 16, 32, torso(0.02f, 0.92f),
-            {{Hips, Spine, Chest}, {0.2f, 0.55f}}, kCells[1]);
+    top(parts[0], 0.95f, 1.40f, 0.02f, {{Hips, Spine, Chest}, {0.2f, 0.55f}});
     skirt(parts[0], 0.40f, 0.16f);
   } else if (kind == 1) { // jumper with a skirt
     parts.resize(2);
     parts[0].material = "jumper";
-    addTube(parts[0], {0, 0.90f, 0}, {0, 1.45f, 0}, kX, 16, 32, torso(0.025f, 0.93f),
-            {{Hips, Spine, Chest}, {0.2f, 0.6f}}, kCells[1]);
+    top(parts[0], 0.90f, 1.41f, 0.025f, {{Hips, Spine, Chest}, {0.2f, 0.6f}});
     sleeves(parts[0], 0.95f);
     parts[1].material = "skirt";
     skirt(parts[1], 0.62f, 0.08f);
   } else { // shirt with trousers
     parts.resize(2);
     parts[0].material = "shirt";
-    addTube(parts[0], {0, 0.92f, 0}, {0, 1.45f, 0}, kX, 16, 32, torso(0.02f, 0.93f),
-            {{Hips, Spine, Chest}, {0.2f, 0.6f}}, kCells[1]);
+    top(parts[0], 0.92f, 1.41f, 0.02f, {{Hips, Spine, Chest}, {0.2f, 0.6f}});
     sleeves(parts[0], 0.4f);
     parts[1].material = "trousers";
     addTube(
         parts[1], {0, 0.86f, 0}, {0, 1.0f, 0}, kX, 6, 32,
-        [](float) { return glm::vec2(0.185f, 0.125f); }, {{Hips}, {}}, kCells[4]);
+        [](float) { return glm::vec2(0.185f, 0.125f); }, {{Hips}, {}}, kCells[4], false);
     for (int side = 0; side < 2; ++side) {
       int th = side ? ThR : ThL, sh = side ? ShinR : ShinL;
       addTube(
           parts[1], jp(th) + glm::vec3(0, 0.04f, 0), jp(side ? FtR : FtL) + glm::vec3(0, 0.05f, 0),
           kX, 22, 18, [](float s) { return glm::vec2(0.095f - 0.035f * s); }, {{th, sh}, {0.5f}},
-          kCells[4]);
+          kCells[4], false);
     }
   }
   return parts;

@@ -5,6 +5,7 @@
 #include "crowd/bake/anim_bake.h"
 #include "crowd/bake/evaluate.h"
 #include "crowd/bake/import.h"
+#include "crowd/bake/preview.h"
 #include "crowd/formats/error.h"
 #include "crowd/runtime/texture_skinning.h"
 #include "crowd/samples/samples.h"
@@ -178,4 +179,22 @@ TEST(RealAssets, EveryModelBakesWithinTheFp32Target) {
   }
 }
 
+} // namespace
+
+namespace {
+TEST(Preview, DrawsTheSkinnedCharacterInsideTheFrame) {
+  AnimBakeResult r = bake(humanoid());
+  auto rgb = renderPreview(r.pack, 0, 7, 128);
+  size_t covered = 0, border = 0;
+  for (int y = 0; y < 128; ++y)
+    for (int x = 0; x < 128; ++x) {
+      bool drawn = rgb[size_t(y * 128 + x) * 3] != 40 || rgb[size_t(y * 128 + x) * 3 + 1] != 40;
+      covered += drawn;
+      border += drawn && (x == 0 || y == 0 || x == 127 || y == 127);
+    }
+  EXPECT_GT(covered, 128u * 128 / 20); // a standing figure fills a good part of its sphere's square
+  EXPECT_LT(covered, 128u * 128 / 2);
+  EXPECT_EQ(border, 0u); // the bounding sphere frames the whole character
+  EXPECT_EQ(rgb, renderPreview(r.pack, 0, 7, 128));
+}
 } // namespace

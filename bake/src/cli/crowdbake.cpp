@@ -15,6 +15,7 @@
 
 #include "crowd/bake/anim_bake.h"
 #include "crowd/bake/import.h"
+#include "crowd/bake/preview.h"
 #include "crowd/bake/provenance.h"
 #include "crowd/formats/chunks.h"
 #include "crowd/formats/error.h"
@@ -93,7 +94,8 @@ example:
     {"export", R"(usage: crowdbake export PACK --images DIR
 
 Writes the pack's textures through OpenImageIO: float textures as OpenEXR
-(animation.exr, skin.exr).
+(animation.exr, skin.exr), and preview.png: the mesh skinned from the animation texture a quarter
+of the way into the first clip, seen from the front, one tint per sub-mesh.
 
 example:
   crowdbake export humanoid.crowdpack --images textures/
@@ -427,10 +429,10 @@ int cmdVerify(const Args &a) {
   return 0;
 }
 
-void writeExr(const std::string &path, int width, int height, OIIO::TypeDesc type,
-              const void *data) {
+void writeImage(const std::string &path, int width, int height, int channels, OIIO::TypeDesc type,
+                const void *data) {
   auto out = OIIO::ImageOutput::create(path);
-  OIIO::ImageSpec spec(width, height, 4, type);
+  OIIO::ImageSpec spec(width, height, channels, type);
   spec.attribute("compression", "zip");
   if (!out || !out->open(path, spec) || !out->write_image(type, data) || !out->close())
     throw crowd::Error(path +
@@ -448,13 +450,17 @@ int cmdExport(const Args &a) {
   if (ec)
     throw crowd::Error(dir + ": cannot create directory: " + ec.message());
   const auto &t = p.animation;
-  writeExr(dir + "/animation.exr", int(t.width), int(t.height),
-           t.format == crowd::pack::TexelFormat::RGBA32F ? OIIO::TypeDesc::FLOAT
-                                                         : OIIO::TypeDesc::HALF,
-           t.texels.data());
-  writeExr(dir + "/skin.exr", int(p.skin.width), int(p.skin.height), OIIO::TypeDesc::FLOAT,
-           p.skin.texels.data());
-  std::cout << dir << "/animation.exr\n" << dir << "/skin.exr\n";
+  writeImage(dir + "/animation.exr", int(t.width), int(t.height), 4,
+             t.format == crowd::pack::TexelFormat::RGBA32F ? OIIO::TypeDesc::FLOAT
+                                                           : OIIO::TypeDesc::HALF,
+             t.texels.data());
+  writeImage(dir + "/skin.exr", int(p.skin.width), int(p.skin.height), 4, OIIO::TypeDesc::FLOAT,
+             p.skin.texels.data());
+  const int size = 512;
+  const auto &clip = p.clips[0];
+  auto rgb = crowd::renderPreview(p, 0, clip.frameCount / 4, size);
+  writeImage(dir + "/preview.png", size, size, 3, OIIO::TypeDesc::UINT8, rgb.data());
+  std::cout << dir << "/animation.exr\n" << dir << "/skin.exr\n" << dir << "/preview.png\n";
   return 0;
 }
 
