@@ -184,6 +184,9 @@ TEST(Import, ExternalBufferAndGlbGiveTheSameCharacter) {
   Reporter r;
   Character glb = importGltf(b.writeGlb(dir, "q"), {}, r);
   EXPECT_EQ(ext.mesh.positions, glb.mesh.positions);
+  ASSERT_EQ(ext.sourceFiles.size(), 2u); // provenance hashes the .bin too
+  EXPECT_EQ(std::filesystem::path(ext.sourceFiles[1]).filename(), "external.bin");
+  EXPECT_EQ(glb.sourceFiles.size(), 1u);
   EXPECT_EQ(ext.mesh.indices, glb.mesh.indices);
 }
 

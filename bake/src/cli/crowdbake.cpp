@@ -258,12 +258,12 @@ int cmdAnim(const Args &a) {
   std::ostringstream fps;
   fps << opt.fps;
   result.pack.provenance =
-      crowd::makeProvenance({input}, {{"command", "anim"},
-                                      {"clip", opt.clip},
-                                      {"mesh", io.mesh},
-                                      {"fps", fps.str()},
-                                      {"max-width", std::to_string(opt.maxWidth)},
-                                      {"precision", opt.precision}});
+      crowd::makeProvenance(character.sourceFiles, {{"command", "anim"},
+                                                    {"clip", opt.clip},
+                                                    {"mesh", io.mesh},
+                                                    {"fps", fps.str()},
+                                                    {"max-width", std::to_string(opt.maxWidth)},
+                                                    {"precision", opt.precision}});
   std::vector<uint8_t> bytes = crowd::pack::packBytes(result.pack);
   crowd::pack::writeFileAtomic(a.get("output"), bytes);
   auto t3 = Clock::now();

@@ -1,7 +1,9 @@
 #include "crowd/bake/import.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <map>
@@ -27,6 +29,21 @@ std::string oneLine(std::string s) {
     s.pop_back();
   std::replace(s.begin(), s.end(), '\n', ' ');
   return s;
+}
+
+// glTF URIs are percent-encoded ("my%20file.bin").
+std::string percentDecoded(const std::string &uri) {
+  std::string out;
+  for (size_t i = 0; i < uri.size(); ++i) {
+    if (uri[i] == '%' && i + 2 < uri.size() && std::isxdigit(uint8_t(uri[i + 1])) &&
+        std::isxdigit(uint8_t(uri[i + 2]))) {
+      out += char(std::stoi(uri.substr(i + 1, 2), nullptr, 16));
+      i += 2;
+    } else {
+      out += uri[i];
+    }
+  }
+  return out;
 }
 
 // Images are not decoded: the animation bake never reads pixels, and a missing image must not
@@ -69,6 +86,11 @@ private:
     for (const auto &ext : model_.extensionsRequired)
       if (!kSupportedRequired.count(ext))
         fail("unsupported required extension " + ext);
+    out_.sourceFiles.push_back(path_);
+    const auto dir = std::filesystem::path(path_).parent_path();
+    for (const auto &buffer : model_.buffers)
+      if (!buffer.uri.empty() && buffer.uri.rfind("data:", 0) != 0)
+        out_.sourceFiles.push_back((dir / percentDecoded(buffer.uri)).string());
   }
 
   // --- accessors -------------------------------------------------------------------------

@@ -57,6 +57,7 @@ struct SkinnedMesh {
 };
 
 struct Character {
+  std::vector<std::string> sourceFiles; // the glTF file, then every external buffer it reads
   std::vector<Node> nodes;
   std::vector<int> nodeOrder;          // parents before children
   std::vector<int> jointNodes;         // node index of each joint
