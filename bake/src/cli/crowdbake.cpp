@@ -469,9 +469,13 @@ int cmdExport(const Args &a) {
 int main(int argc, char **argv) {
   std::string command = argc > 1 ? argv[1] : "";
   try {
-    if (command.empty() || command == "--help" || command == "-h" || command == "help") {
+    if (command.empty()) {
+      std::cerr << kTopHelp;
+      return 2;
+    }
+    if (command == "--help" || command == "-h" || command == "help") {
       std::cout << kTopHelp;
-      return command.empty() ? 2 : 0;
+      return 0;
     }
     if (!kHelp.count(command))
       throw UsageError("unknown command '" + command + "' (see crowdbake --help)");

@@ -1,0 +1,56 @@
+// Scene files for crowdplay (JSON): the packs to load, instance count and placement, per-instance
+// clip, time offset and speed, colour palettes per sub-mesh region, camera (with an optional
+// keyframed path) and light. Errors name the file, line and column.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace crowd::runtime {
+
+struct CameraKey {
+  double time = 0;
+  glm::dvec3 position{0}, target{0};
+};
+
+struct Camera {
+  glm::dvec3 position{0, 1.6, 10}, target{0, 1, 0};
+  double fovYDegrees = 50, nearPlane = 0.1, farPlane = 1000;
+  std::vector<CameraKey> path; // empty: fixed camera
+  bool loopPath = true;
+  // Eye and target at time t along the path (linear between keys).
+  void at(double t, glm::dvec3 &eye, glm::dvec3 &look) const;
+};
+
+// One placed character. World transform: translation + rotation about +Y.
+struct Instance {
+  uint32_t pack = 0;
+  glm::dvec3 position{0};
+  double yaw = 0; // radians
+  uint32_t clip = 0;
+  double timeOffset = 0, speed = 1;
+  uint32_t palette = 0;
+};
+
+struct Scene {
+  std::string path;
+  std::vector<std::string> packPaths; // resolved against the scene file's folder
+  std::vector<std::string> packNames;
+  // Clip names instances choose from (Instance::clip indexes it); resolved by the player.
+  std::vector<std::string> clipNames;
+  std::vector<Instance> instances;
+  // palettes[p] maps region (sub-mesh) names to colours; "default" applies to the rest.
+  std::vector<std::vector<std::pair<std::string, glm::vec3>>> palettes;
+  Camera camera;
+  glm::vec3 lightDirection = glm::normalize(glm::vec3(0.4f, 1.0f, 0.6f));
+};
+
+// Parses and validates SCENE.json. `instanceOverride` > 0 replaces the scene's count (the
+// placement rule stays). Throws crowd::Error "FILE:LINE:COLUMN: what" on a bad file.
+Scene loadScene(const std::string &path, size_t instanceOverride = 0);
+Scene parseScene(const std::string &text, const std::string &path, size_t instanceOverride = 0);
+
+} // namespace crowd::runtime

@@ -1,0 +1,365 @@
+// crowdplay: loads crowdpacks and draws a scene's crowd with skinned instancing. Interactive in a
+// window, or headless (offscreen, fixed time step) for screenshots, stats and benchmarks.
+// GLFW must not pull in GL headers of its own: libepoxy provides them.
+#define GLFW_INCLUDE_NONE
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <string>
+
+#include <GLFW/glfw3.h>
+#include <OpenImageIO/imageio.h>
+#include <epoxy/gl.h>
+#include <glm/gtc/matrix_transform.hpp>
+#include <nlohmann/json.hpp>
+
+#include "crowd/formats/chunks.h"
+#include "crowd/formats/error.h"
+#include "crowd/runtime/crowd_renderer.h"
+#include "crowd/runtime/scene.h"
+
+namespace {
+
+const char *kHelp = R"(usage: crowdplay SCENE.json [options]
+
+Draws the scene's crowd from baked packs with skinned instancing (one instanced draw per
+sub-mesh per character type). Without --headless a window opens: drag with the left mouse button
+to orbit, scroll to zoom, W/A/S/D to move, Esc to quit; the title shows frame time, instances,
+triangles and draw calls.
+
+options:
+  --headless           render offscreen (run under xvfb-run -a where there is no display)
+  --frames N           frames to render headless (default 60), at a fixed 1/30 s step
+  --size WxH           image size (default 1280x720)
+  --instances K        override the scene's instance count (its placement rule stays)
+  --screenshot FILE    write the last frame as PNG
+  --stats FILE         write per-frame frame_ms, gpu_ms, draw_calls, instances, triangles and
+                       their means under "summary"
+  --naive              one draw per instance per sub-mesh, instance data in uniforms
+  --time SECONDS       scene time of the first frame (default 0)
+  --step SECONDS       headless time step between frames (default 1/30)
+
+example:
+  xvfb-run -a crowdplay samples/scenes/demo.json --headless --frames 120 --screenshot a.png --stats s.json
+)";
+
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct Options {
+  std::string scene, screenshot, stats;
+  bool headless = false, naive = false;
+  int frames = 60, width = 1280, height = 720;
+  size_t instances = 0;
+  double startTime = 0, step = 1.0 / 30.0;
+};
+
+Options parse(int argc, char **argv) {
+  Options o;
+  auto value = [&](int &i) {
+    if (i + 1 >= argc)
+      throw UsageError(std::string(argv[i]) + " needs a value");
+    return std::string(argv[++i]);
+  };
+  auto integer = [&](const std::string &s, const char *what, long lo, long hi) {
+    try {
+      size_t used = 0;
+      long v = std::stol(s, &used);
+      if (used == s.size() && v >= lo && v <= hi)
+        return v;
+    } catch (const std::exception &) {
+    }
+    throw UsageError(std::string(what) + " expects an integer in [" + std::to_string(lo) + ", " +
+                     std::to_string(hi) + "], got '" + s + "'");
+  };
+  for (int i = 1; i < argc; ++i) {
+    std::string a = argv[i];
+    if (a == "--headless")
+      o.headless = true;
+    else if (a == "--naive")
+      o.naive = true;
+    else if (a == "--frames")
+      o.frames = int(integer(value(i), "--frames", 1, 1000000));
+    else if (a == "--instances")
+      o.instances = size_t(integer(value(i), "--instances", 1, 1000000));
+    else if (a == "--screenshot")
+      o.screenshot = value(i);
+    else if (a == "--stats")
+      o.stats = value(i);
+    else if (a == "--time" || a == "--step") {
+      std::string v = value(i);
+      double seconds;
+      try {
+        seconds = std::stod(v);
+      } catch (const std::exception &) {
+        throw UsageError(a + " expects seconds, got '" + v + "'");
+      }
+      if (!std::isfinite(seconds) || (a == "--step" && seconds < 0))
+        throw UsageError(a + " expects finite, non-negative seconds, got '" + v + "'");
+      (a == "--time" ? o.startTime : o.step) = seconds;
+    } else if (a == "--size") {
+      std::string v = value(i);
+      auto x = v.find('x');
+      if (x == std::string::npos)
+        throw UsageError("--size expects WxH, got '" + v + "'");
+      o.width = int(integer(v.substr(0, x), "--size width", 16, 16384));
+      o.height = int(integer(v.substr(x + 1), "--size height", 16, 16384));
+    } else if (a.rfind("--", 0) == 0) {
+      throw UsageError("unknown option " + a);
+    } else if (o.scene.empty()) {
+      o.scene = a;
+    } else {
+      throw UsageError("one scene file only");
+    }
+  }
+  if (o.scene.empty())
+    throw UsageError("no scene file (see crowdplay --help)");
+  return o;
+}
+
+glm::mat4 viewProjection(const crowd::runtime::Camera &cam, double t, double aspect,
+                         glm::dvec3 offset = glm::dvec3(0)) {
+  glm::dvec3 eye, target;
+  cam.at(t, eye, target);
+  return glm::mat4(
+      glm::perspective(glm::radians(cam.fovYDegrees), aspect, cam.nearPlane, cam.farPlane) *
+      glm::lookAt(eye + offset, target + offset, glm::dvec3(0, 1, 0)));
+}
+
+void writePng(const std::string &path, int w, int h, const std::vector<uint8_t> &rgba) {
+  std::vector<uint8_t> rgb(size_t(w) * size_t(h) * 3);
+  for (int y = 0; y < h; ++y) // GL rows start at the bottom
+    for (int x = 0; x < w; ++x)
+      for (int k = 0; k < 3; ++k)
+        rgb[(size_t(y) * size_t(w) + size_t(x)) * 3 + size_t(k)] =
+            rgba[(size_t(h - 1 - y) * size_t(w) + size_t(x)) * 4 + size_t(k)];
+  auto out = OIIO::ImageOutput::create(path);
+  OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::UINT8);
+  if (!out || !out->open(path, spec) || !out->write_image(OIIO::TypeDesc::UINT8, rgb.data()) ||
+      !out->close())
+    throw crowd::Error(path + ": cannot write screenshot");
+}
+
+struct Glfw {
+  Glfw() {
+    glfwSetErrorCallback([](int, const char *) {});
+    if (!glfwInit())
+      throw crowd::Error("cannot initialise GLFW (no display? run under xvfb-run -a)");
+  }
+  ~Glfw() { glfwTerminate(); }
+};
+
+GLFWwindow *openWindow(int w, int h, bool visible) {
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 5);
+  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+  glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+  glfwWindowHint(GLFW_VISIBLE, visible ? GLFW_TRUE : GLFW_FALSE);
+  GLFWwindow *win = glfwCreateWindow(w, h, "crowdplay", nullptr, nullptr);
+  if (!win) {
+    const char *why = nullptr;
+    glfwGetError(&why);
+    throw crowd::Error(std::string("cannot create an OpenGL 4.5 core context: ") +
+                       (why ? why : "unknown reason"));
+  }
+  glfwMakeContextCurrent(win);
+  if (epoxy_gl_version() < 45)
+    throw crowd::Error("OpenGL 4.5 is required, the driver offers " +
+                       std::to_string(epoxy_gl_version() / 10) + "." +
+                       std::to_string(epoxy_gl_version() % 10));
+  return win;
+}
+
+int headless(const Options &o, crowd::runtime::CrowdRenderer &renderer,
+             const crowd::runtime::Scene &scene) {
+  unsigned fbo, colour, depth, query;
+  glCreateFramebuffers(1, &fbo);
+  glCreateRenderbuffers(1, &colour);
+  glCreateRenderbuffers(1, &depth);
+  glNamedRenderbufferStorage(colour, GL_RGBA8, o.width, o.height);
+  glNamedRenderbufferStorage(depth, GL_DEPTH_COMPONENT24, o.width, o.height);
+  glNamedFramebufferRenderbuffer(fbo, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, colour);
+  glNamedFramebufferRenderbuffer(fbo, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
+  if (glCheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+    throw crowd::Error("cannot create a " + std::to_string(o.width) + "x" +
+                       std::to_string(o.height) + " offscreen target");
+  glCreateQueries(GL_TIME_ELAPSED, 1, &query);
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+  glViewport(0, 0, o.width, o.height);
+  glEnable(GL_DEPTH_TEST);
+  nlohmann::ordered_json frames = nlohmann::ordered_json::array();
+  double sums[5] = {};
+  for (int f = 0; f < o.frames; ++f) {
+    double t = o.startTime + f * o.step;
+    auto t0 = std::chrono::steady_clock::now();
+    glClearColor(0.55f, 0.62f, 0.70f, 1);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glBeginQuery(GL_TIME_ELAPSED, query);
+    auto stats = renderer.draw(viewProjection(scene.camera, t, double(o.width) / o.height),
+                               float(t), o.naive);
+    glEndQuery(GL_TIME_ELAPSED);
+    glFinish();
+    double frameMs =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    GLuint64 ns = 0;
+    glGetQueryObjectui64v(query, GL_QUERY_RESULT, &ns);
+    double gpuMs = double(ns) / 1e6;
+    frames.push_back({{"frame", f},
+                      {"time_s", t},
+                      {"frame_ms", frameMs},
+                      {"gpu_ms", gpuMs},
+                      {"draw_calls", stats.drawCalls},
+                      {"instances", stats.instances},
+                      {"triangles", stats.triangles}});
+    double v[5] = {frameMs, gpuMs, double(stats.drawCalls), double(stats.instances),
+                   double(stats.triangles)};
+    for (int k = 0; k < 5; ++k)
+      sums[k] += v[k];
+  }
+  if (!o.screenshot.empty()) {
+    std::vector<uint8_t> rgba(size_t(o.width) * size_t(o.height) * 4);
+    glReadPixels(0, 0, o.width, o.height, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+    writePng(o.screenshot, o.width, o.height, rgba);
+  }
+  const char *keys[5] = {"frame_ms", "gpu_ms", "draw_calls", "instances", "triangles"};
+  nlohmann::ordered_json summary;
+  summary["frames"] = o.frames;
+  for (int k = 0; k < 5; ++k)
+    summary[keys[k]] = sums[k] / o.frames;
+  summary["renderer"] = reinterpret_cast<const char *>(glGetString(GL_RENDERER));
+  summary["path"] = o.naive ? "naive" : "instanced";
+  summary["size"] = std::to_string(o.width) + "x" + std::to_string(o.height);
+  if (!o.stats.empty()) {
+    std::ofstream f(o.stats);
+    f << nlohmann::ordered_json{{"summary", summary}, {"frames", frames}}.dump(2) << "\n";
+    if (!f)
+      throw crowd::Error(o.stats + ": cannot write stats");
+  }
+  std::printf("%d frames, %s: %.2f ms/frame (gpu %.2f ms), %.0f draw calls, %.0f instances, %.0f "
+              "triangles\n",
+              o.frames, o.naive ? "naive" : "instanced", sums[0] / o.frames, sums[1] / o.frames,
+              sums[2] / o.frames, sums[3] / o.frames, sums[4] / o.frames);
+  return 0;
+}
+
+struct Orbit {
+  double yaw = 0, pitch = 0, distance = 1, lastX = 0, lastY = 0;
+  glm::dvec3 pan{0};
+  bool dragging = false;
+};
+
+int interactive(GLFWwindow *win, const Options &o, crowd::runtime::CrowdRenderer &renderer,
+                crowd::runtime::Scene scene) {
+  Orbit orbit;
+  glm::dvec3 d = scene.camera.position - scene.camera.target;
+  orbit.distance = glm::length(d);
+  orbit.yaw = std::atan2(d.x, d.z);
+  orbit.pitch = std::asin(d.y / std::max(orbit.distance, 1e-9));
+  glfwSetWindowUserPointer(win, &orbit);
+  glfwSetScrollCallback(win, [](GLFWwindow *w, double, double dy) {
+    auto *ob = static_cast<Orbit *>(glfwGetWindowUserPointer(w));
+    ob->distance *= std::pow(0.9, dy);
+  });
+  glEnable(GL_DEPTH_TEST);
+  auto start = std::chrono::steady_clock::now(), lastTitle = start;
+  double frameMs = 0;
+  bool userCamera = false;
+  while (!glfwWindowShouldClose(win)) {
+    auto t0 = std::chrono::steady_clock::now();
+    double t = o.startTime + std::chrono::duration<double>(t0 - start).count();
+    double mx, my;
+    glfwGetCursorPos(win, &mx, &my);
+    bool down = glfwGetMouseButton(win, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
+    if (down && orbit.dragging) {
+      orbit.yaw -= (mx - orbit.lastX) * 0.005;
+      orbit.pitch = std::clamp(orbit.pitch + (my - orbit.lastY) * 0.005, -1.5, 1.5);
+      userCamera = true;
+    }
+    orbit.dragging = down;
+    orbit.lastX = mx, orbit.lastY = my;
+    glm::dvec3 forward(-std::sin(orbit.yaw), 0, -std::cos(orbit.yaw)),
+        right(-forward.z, 0, forward.x);
+    double step = orbit.distance * 0.02;
+    if (glfwGetKey(win, GLFW_KEY_W) == GLFW_PRESS)
+      orbit.pan += forward * step, userCamera = true;
+    if (glfwGetKey(win, GLFW_KEY_S) == GLFW_PRESS)
+      orbit.pan -= forward * step, userCamera = true;
+    if (glfwGetKey(win, GLFW_KEY_D) == GLFW_PRESS)
+      orbit.pan += right * step, userCamera = true;
+    if (glfwGetKey(win, GLFW_KEY_A) == GLFW_PRESS)
+      orbit.pan -= right * step, userCamera = true;
+    if (glfwGetKey(win, GLFW_KEY_ESCAPE) == GLFW_PRESS)
+      glfwSetWindowShouldClose(win, 1);
+    if (userCamera) { // the user took over from the scene's camera path
+      scene.camera.path.clear();
+      scene.camera.target = scene.camera.target + orbit.pan;
+      orbit.pan = glm::dvec3(0);
+      scene.camera.position =
+          scene.camera.target +
+          orbit.distance * glm::dvec3(std::cos(orbit.pitch) * std::sin(orbit.yaw),
+                                      std::sin(orbit.pitch),
+                                      std::cos(orbit.pitch) * std::cos(orbit.yaw));
+    }
+    int w, h;
+    glfwGetFramebufferSize(win, &w, &h);
+    glViewport(0, 0, w, h);
+    glClearColor(0.55f, 0.62f, 0.70f, 1);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    auto stats = renderer.draw(viewProjection(scene.camera, t, double(w) / std::max(h, 1)),
+                               float(t), o.naive);
+    glfwSwapBuffers(win);
+    glfwPollEvents();
+    auto t1 = std::chrono::steady_clock::now();
+    frameMs = 0.9 * frameMs + 0.1 * std::chrono::duration<double, std::milli>(t1 - t0).count();
+    if (t1 - lastTitle > std::chrono::milliseconds(500)) {
+      char title[256];
+      std::snprintf(title, sizeof title,
+                    "crowdplay  %.1f ms  %u instances  %.2f M triangles  %u draw calls", frameMs,
+                    stats.instances, double(stats.triangles) / 1e6, stats.drawCalls);
+      glfwSetWindowTitle(win, title);
+      lastTitle = t1;
+    }
+  }
+  return 0;
+}
+
+} // namespace
+
+int main(int argc, char **argv) {
+  for (int i = 1; i < argc; ++i)
+    if (std::string(argv[i]) == "--help" || std::string(argv[i]) == "-h") {
+      std::cout << kHelp;
+      return 0;
+    }
+  try {
+    Options o = parse(argc, argv);
+    crowd::runtime::Scene scene = crowd::runtime::loadScene(o.scene, o.instances);
+    std::vector<crowd::pack::AnimationPack> packs;
+    for (const auto &path : scene.packPaths) {
+      if (!std::filesystem::exists(path))
+        throw crowd::Error(o.scene + ": pack '" + path +
+                           "' does not exist (bake it first: ./run demo)");
+      packs.push_back(crowd::pack::loadAnimationPack(crowd::pack::Reader::open(path)));
+    }
+    Glfw glfw;
+    GLFWwindow *win =
+        openWindow(o.headless ? 64 : o.width, o.headless ? 64 : o.height, !o.headless);
+    crowd::runtime::CrowdRenderer renderer(packs, scene);
+    int rc = o.headless ? headless(o, renderer, scene) : interactive(win, o, renderer, scene);
+    return rc;
+  } catch (const UsageError &e) {
+    std::fprintf(stderr, "crowdplay: usage: %s\n", e.what());
+    return 2;
+  } catch (const std::exception &e) {
+    std::string msg = e.what();
+    for (char &ch : msg)
+      if (ch == '\n')
+        ch = ' ';
+    std::fprintf(stderr, "crowdplay: error: %s\n", msg.c_str());
+    return 1;
+  }
+}

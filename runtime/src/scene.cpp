@@ -1,0 +1,319 @@
+#include "crowd/runtime/scene.h"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "crowd/formats/error.h"
+
+namespace crowd::runtime {
+namespace {
+
+using nlohmann::json;
+
+// Line and column (1-based) of byte `offset` in `text`.
+std::string lineColumn(const std::string &text, size_t offset) {
+  size_t line = 1, col = 1;
+  for (size_t i = 0; i < offset && i < text.size(); ++i) {
+    if (text[i] == '\n') {
+      ++line;
+      col = 1;
+    } else {
+      ++col;
+    }
+  }
+  return std::to_string(line) + ":" + std::to_string(col);
+}
+
+// nlohmann::json keeps no source positions: semantic errors point at the first occurrence of
+// the offending key after its parent's key, which is where a reader would look.
+class Checker {
+public:
+  Checker(const std::string &text, const std::string &path) : text_(text), path_(path) {}
+
+  [[noreturn]] void fail(const std::vector<std::string> &keys, const std::string &what) const {
+    size_t pos = 0;
+    for (const auto &k : keys) {
+      size_t found = text_.find("\"" + k + "\"", pos);
+      if (found == std::string::npos)
+        break;
+      pos = found;
+    }
+    std::string where;
+    for (const auto &k : keys)
+      where += "/" + k;
+    throw Error(path_ + ":" + lineColumn(text_, pos) + ": " + (where.empty() ? "" : where + ": ") +
+                what);
+  }
+
+  double number(const json &j, const std::vector<std::string> &keys, double lo, double hi) const {
+    if (!j.is_number())
+      fail(keys, "expected a number");
+    double v = j.get<double>();
+    if (!(v >= lo && v <= hi))
+      fail(keys, "value " + std::to_string(v) + " is outside [" + std::to_string(lo) + ", " +
+                     std::to_string(hi) + "]");
+    return v;
+  }
+
+  glm::dvec3 vec3(const json &j, const std::vector<std::string> &keys) const {
+    if (!j.is_array() || j.size() != 3)
+      fail(keys, "expected [x, y, z]");
+    glm::dvec3 v;
+    for (int k = 0; k < 3; ++k)
+      v[k] = number(j[size_t(k)], keys, -1e6, 1e6);
+    return v;
+  }
+
+  // A number, or {"min": a, "max": b} drawn uniformly.
+  double sample(const json &j, const std::vector<std::string> &keys, std::mt19937_64 &rng,
+                double lo, double hi) const {
+    if (j.is_object()) {
+      for (auto it = j.begin(); it != j.end(); ++it)
+        if (it.key() != "min" && it.key() != "max")
+          fail(keys, "unknown key '" + it.key() + "'");
+      double a = number(j.value("min", json(0.0)), keys, lo, hi);
+      double b = number(j.value("max", json(a)), keys, lo, hi);
+      if (b < a)
+        fail(keys, "max is below min");
+      return a + (b - a) * std::uniform_real_distribution<double>(0, 1)(rng);
+    }
+    return number(j, keys, lo, hi);
+  }
+
+  void onlyKeys(const json &j, const std::vector<std::string> &keys,
+                const std::vector<std::string> &allowed) const {
+    if (!j.is_object())
+      fail(keys, "expected an object");
+    for (auto it = j.begin(); it != j.end(); ++it)
+      if (std::find(allowed.begin(), allowed.end(), it.key()) == allowed.end()) {
+        auto k = keys;
+        k.push_back(it.key());
+        fail(k, "unknown key '" + it.key() + "'");
+      }
+  }
+
+private:
+  const std::string &text_;
+  const std::string &path_;
+};
+
+} // namespace
+
+void Camera::at(double t, glm::dvec3 &eye, glm::dvec3 &look) const {
+  eye = position;
+  look = target;
+  if (path.empty())
+    return;
+  double end = path.back().time;
+  if (loopPath && end > 0)
+    t = t - end * std::floor(t / end);
+  if (t <= path.front().time || path.size() == 1) {
+    eye = path.front().position, look = path.front().target;
+    return;
+  }
+  for (size_t k = 1; k < path.size(); ++k)
+    if (t <= path[k].time) {
+      double a = (t - path[k - 1].time) / (path[k].time - path[k - 1].time);
+      eye = glm::mix(path[k - 1].position, path[k].position, a);
+      look = glm::mix(path[k - 1].target, path[k].target, a);
+      return;
+    }
+  eye = path.back().position, look = path.back().target;
+}
+
+Scene parseScene(const std::string &text, const std::string &path, size_t instanceOverride) {
+  json j;
+  try {
+    j = json::parse(text);
+  } catch (const json::parse_error &e) {
+    std::string what = e.what();
+    if (auto p = what.find("syntax error"); p != std::string::npos)
+      what = what.substr(p);
+    throw Error(path + ":" + lineColumn(text, e.byte ? e.byte - 1 : 0) + ": " + what);
+  }
+  Checker c(text, path);
+  Scene s;
+  s.path = path;
+  c.onlyKeys(j, {}, {"packs", "instances", "palettes", "camera", "light", "budget", "comment"});
+  auto dir = std::filesystem::path(path).parent_path();
+
+  if (!j.contains("packs") || !j["packs"].is_array() || j["packs"].empty())
+    c.fail({"packs"}, "expected a non-empty list of {\"name\", \"path\"}");
+  for (const auto &p : j["packs"]) {
+    c.onlyKeys(p, {"packs"}, {"name", "path"});
+    if (!p.contains("path") || !p["path"].is_string())
+      c.fail({"packs"}, "each pack needs a \"path\"");
+    s.packPaths.push_back((dir / p["path"].get<std::string>()).lexically_normal().string());
+    s.packNames.push_back(
+        p.value("name", std::filesystem::path(p["path"].get<std::string>()).stem().string()));
+  }
+
+  if (!j.contains("instances"))
+    c.fail({"instances"}, "missing");
+  const json &in = j["instances"];
+  c.onlyKeys(in, {"instances"},
+             {"count", "pack", "placement", "clip", "time_offset", "speed", "seed"});
+  std::mt19937_64 rng(
+      uint64_t(c.number(in.value("seed", json(1)), {"instances", "seed"}, 0, 1e15)));
+  size_t count = size_t(c.number(in.value("count", json(1)), {"instances", "count"}, 1, 1e6));
+  if (instanceOverride)
+    count = instanceOverride;
+  uint32_t pack = 0;
+  if (in.contains("pack")) {
+    auto it = std::find(s.packNames.begin(), s.packNames.end(), in["pack"].get<std::string>());
+    if (it == s.packNames.end())
+      c.fail({"instances", "pack"}, "no pack named " + in["pack"].dump());
+    pack = uint32_t(it - s.packNames.begin());
+  }
+  std::vector<std::string> clips = {""};
+  if (in.contains("clip")) {
+    const json &cl = in["clip"];
+    if (cl.is_string())
+      clips = {cl.get<std::string>()};
+    else if (cl.is_array() && !cl.empty() &&
+             std::all_of(cl.begin(), cl.end(), [](auto &x) { return x.is_string(); }))
+      clips = cl.get<std::vector<std::string>>();
+    else
+      c.fail({"instances", "clip"}, "expected a clip name or a list of names");
+  }
+  s.clipNames = clips;
+
+  json placement = in.value("placement", json{{"type", "grid"}});
+  std::string type = placement.value("type", "grid");
+  std::vector<glm::dvec3> positions; // x, z, yaw
+  if (type == "grid") {
+    c.onlyKeys(placement, {"instances", "placement"}, {"type", "spacing"});
+    double spacing = c.number(placement.value("spacing", json(1.5)),
+                              {"instances", "placement", "spacing"}, 0.01, 1e4);
+    size_t side = size_t(std::ceil(std::sqrt(double(count))));
+    for (size_t i = 0; i < count; ++i)
+      positions.push_back({(double(i % side) - 0.5 * double(side - 1)) * spacing,
+                           (double(i / side) - 0.5 * double(side - 1)) * spacing, 0});
+  } else if (type == "random") {
+    c.onlyKeys(placement, {"instances", "placement"}, {"type", "min", "max"});
+    glm::dvec3 lo = c.vec3(placement.value("min", json::array({-10, 0, -10})),
+                           {"instances", "placement", "min"});
+    glm::dvec3 hi =
+        c.vec3(placement.value("max", json::array({10, 0, 10})), {"instances", "placement", "max"});
+    std::uniform_real_distribution<double> u(0, 1);
+    for (size_t i = 0; i < count; ++i) {
+      double x = lo.x + (hi.x - lo.x) * u(rng), z = lo.z + (hi.z - lo.z) * u(rng);
+      positions.push_back({x, z, 6.283185307179586 * u(rng)});
+    }
+  } else if (type == "list") {
+    c.onlyKeys(placement, {"instances", "placement"}, {"type", "positions"});
+    const json &list = placement.value("positions", json::array());
+    if (!list.is_array() || list.empty())
+      c.fail({"instances", "placement", "positions"}, "expected [[x, z, yaw_degrees], ...]");
+    for (const auto &p : list) {
+      if (!p.is_array() || p.size() < 2 || p.size() > 3)
+        c.fail({"instances", "placement", "positions"}, "expected [x, z] or [x, z, yaw_degrees]");
+      positions.push_back(
+          {c.number(p[0], {"instances", "placement", "positions"}, -1e6, 1e6),
+           c.number(p[1], {"instances", "placement", "positions"}, -1e6, 1e6),
+           p.size() == 3
+               ? glm::radians(c.number(p[2], {"instances", "placement", "positions"}, -1e4, 1e4))
+               : 0.0});
+    }
+    if (instanceOverride == 0)
+      count = positions.size();
+    while (positions.size() < count)
+      positions.push_back(positions[positions.size() % list.size()]);
+    positions.resize(count);
+  } else {
+    c.fail({"instances", "placement", "type"},
+           "unknown placement '" + type + "' (grid, random, list)");
+  }
+
+  if (j.contains("palettes")) {
+    if (!j["palettes"].is_array() || j["palettes"].empty())
+      c.fail({"palettes"}, "expected a list of {region: [r, g, b]}");
+    for (const auto &p : j["palettes"]) {
+      if (!p.is_object())
+        c.fail({"palettes"}, "each palette is {region: [r, g, b]}");
+      std::vector<std::pair<std::string, glm::vec3>> pal;
+      for (auto it = p.begin(); it != p.end(); ++it) {
+        glm::dvec3 col = c.vec3(it.value(), {"palettes", it.key()});
+        if (glm::any(glm::lessThan(col, glm::dvec3(0))) ||
+            glm::any(glm::greaterThan(col, glm::dvec3(1))))
+          c.fail({"palettes", it.key()}, "colour components must be in [0, 1]");
+        pal.push_back({it.key(), glm::vec3(col)});
+      }
+      s.palettes.push_back(pal);
+    }
+  } else {
+    s.palettes.push_back({{"default", glm::vec3(0.8f)}});
+  }
+
+  std::uniform_int_distribution<size_t> pickClip(0, clips.size() - 1),
+      pickPalette(0, s.palettes.size() - 1);
+  for (size_t i = 0; i < count; ++i) {
+    Instance inst;
+    inst.pack = pack;
+    inst.position = {positions[i].x, 0, positions[i].y};
+    inst.yaw = positions[i].z;
+    inst.clip = uint32_t(pickClip(rng));
+    inst.timeOffset = c.sample(in.value("time_offset", json{{"min", 0}, {"max", 10}}),
+                               {"instances", "time_offset"}, rng, -1e6, 1e6);
+    inst.speed = c.sample(in.value("speed", json(1.0)), {"instances", "speed"}, rng, 0, 100);
+    inst.palette = uint32_t(pickPalette(rng));
+    s.instances.push_back(inst);
+  }
+
+  if (j.contains("camera")) {
+    const json &cam = j["camera"];
+    c.onlyKeys(cam, {"camera"}, {"position", "target", "fov", "near", "far", "path", "loop"});
+    if (cam.contains("position"))
+      s.camera.position = c.vec3(cam["position"], {"camera", "position"});
+    if (cam.contains("target"))
+      s.camera.target = c.vec3(cam["target"], {"camera", "target"});
+    s.camera.fovYDegrees = c.number(cam.value("fov", json(50)), {"camera", "fov"}, 1, 170);
+    s.camera.nearPlane = c.number(cam.value("near", json(0.1)), {"camera", "near"}, 1e-4, 1e4);
+    s.camera.farPlane =
+        c.number(cam.value("far", json(1000)), {"camera", "far"}, s.camera.nearPlane * 1.001, 1e7);
+    s.camera.loopPath = cam.value("loop", true);
+    if (cam.contains("path")) {
+      if (!cam["path"].is_array())
+        c.fail({"camera", "path"}, "expected a list of {time, position, target}");
+      double last = -1;
+      for (const auto &k : cam["path"]) {
+        c.onlyKeys(k, {"camera", "path"}, {"time", "position", "target"});
+        CameraKey key;
+        key.time = c.number(k.value("time", json(0)), {"camera", "path", "time"}, 0, 1e6);
+        if (key.time <= last)
+          c.fail({"camera", "path", "time"}, "key times must increase");
+        last = key.time;
+        key.position =
+            c.vec3(k.value("position", json::array({0, 1.6, 10})), {"camera", "path", "position"});
+        key.target =
+            c.vec3(k.value("target", json::array({0, 1, 0})), {"camera", "path", "target"});
+        s.camera.path.push_back(key);
+      }
+    }
+  }
+  if (j.contains("light")) {
+    c.onlyKeys(j["light"], {"light"}, {"direction"});
+    glm::dvec3 d =
+        c.vec3(j["light"].value("direction", json::array({0.4, 1, 0.6})), {"light", "direction"});
+    if (glm::length(d) == 0)
+      c.fail({"light", "direction"}, "must not be zero");
+    s.lightDirection = glm::vec3(glm::normalize(d));
+  }
+  return s;
+}
+
+Scene loadScene(const std::string &path, size_t instanceOverride) {
+  std::ifstream f(path);
+  if (!f)
+    throw Error(path + ": cannot open scene file");
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return parseScene(ss.str(), path, instanceOverride);
+}
+
+} // namespace crowd::runtime

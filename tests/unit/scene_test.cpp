@@ -1,0 +1,120 @@
+#include <filesystem>
+#include <set>
+
+#include <gtest/gtest.h>
+
+#include "crowd/formats/error.h"
+#include "crowd/runtime/scene.h"
+
+using namespace crowd;
+using runtime::parseScene;
+
+namespace {
+
+std::string errorOf(const std::string &text) {
+  try {
+    parseScene(text, "s.json");
+  } catch (const Error &e) {
+    return e.what();
+  }
+  return "";
+}
+
+const char *kMinimal = R"({"packs": [{"path": "a.crowdpack"}], "instances": {"count": 5}})";
+
+TEST(Scene, DefaultsAndPathsRelativeToTheScene) {
+  auto s = parseScene(kMinimal, "scenes/s.json");
+  EXPECT_EQ(s.packPaths, std::vector<std::string>{"scenes/a.crowdpack"});
+  EXPECT_EQ(s.packNames, std::vector<std::string>{"a"});
+  ASSERT_EQ(s.instances.size(), 5u);
+  EXPECT_EQ(s.clipNames, std::vector<std::string>{""}); // the pack's first clip
+}
+
+TEST(Scene, GridRandomAndListPlacements) {
+  auto grid = parseScene(R"({"packs": [{"path": "a"}], "instances": {"count": 9,
+      "placement": {"type": "grid", "spacing": 2}}})",
+                         "s.json");
+  EXPECT_DOUBLE_EQ(grid.instances[0].position.x, -2);
+  EXPECT_DOUBLE_EQ(grid.instances[8].position.z, 2);
+  auto random = parseScene(R"({"packs": [{"path": "a"}], "instances": {"count": 50, "seed": 4,
+      "placement": {"type": "random", "min": [-1, 0, -2], "max": [1, 0, 2]}}})",
+                           "s.json");
+  for (const auto &i : random.instances) {
+    EXPECT_LE(std::abs(i.position.x), 1);
+    EXPECT_LE(std::abs(i.position.z), 2);
+  }
+  auto again = parseScene(R"({"packs": [{"path": "a"}], "instances": {"count": 50, "seed": 4,
+      "placement": {"type": "random", "min": [-1, 0, -2], "max": [1, 0, 2]}}})",
+                          "s.json");
+  EXPECT_EQ(random.instances[17].position, again.instances[17].position) << "seeded";
+  auto list = parseScene(R"({"packs": [{"path": "a"}], "instances": {
+      "placement": {"type": "list", "positions": [[1, 2], [3, 4, 90]]}}})",
+                         "s.json");
+  ASSERT_EQ(list.instances.size(), 2u);
+  EXPECT_NEAR(list.instances[1].yaw, 1.5707963, 1e-6);
+  auto more = parseScene(R"({"packs": [{"path": "a"}], "instances": {
+      "placement": {"type": "list", "positions": [[1, 2], [3, 4, 90]]}}})",
+                         "s.json", 5);
+  EXPECT_EQ(more.instances.size(), 5u) << "--instances overrides, the list repeats";
+}
+
+TEST(Scene, DistributionsStayInRange) {
+  auto s = parseScene(R"({"packs": [{"path": "a"}], "instances": {"count": 100,
+      "clip": ["walk", "run"], "time_offset": {"min": 1, "max": 2}, "speed": {"min": 0.5, "max": 0.6}},
+      "palettes": [{"torso": [1, 0, 0]}, {"torso": [0, 1, 0]}]})",
+                      "s.json");
+  std::set<uint32_t> clips, palettes;
+  for (const auto &i : s.instances) {
+    EXPECT_GE(i.timeOffset, 1);
+    EXPECT_LE(i.timeOffset, 2);
+    EXPECT_GE(i.speed, 0.5);
+    EXPECT_LE(i.speed, 0.6);
+    clips.insert(i.clip);
+    palettes.insert(i.palette);
+  }
+  EXPECT_EQ(clips.size(), 2u);
+  EXPECT_EQ(palettes.size(), 2u);
+}
+
+TEST(Scene, CameraPathInterpolatesAndLoops) {
+  auto s = parseScene(R"({"packs": [{"path": "a"}], "instances": {},
+      "camera": {"path": [{"time": 0, "position": [0, 0, 0], "target": [0, 0, -1]},
+                          {"time": 2, "position": [4, 0, 0], "target": [0, 0, -1]}]}})",
+                      "s.json");
+  glm::dvec3 eye, target;
+  s.camera.at(1, eye, target);
+  EXPECT_DOUBLE_EQ(eye.x, 2);
+  s.camera.at(3, eye, target); // looped: t = 1
+  EXPECT_DOUBLE_EQ(eye.x, 2);
+}
+
+TEST(Scene, ErrorsGiveLineAndColumn) {
+  EXPECT_EQ(errorOf("{\n  \"packs\": [\n    {\"path\": \"a\",}\n  ]\n}").rfind("s.json:3:", 0), 0u);
+  std::string e = errorOf("{\"packs\": [{\"path\": \"a\"}],\n \"instances\": {\"count\": -3}}");
+  EXPECT_NE(e.find("s.json:2:"), std::string::npos) << e;
+  EXPECT_NE(e.find("/instances/count: value -3"), std::string::npos) << e;
+  e = errorOf(
+      "{\"packs\": [{\"path\": \"a\"}], \"instances\": {\"placement\": {\"type\": \"spiral\"}}}");
+  EXPECT_NE(e.find("unknown placement 'spiral'"), std::string::npos) << e;
+  e = errorOf("{\"packs\": [], \"instances\": {}}");
+  EXPECT_NE(e.find("/packs: expected a non-empty list"), std::string::npos) << e;
+  e = errorOf(R"({"packs": [{"path": "a"}], "instances": {}, "palettes": [{"torso": [2, 0, 0]}]})");
+  EXPECT_NE(e.find("colour components must be in [0, 1]"), std::string::npos) << e;
+  e = errorOf(R"({"packs": [{"path": "a"}], "instances": {"pack": "b"}})");
+  EXPECT_NE(e.find("no pack named \"b\""), std::string::npos) << e;
+}
+
+} // namespace
+
+namespace {
+TEST(Scene, EverySampleSceneParses) {
+  size_t n = 0;
+  for (const auto &e :
+       std::filesystem::directory_iterator(std::string(CROWD_SOURCE_DIR) + "/samples/scenes")) {
+    SCOPED_TRACE(e.path().string());
+    EXPECT_NO_THROW(runtime::loadScene(e.path().string()));
+    ++n;
+  }
+  EXPECT_GE(n, 3u);
+}
+} // namespace
