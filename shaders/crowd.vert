@@ -5,6 +5,7 @@
 
 layout(location = 0) in vec3 a_position;
 layout(location = 1) in vec3 a_normal;
+layout(location = 2) in vec2 a_uv;
 
 layout(binding = 0) uniform sampler2D u_animation; // RGBA32F or RGBA16F texels
 layout(binding = 1) uniform sampler2D u_skin;      // RGBA32F: ids, weights
@@ -32,6 +33,7 @@ uniform vec4 u_params;
 
 out vec3 v_normal;
 out vec3 v_colour;
+out vec2 v_uv;
 
 ivec2 texelOf(int frame, int joint, int texel) {
   int tpj = u_encoding == 0 ? 3 : 2;
@@ -92,6 +94,7 @@ void main() {
   }
   vec3 world = vec3(dot(rows[0], vec4(skinned, 1)), dot(rows[1], vec4(skinned, 1)), dot(rows[2], vec4(skinned, 1)));
   v_normal = vec3(dot(rows[0].xyz, normal), dot(rows[1].xyz, normal), dot(rows[2].xyz, normal));
+  v_uv = a_uv;
   v_colour = colours[int(params.w) * u_subMeshCount + u_subMesh].rgb;
   gl_Position = u_viewProjection * vec4(world, 1.0);
 }

@@ -317,6 +317,30 @@ Mesh decodeMesh(std::span<const uint8_t> bytes, const std::string &context) {
   return m;
 }
 
+std::vector<uint8_t> encode(const Texture &t) {
+  ByteWriter w;
+  w.put<uint32_t>(t.width);
+  w.put<uint32_t>(t.height);
+  w.putArray(t.rgba);
+  return w.take();
+}
+
+Texture decodeTexture(std::span<const uint8_t> bytes, const std::string &context) {
+  ByteReader r(bytes, context);
+  Texture t;
+  t.width = r.get<uint32_t>("width");
+  t.height = r.get<uint32_t>("height");
+  if (t.width == 0 || t.height == 0 || t.width > 16384 || t.height > 16384)
+    r.fail("width/height",
+           std::to_string(t.width) + "x" + std::to_string(t.height) + " is out of range 1..16384");
+  uint64_t expected = uint64_t(t.width) * t.height * 4;
+  t.rgba = r.getArray<uint8_t>("texels", expected);
+  if (t.rgba.size() != expected)
+    r.fail("texels", "size does not match width x height x 4");
+  r.expectEnd();
+  return t;
+}
+
 AnimationPack loadAnimationPack(const Reader &reader) {
   auto ctx = [&](uint32_t type) {
     return "pack '" + reader.name() + "', chunk " + fourccName(type);
@@ -333,6 +357,11 @@ AnimationPack loadAnimationPack(const Reader &reader) {
   p.animation = decodeAnimationTexture(get(kAnimationTexture), ctx(kAnimationTexture));
   p.skin = decodeSkinTexture(get(kSkinTexture), ctx(kSkinTexture));
   p.mesh = decodeMesh(get(kMesh), ctx(kMesh));
+  if (const ChunkEntry *texture = reader.find(kDiffuseTexture)) {
+    p.diffuse = decodeTexture(reader.payload(*texture), ctx(kDiffuseTexture));
+    if (p.mesh.uvs.empty())
+      throw Error(ctx(kDiffuseTexture) + ": the mesh has no UVs to map the texture with");
+  }
   if (p.animation.jointCount != p.skeleton.jointCount())
     throw Error(ctx(kAnimationTexture) +
                 ", field 'joint count': " + std::to_string(p.animation.jointCount) +
@@ -363,6 +392,8 @@ std::vector<uint8_t> packBytes(const AnimationPack &p) {
   w.add(kAnimationTexture, kChunkVersion, encode(p.animation));
   w.add(kSkinTexture, kChunkVersion, encode(p.skin));
   w.add(kMesh, kChunkVersion, encode(p.mesh));
+  if (p.diffuse)
+    w.add(kDiffuseTexture, kChunkVersion, encode(*p.diffuse));
   return w.bytes();
 }
 

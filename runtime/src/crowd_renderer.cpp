@@ -1,5 +1,6 @@
 #include "crowd/runtime/crowd_renderer.h"
 
+#include <algorithm>
 #include <cstring>
 
 #include <epoxy/gl.h>
@@ -49,14 +50,14 @@ unsigned buildCrowdProgram() {
 
 struct CrowdRenderer::Character {
   const pack::AnimationPack *pack = nullptr;
-  unsigned vao = 0, buffers[6] = {}, textures[2] = {};
+  unsigned vao = 0, buffers[7] = {}, textures[3] = {};
   std::vector<float> instanceData; // per instance: 3 rows + params, 16 floats
   uint32_t instanceCount = 0;
 
   ~Character() {
     glDeleteVertexArrays(1, &vao);
-    glDeleteBuffers(6, buffers);
-    glDeleteTextures(2, textures);
+    glDeleteBuffers(7, buffers);
+    glDeleteTextures(3, textures);
   }
 };
 
@@ -126,7 +127,7 @@ CrowdRenderer::CrowdRenderer(const std::vector<pack::AnimationPack> &packs, cons
       }
 
     glCreateVertexArrays(1, &c->vao);
-    glCreateBuffers(6, c->buffers);
+    glCreateBuffers(7, c->buffers);
     auto upload = [](unsigned b, const auto &v) {
       glNamedBufferStorage(b, GLsizeiptr(v.size() * sizeof(v[0])), v.data(), 0);
     };
@@ -145,9 +146,16 @@ CrowdRenderer::CrowdRenderer(const std::vector<pack::AnimationPack> &packs, cons
       glVertexArrayAttribFormat(c->vao, a, 3, GL_FLOAT, GL_FALSE, 0);
       glVertexArrayAttribBinding(c->vao, a, a);
     }
+    if (!p.mesh.uvs.empty()) { // otherwise attribute 2 reads its default (0, 0)
+      upload(c->buffers[6], p.mesh.uvs);
+      glVertexArrayVertexBuffer(c->vao, 2, c->buffers[6], 0, 8);
+      glEnableVertexArrayAttrib(c->vao, 2);
+      glVertexArrayAttribFormat(c->vao, 2, 2, GL_FLOAT, GL_FALSE, 0);
+      glVertexArrayAttribBinding(c->vao, 2, 2);
+    }
     glVertexArrayElementBuffer(c->vao, c->buffers[2]);
 
-    glCreateTextures(GL_TEXTURE_2D, 2, c->textures);
+    glCreateTextures(GL_TEXTURE_2D, 3, c->textures);
     const auto &t = p.animation;
     bool half = t.format == pack::TexelFormat::RGBA16F;
     glTextureStorage2D(c->textures[0], 1, half ? GL_RGBA16F : GL_RGBA32F, GLsizei(t.width),
@@ -158,9 +166,21 @@ CrowdRenderer::CrowdRenderer(const std::vector<pack::AnimationPack> &packs, cons
                        GLsizei(p.skin.height));
     glTextureSubImage2D(c->textures[1], 0, 0, 0, GLsizei(p.skin.width), GLsizei(p.skin.height),
                         GL_RGBA, GL_FLOAT, p.skin.texels.data());
-    for (unsigned tex : c->textures) {
+    for (unsigned tex : {c->textures[0], c->textures[1]}) {
       glTextureParameteri(tex, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
       glTextureParameteri(tex, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    }
+    if (p.diffuse) {
+      const auto &d = *p.diffuse;
+      int levels = 1;
+      while ((std::max(d.width, d.height) >> levels) > 0)
+        ++levels;
+      glTextureStorage2D(c->textures[2], levels, GL_RGBA8, GLsizei(d.width), GLsizei(d.height));
+      glTextureSubImage2D(c->textures[2], 0, 0, 0, GLsizei(d.width), GLsizei(d.height), GL_RGBA,
+                          GL_UNSIGNED_BYTE, d.rgba.data());
+      glGenerateTextureMipmap(c->textures[2]);
+      glTextureParameteri(c->textures[2], GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+      glTextureParameteri(c->textures[2], GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     }
   }
 }
@@ -188,6 +208,8 @@ DrawStats CrowdRenderer::draw(const glm::mat4 &viewProjection, float seconds, bo
     glBindVertexArray(c->vao);
     glBindTextureUnit(0, c->textures[0]);
     glBindTextureUnit(1, c->textures[1]);
+    glBindTextureUnit(2, c->textures[2]);
+    glUniform1i(loc("u_hasTexture"), p.diffuse ? 1 : 0);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, c->buffers[3]);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, c->buffers[4]);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, c->buffers[5]);

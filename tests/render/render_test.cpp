@@ -73,6 +73,21 @@ std::string writeScene(const std::string &name, const nlohmann::json &scene) {
   return path;
 }
 
+// Bilinear, repeating lookup of the diffuse texture (the GPU adds mipmaps: a small difference).
+glm::vec3 texel(const DiffuseTexture &t, glm::vec2 uv) {
+  float x = uv.x * float(t.width) - 0.5f, y = uv.y * float(t.height) - 0.5f;
+  int x0 = int(std::floor(x)), y0 = int(std::floor(y));
+  float fx = x - float(x0), fy = y - float(y0);
+  auto at = [&](int xi, int yi) {
+    xi = ((xi % t.width) + t.width) % t.width;
+    yi = ((yi % t.height) + t.height) % t.height;
+    const uint8_t *p = &t.rgba[(size_t(yi) * size_t(t.width) + size_t(xi)) * 4];
+    return glm::vec3(p[0], p[1], p[2]) / 255.0f;
+  };
+  return glm::mix(glm::mix(at(x0, y0), at(x0 + 1, y0), fx),
+                  glm::mix(at(x0, y0 + 1), at(x0 + 1, y0 + 1), fx), fy);
+}
+
 nlohmann::json oneCharacter() {
   return {{"packs", {{{"name", "humanoid"}, {"path", "humanoid.crowdpack"}}}},
           {"instances",
@@ -108,6 +123,7 @@ TEST(Player, DrawsWhatWasBakedAgainstTheCpuReference) {
   Reporter rep;
   rep.quiet = true;
   Character c = importGltf(work() + "/humanoid.glb", {}, rep);
+  ASSERT_TRUE(c.diffuse.has_value());
   auto joints = jointMatrices(c, &c.clips[0], 0.4);
   auto pos = skinPositions(c, joints);
   std::vector<glm::vec3> p(pos.begin(), pos.end()), n(pos.size());
@@ -131,9 +147,11 @@ TEST(Player, DrawsWhatWasBakedAgainstTheCpuReference) {
     either += a || b;
     if (a && b) {
       glm::vec3 nn = glm::normalize(raster::interpolate(ref, i, n, c.mesh.indices));
-      float shade = 0.8f * (0.25f + 0.75f * std::max(glm::dot(nn, light), 0.0f));
+      glm::vec3 albedo =
+          0.8f * texel(*c.diffuse, raster::interpolate(ref, i, c.mesh.uvs, c.mesh.indices));
+      glm::vec3 shade = albedo * (0.25f + 0.75f * std::max(glm::dot(nn, light), 0.0f));
       for (int k = 0; k < 3; ++k)
-        diffSum += std::abs(double(gpu.rgb[i * 3 + size_t(k)]) - shade * 255.0) / 3;
+        diffSum += std::abs(double(gpu.rgb[i * 3 + size_t(k)]) - shade[k] * 255.0) / 3;
     }
   }
   double iou = double(both) / double(either), meanDiff = diffSum / double(both);

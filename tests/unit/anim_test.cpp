@@ -44,6 +44,9 @@ TEST(Samples, HumanoidHasWhatLaterBakesNeed) {
   EXPECT_EQ(c.clips[1].name, "run");
   EXPECT_EQ(c.clips[2].name, "idle");
   EXPECT_FALSE(c.mesh.uvs.empty());
+  ASSERT_TRUE(c.diffuse.has_value());
+  EXPECT_EQ(c.diffuse->width, 256);
+  EXPECT_EQ(c.diffuse->rgba.size(), 256u * 256 * 4);
 }
 
 TEST(AnimBake, FrameTimesMeetTheFp32TargetAndLoopsClose) {

@@ -106,6 +106,22 @@ TEST(Container, CrossChunkChecksNameTheField) {
   EXPECT_THROW(loadAnimationPack(Reader(packBytes(p), "x")), crowd::Error);
 }
 
+TEST(Container, OptionalDiffuseTextureRoundTripsAndNeedsUvs) {
+  auto p = tinyPack();
+  p.mesh.uvs = {0, 0, 1, 0, 0, 1};
+  p.diffuse = Texture{2, 1, {255, 0, 0, 255, 0, 255, 0, 255}};
+  auto back = loadAnimationPack(Reader(packBytes(p), "t"));
+  ASSERT_TRUE(back.diffuse.has_value());
+  EXPECT_EQ(back.diffuse->rgba, p.diffuse->rgba);
+  EXPECT_FALSE(loadAnimationPack(Reader(packBytes(tinyPack()), "t")).diffuse.has_value());
+  p.mesh.uvs.clear();
+  EXPECT_THROW(loadAnimationPack(Reader(packBytes(p), "t")), crowd::Error);
+  p = tinyPack();
+  p.mesh.uvs = {0, 0, 1, 0, 0, 1};
+  p.diffuse = Texture{3, 1, {1, 2, 3}}; // too few texels
+  EXPECT_THROW(loadAnimationPack(Reader(packBytes(p), "t")), crowd::Error);
+}
+
 TEST(Container, WriterIsDeterministic) { EXPECT_EQ(packBytes(tinyPack()), packBytes(tinyPack())); }
 
 TEST(Half, RoundTripsEveryHalfAndRoundsToNearestEven) {

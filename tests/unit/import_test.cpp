@@ -228,3 +228,27 @@ TEST(Import, SharedAssetsWithOddities) {
 }
 
 } // namespace
+
+namespace {
+TEST(Import, AnUndecodableTextureIsAWarningNotAFailure) {
+  GltfBuilder b;
+  b.skinnedQuad();
+  int uv = b.floats({0, 0, 1, 0, 0, 1, 1, 1}, "VEC2");
+  b.j["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = uv;
+  b.j["meshes"][0]["primitives"][0]["material"] = 0;
+  b.j["materials"] = {
+      {{"name", "skin"}, {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}};
+  b.j["textures"] = {{{"source", 0}}};
+  int bogus = b.accessor(std::vector<uint8_t>{1, 2, 3, 4, 5, 6, 7, 8}, 5121, "SCALAR");
+  b.j["images"] = {
+      {{"bufferView", b.j["accessors"][size_t(bogus)]["bufferView"]}, {"mimeType", "image/png"}}};
+  Reporter r;
+  r.quiet = true;
+  Character c = load(b, "bogus_texture", &r);
+  EXPECT_FALSE(c.diffuse.has_value());
+  bool warned = false;
+  for (const auto &w : r.warnings())
+    warned |= w.code == "diffuse_texture_skipped";
+  EXPECT_TRUE(warned);
+}
+} // namespace

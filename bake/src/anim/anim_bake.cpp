@@ -261,6 +261,9 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
     }
   }
   mesh.indices = c.mesh.indices;
+  if (c.diffuse && !c.mesh.uvs.empty())
+    pk.diffuse =
+        pack::Texture{uint32_t(c.diffuse->width), uint32_t(c.diffuse->height), c.diffuse->rgba};
   for (const auto &part : c.mesh.parts)
     mesh.subMeshes.push_back({part.name, part.firstIndex, part.indexCount});
   glm::dvec3 lo(INFINITY), hi(-INFINITY);

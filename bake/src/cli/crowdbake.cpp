@@ -94,7 +94,7 @@ example:
     {"export", R"(usage: crowdbake export PACK --images DIR
 
 Writes the pack's textures through OpenImageIO: float textures as OpenEXR
-(animation.exr, skin.exr), and preview.png: the mesh skinned from the animation texture a quarter
+(animation.exr, skin.exr), the diffuse texture when the pack has one (diffuse.png), and preview.png: the mesh skinned from the animation texture a quarter
 of the way into the first clip, seen from the front, one tint per sub-mesh.
 
 example:
@@ -380,6 +380,11 @@ int cmdInspect(const Args &a) {
   for (const auto &s : m.subMeshes)
     j["mesh"]["sub_meshes"].push_back(
         {{"name", s.name}, {"first_index", s.firstIndex}, {"triangles", s.indexCount / 3}});
+  if (p.diffuse)
+    j["diffuse_texture"] = {{"format", "rgba8"},
+                            {"width", p.diffuse->width},
+                            {"height", p.diffuse->height},
+                            {"bytes", p.diffuse->rgba.size()}};
   if (a.has("json")) {
     std::cout << j.dump(2) << "\n";
     return 0;
@@ -415,6 +420,9 @@ int cmdInspect(const Args &a) {
     << m.boundingSphere[1] << ", " << m.boundingSphere[2] << ") r " << m.boundingSphere[3] << "\n";
   for (const auto &s : m.subMeshes)
     o << "  sub-mesh " << s.name << ": " << s.indexCount / 3 << " triangles\n";
+  if (p.diffuse)
+    o << "diffuse texture: " << p.diffuse->width << "x" << p.diffuse->height << " rgba8, "
+      << p.diffuse->rgba.size() << " bytes\n";
   std::cout << o.str();
   return 0;
 }
@@ -460,6 +468,11 @@ int cmdExport(const Args &a) {
   const auto &clip = p.clips[0];
   auto rgb = crowd::renderPreview(p, 0, clip.frameCount / 4, size);
   writeImage(dir + "/preview.png", size, size, 3, OIIO::TypeDesc::UINT8, rgb.data());
+  if (p.diffuse) {
+    writeImage(dir + "/diffuse.png", int(p.diffuse->width), int(p.diffuse->height), 4,
+               OIIO::TypeDesc::UINT8, p.diffuse->rgba.data());
+    std::cout << dir << "/diffuse.png\n";
+  }
   std::cout << dir << "/animation.exr\n" << dir << "/skin.exr\n" << dir << "/preview.png\n";
   return 0;
 }

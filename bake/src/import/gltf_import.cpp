@@ -9,6 +9,8 @@
 #include <map>
 #include <set>
 
+#include <OpenImageIO/filesystem.h>
+#include <OpenImageIO/imageio.h>
 #include <glm/gtc/type_ptr.hpp>
 #include <tiny_gltf.h>
 
@@ -46,12 +48,17 @@ std::string percentDecoded(const std::string &uri) {
   return out;
 }
 
-// Images are not decoded: the animation bake never reads pixels, and a missing image must not
-// stop a bake that does not need it.
-bool skipImage(tinygltf::Image *, const int, std::string *, std::string *, int, int,
-               const unsigned char *, int, void *) {
+// Images are kept encoded as tinygltf hands them over; only the diffuse texture the mesh uses is
+// decoded (through OpenImageIO), and an image that cannot be decoded is a warning, not a failure.
+using EncodedImages = std::map<int, std::vector<uint8_t>>;
+bool keepEncodedImage(tinygltf::Image *, const int index, std::string *, std::string *, int, int,
+                      const unsigned char *bytes, int size, void *user) {
+  if (bytes && size > 0)
+    (*static_cast<EncodedImages *>(user))[index].assign(bytes, bytes + size);
   return true;
 }
+
+constexpr int kMaxTextureSide = 8192;
 
 class Importer {
 public:
@@ -63,6 +70,7 @@ public:
     selectMeshes(options);
     readMeshes();
     readAnimations();
+    readDiffuseTexture();
     return std::move(out_);
   }
 
@@ -77,7 +85,7 @@ private:
     probe.read(magic, 4);
     bool binary = probe.gcount() == 4 && std::string(magic, 4) == "glTF";
     tinygltf::TinyGLTF loader;
-    loader.SetImageLoader(skipImage, nullptr);
+    loader.SetImageLoader(keepEncodedImage, &encodedImages_);
     std::string err, warn;
     bool ok = binary ? loader.LoadBinaryFromFile(&model_, &err, &warn, path_)
                      : loader.LoadASCIIFromFile(&model_, &err, &warn, path_);
@@ -554,6 +562,8 @@ private:
         if (nrm.empty())
           computeNormals(base, idx);
         hasUvs_ = hasUvs_ || !uv.empty();
+        if (int image = baseColorImage(prim.material); image >= 0 && !uv.empty())
+          trianglesPerImage_[image] += idx.size() / 3;
 
         std::string partName = prim.material >= 0 && size_t(prim.material) < model_.materials.size()
                                    ? model_.materials[size_t(prim.material)].name
@@ -618,6 +628,63 @@ private:
   }
 
   // --- animations ------------------------------------------------------------------------
+
+  int baseColorImage(int material) const {
+    if (material < 0 || size_t(material) >= model_.materials.size())
+      return -1;
+    int texture = model_.materials[size_t(material)].pbrMetallicRoughness.baseColorTexture.index;
+    if (texture < 0 || size_t(texture) >= model_.textures.size())
+      return -1;
+    int image = model_.textures[size_t(texture)].source;
+    return image >= 0 && size_t(image) < model_.images.size() ? image : -1;
+  }
+
+  // The base-colour image covering the most triangles becomes the pack's diffuse texture.
+  void readDiffuseTexture() {
+    if (trianglesPerImage_.empty())
+      return;
+    auto best = std::max_element(trianglesPerImage_.begin(), trianglesPerImage_.end(),
+                                 [](auto &a, auto &b) { return a.second < b.second; });
+    int image = best->first;
+    if (trianglesPerImage_.size() > 1)
+      reporter_.warn("several_diffuse_textures",
+                     std::to_string(trianglesPerImage_.size()) +
+                         " base-colour textures: a pack holds one, kept image " +
+                         std::to_string(image) + " (the one covering most triangles)",
+                     trianglesPerImage_.size());
+    auto warn = [&](const std::string &why) {
+      reporter_.warn("diffuse_texture_skipped", "image " + std::to_string(image) + ": " + why +
+                                                    ": baked without a diffuse texture");
+    };
+    auto it = encodedImages_.find(image);
+    if (it == encodedImages_.end())
+      return warn("no image data");
+    OIIO::Filesystem::IOMemReader memory(it->second.data(), it->second.size());
+    const std::string name =
+        model_.images[size_t(image)].mimeType == "image/jpeg" ? "image.jpg" : "image.png";
+    auto in = OIIO::ImageInput::open(name, nullptr, &memory);
+    if (!in)
+      return warn("cannot decode (" + OIIO::geterror() + ")");
+    const auto &spec = in->spec();
+    if (spec.width <= 0 || spec.height <= 0 || spec.width > kMaxTextureSide ||
+        spec.height > kMaxTextureSide)
+      return warn(std::to_string(spec.width) + "x" + std::to_string(spec.height) +
+                  " is outside 1.." + std::to_string(kMaxTextureSide));
+    std::vector<uint8_t> pixels(size_t(spec.width) * size_t(spec.height) * size_t(spec.nchannels));
+    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::UINT8, pixels.data()))
+      return warn("cannot decode (" + in->geterror() + ")");
+    DiffuseTexture t{spec.width, spec.height, {}};
+    t.rgba.resize(size_t(t.width) * size_t(t.height) * 4);
+    for (size_t p = 0; p < size_t(t.width) * size_t(t.height); ++p)
+      for (size_t k = 0; k < 4; ++k) {
+        size_t c = size_t(spec.nchannels);
+        // Grey, grey+alpha, RGB and RGBA sources all become RGBA.
+        uint8_t v = k < 3 ? pixels[p * c + (c >= 3 ? k : 0)]
+                          : (c == 2 || c == 4 ? pixels[p * c + c - 1] : 255);
+        t.rgba[p * 4 + k] = v;
+      }
+    out_.diffuse = std::move(t);
+  }
 
   void readAnimations() {
     size_t weightChannels = 0;
@@ -702,6 +769,8 @@ private:
   std::vector<uint16_t> oldToNew_;
   std::vector<MeshNode> meshNodes_;
   bool hasUvs_ = false;
+  EncodedImages encodedImages_;
+  std::map<int, size_t> trianglesPerImage_;
 };
 
 } // namespace

@@ -3,6 +3,7 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -56,6 +57,11 @@ struct SkinnedMesh {
   size_t vertexCount() const { return positions.size(); }
 };
 
+struct DiffuseTexture {
+  int width = 0, height = 0;
+  std::vector<uint8_t> rgba; // rows from the top, as glTF UVs address them
+};
+
 struct Character {
   std::vector<std::string> sourceFiles; // the glTF file, then every external buffer it reads
   std::vector<Node> nodes;
@@ -64,6 +70,7 @@ struct Character {
   std::vector<glm::dmat4> inverseBind; // per joint
   SkinnedMesh mesh;
   std::vector<AnimationClip> clips;
+  std::optional<DiffuseTexture> diffuse; // the base-colour texture the mesh uses, if any
 
   size_t jointCount() const { return jointNodes.size(); }
   std::string jointName(size_t j) const { return nodes[size_t(jointNodes[j])].name; }

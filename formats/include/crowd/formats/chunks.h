@@ -18,6 +18,7 @@ inline constexpr uint32_t kClips = fourcc("CLIP");
 inline constexpr uint32_t kAnimationTexture = fourcc("ANIM");
 inline constexpr uint32_t kSkinTexture = fourcc("SKIN");
 inline constexpr uint32_t kMesh = fourcc("MESH");
+inline constexpr uint32_t kDiffuseTexture = fourcc("TEXR");
 
 struct InputFile {
   std::string path;  // as given on the command line
@@ -96,12 +97,19 @@ struct Mesh {
   size_t vertexCount() const { return positions.size() / 3; }
 };
 
+// The character's diffuse (base colour) texture, RGBA8, rows from the top (glTF UV origin).
+struct Texture {
+  uint32_t width = 0, height = 0;
+  std::vector<uint8_t> rgba;
+};
+
 std::vector<uint8_t> encode(const Provenance &);
 std::vector<uint8_t> encode(const Skeleton &);
 std::vector<uint8_t> encode(const std::vector<Clip> &);
 std::vector<uint8_t> encode(const AnimationTexture &);
 std::vector<uint8_t> encode(const SkinTexture &);
 std::vector<uint8_t> encode(const Mesh &);
+std::vector<uint8_t> encode(const Texture &);
 
 // Decoders validate everything local to the chunk; `context` prefixes error messages.
 Provenance decodeProvenance(std::span<const uint8_t>, const std::string &context);
@@ -110,6 +118,7 @@ std::vector<Clip> decodeClips(std::span<const uint8_t>, const std::string &conte
 AnimationTexture decodeAnimationTexture(std::span<const uint8_t>, const std::string &context);
 SkinTexture decodeSkinTexture(std::span<const uint8_t>, const std::string &context);
 Mesh decodeMesh(std::span<const uint8_t>, const std::string &context);
+Texture decodeTexture(std::span<const uint8_t>, const std::string &context);
 
 // Every chunk of an animation pack, decoded and cross-checked (joint ids < joint count,
 // clip frames inside the texture, one skin entry per mesh vertex, ...).
@@ -120,6 +129,7 @@ struct AnimationPack {
   AnimationTexture animation;
   SkinTexture skin;
   Mesh mesh;
+  std::optional<Texture> diffuse; // optional chunk: only when the mesh has UVs and a texture
 };
 AnimationPack loadAnimationPack(const Reader &reader);
 void writePack(const AnimationPack &pack, const std::string &path);
