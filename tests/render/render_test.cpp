@@ -1,16 +1,15 @@
 // crowdplay end to end, under xvfb-run (Mesa llvmpipe here and in CI): the player draws what was
 // baked (against the CPU reference), draw calls do not grow with instances, a small scene matches
 // its golden screenshot within a tolerance, and bad input fails with one clear line.
-#include <array>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <sys/wait.h>
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "../unit/cli_run.h"
 #include "../unit/gltf_writer.h"
 #include "crowd/bake/evaluate.h"
 #include "crowd/bake/import.h"
@@ -22,21 +21,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct CliRun {
-  int code;
-  std::string err;
-};
+using test::CliRun;
 
-CliRun run(const std::string &args) {
-  std::string cmd = args + " 2>&1 >/dev/null";
-  FILE *p = popen(cmd.c_str(), "r");
-  std::string out;
-  std::array<char, 4096> buf;
-  while (size_t n = fread(buf.data(), 1, buf.size(), p))
-    out.append(buf.data(), n);
-  int status = pclose(p);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
-}
+CliRun run(const std::string &command) { return test::runCommand(command); }
 
 struct Image {
   int w = 0, h = 0;
@@ -232,10 +219,7 @@ TEST(Player, SmallSceneMatchesItsGoldenScreenshot) {
 }
 
 void expectOneLineError(const CliRun &r, const std::string &needle) {
-  EXPECT_EQ(r.code, 1) << r.err;
-  EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << r.err;
-  EXPECT_EQ(r.err.rfind("crowdplay: error: ", 0), 0u) << r.err;
-  EXPECT_NE(r.err.find(needle), std::string::npos) << r.err;
+  test::expectOneLineError(r, "crowdplay", needle);
 }
 
 TEST(Player, BadInputIsOneClearLine) {

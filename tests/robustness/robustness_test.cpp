@@ -1,44 +1,30 @@
 // Malformed inputs through the real CLI: each must exit 1 with one line naming the problem.
-#include <array>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <functional>
 #include <limits>
-#include <sys/wait.h>
 
 #include <gtest/gtest.h>
 
+#include "../unit/cli_run.h"
 #include "../unit/gltf_writer.h"
 #include "crowd/formats/chunks.h"
 
 using crowd::test::GltfBuilder;
+namespace test = crowd::test;
 namespace fs = std::filesystem;
 
 namespace {
 
-struct CliRun {
-  int code;
-  std::string err;
-};
+using test::CliRun;
 
 CliRun crowdbake(const std::string &args) {
-  std::string cmd = std::string(CROWDBAKE) + " " + args + " 2>&1 >/dev/null";
-  FILE *p = popen(cmd.c_str(), "r");
-  std::string out;
-  std::array<char, 4096> buf;
-  while (size_t n = fread(buf.data(), 1, buf.size(), p))
-    out.append(buf.data(), n);
-  int status = pclose(p);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+  return test::runCommand(std::string(CROWDBAKE) + " " + args);
 }
 
 void expectOneLineError(const CliRun &r, const std::string &needle) {
-  EXPECT_EQ(r.code, 1) << r.err;
-  ASSERT_FALSE(r.err.empty());
-  EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << "more than one line: " << r.err;
-  EXPECT_EQ(r.err.rfind("crowdbake: error: ", 0), 0u) << r.err;
-  EXPECT_NE(r.err.find(needle), std::string::npos) << "expected '" << needle << "' in: " << r.err;
+  test::expectOneLineError(r, "crowdbake", needle);
 }
 
 struct Case {
