@@ -24,7 +24,7 @@ using tinygltf::Model;
 // Extensions that change nothing the bakes read, or that the accessor reader already covers.
 const std::set<std::string> kSupportedRequired = {"KHR_mesh_quantization", "KHR_texture_transform",
                                                   "KHR_materials_emissive_strength",
-                                                  "KHR_materials_unlit", "KHR_texture_basisu"};
+                                                  "KHR_materials_unlit"};
 
 std::string oneLine(std::string s) {
   while (!s.empty() && (s.back() == '\n' || s.back() == ' '))
