@@ -201,3 +201,20 @@ TEST(Preview, DrawsTheSkinnedCharacterInsideTheFrame) {
   EXPECT_EQ(rgb, renderPreview(r.pack, 0, 7, 128));
 }
 } // namespace
+
+namespace {
+TEST(AnimBake, AbsurdClipLengthsAreAClearError) {
+  test::GltfBuilder b;
+  b.skinnedQuad();
+  b.animation("forever", 1, "translation", {0, 1e12f}, {0, 0.5f, 0, 0, 1, 0});
+  Reporter r;
+  r.quiet = true;
+  Character c = importGltf(b.write(test::tempDir("anim_absurd"), "q"), {}, r);
+  try {
+    bakeAnimation(c, {}, r);
+    FAIL();
+  } catch (const Error &e) {
+    EXPECT_STREQ(e.what(), "clip 'forever' would need more than 100000 frames");
+  }
+}
+} // namespace

@@ -128,10 +128,10 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
     if (!options.clip.empty() && clip.name != options.clip)
       continue;
     double duration = clip.end - clip.start;
-    uint32_t intervals =
-        duration > 0 ? uint32_t(std::max(1.0, std::round(duration * options.fps))) : 0;
-    if (intervals > 100000)
+    double wanted = duration > 0 ? std::max(1.0, std::round(duration * options.fps)) : 0.0;
+    if (wanted > 100000) // checked before the cast: an absurd duration must not overflow it
       throw Error("clip '" + clip.name + "' would need more than 100000 frames");
+    auto intervals = uint32_t(wanted);
     ClipFrames cf{&clip,         clip.name,
                   clip.start,    intervals ? duration / intervals : 0.0,
                   intervals + 1, intervals ? intervals / duration : options.fps};
