@@ -218,3 +218,23 @@ TEST(AnimBake, AbsurdClipLengthsAreAClearError) {
   }
 }
 } // namespace
+
+namespace {
+TEST(AnimBake, SourceRatePutsFramesOnTheKeys) {
+  // Linear translation keys at 0, 0.25 and 1 s: with frames on the keys, blending two frames is
+  // exact; at 30 fps the key at 0.25 s falls between frames 7 and 8 and the blend cuts its corner.
+  test::GltfBuilder b;
+  b.skinnedQuad();
+  b.animation("hop", 1, "translation", {0, 0.25f, 1}, {0, 0.5f, 0, 0, 1.5f, 0, 0, 0.5f, 0});
+  Reporter r;
+  r.quiet = true;
+  Character c = importGltf(b.write(test::tempDir("anim_source"), "q"), {}, r);
+  AnimBakeOptions source;
+  source.fps = 0;
+  AnimBakeResult onKeys = bakeAnimation(c, source, r), at30 = bakeAnimation(c, {}, r);
+  EXPECT_EQ(onKeys.pack.clips[0].frameCount, 5u); // 4 fps: 0, 0.25, 0.5, 0.75, 1
+  EXPECT_FLOAT_EQ(onKeys.pack.clips[0].fps, 4.0f);
+  EXPECT_LE(onKeys.accuracy[0].clips[0].maxAtMidframes, 1e-6 * onKeys.diagonal);
+  EXPECT_GE(at30.accuracy[0].clips[0].maxAtMidframes, 1e-3 * at30.diagonal);
+}
+} // namespace

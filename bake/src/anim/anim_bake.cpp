@@ -96,6 +96,19 @@ pack::AnimationTexture buildTexture(const std::vector<std::vector<glm::dmat4>> &
   return t;
 }
 
+// Frames per second that put a frame on every key of the clip's densest channel (30 when the
+// clip has one key), capped at 1000.
+double sourceRate(const AnimationClip &clip) {
+  double shortest = 0;
+  for (const auto &ch : clip.channels)
+    for (size_t k = 1; k < ch.times.size(); ++k) {
+      double dt = ch.times[k] - ch.times[k - 1];
+      if (dt > 1e-6 && (shortest == 0 || dt < shortest))
+        shortest = dt;
+    }
+  return shortest > 0 ? std::min(1000.0, 1.0 / shortest) : 30.0;
+}
+
 pack::SkinTexture buildSkin(const SkinnedMesh &m, uint32_t maxWidth) {
   pack::SkinTexture s;
   s.vertexCount = uint32_t(m.vertexCount());
@@ -117,8 +130,8 @@ pack::SkinTexture buildSkin(const SkinnedMesh &m, uint32_t maxWidth) {
 
 AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
                              Reporter &reporter) {
-  if (!(options.fps > 0 && options.fps <= 1000))
-    throw Error("--fps must be in (0, 1000]");
+  if (!(options.fps >= 0 && options.fps <= 1000))
+    throw Error("--fps must be in (0, 1000], or source");
   if (options.maxWidth < 2 || options.maxWidth > 65536)
     throw Error("--max-width must be in [2, 65536]");
   const Precision &chosen = precisionByName(options.precision);
@@ -128,13 +141,14 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
     if (!options.clip.empty() && clip.name != options.clip)
       continue;
     double duration = clip.end - clip.start;
-    double wanted = duration > 0 ? std::max(1.0, std::round(duration * options.fps)) : 0.0;
+    double fps = options.fps > 0 ? options.fps : sourceRate(clip);
+    double wanted = duration > 0 ? std::max(1.0, std::round(duration * fps)) : 0.0;
     if (wanted > 100000) // checked before the cast: an absurd duration must not overflow it
       throw Error("clip '" + clip.name + "' would need more than 100000 frames");
     auto intervals = uint32_t(wanted);
     ClipFrames cf{&clip,         clip.name,
                   clip.start,    intervals ? duration / intervals : 0.0,
-                  intervals + 1, intervals ? intervals / duration : options.fps};
+                  intervals + 1, intervals ? intervals / duration : fps};
     clips.push_back(cf);
   }
   if (clips.empty()) {
@@ -146,7 +160,7 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
                   "' (clips: " + (names.empty() ? "none" : names) + ")");
     }
     reporter.warn("no_animation", "no animation: baked the rest pose as one-frame clip 'rest'");
-    clips.push_back({nullptr, "rest", 0, 0, 1, options.fps});
+    clips.push_back({nullptr, "rest", 0, 0, 1, options.fps > 0 ? options.fps : 30.0});
   }
 
   // Every frame's joint matrices and reference vertex positions, exact and in double.

@@ -65,7 +65,8 @@ options:
   -o, --output FILE    pack to write (written atomically)
   --clip NAME          bake only this clip (default: every clip)
   --mesh NAME          bake only this mesh (default: every mesh bound to the largest skin)
-  --fps N              sampling rate, frames per second (default 30)
+  --fps N|source       sampling rate, frames per second (default 30); "source" uses each
+                       clip's own key rate, so baked frames sit on the keys
   --max-width N        texture width limit in texels (default 4096)
   --precision P        float (3 RGBA32F texels per joint, default), half (3 RGBA16F),
                        qts (2 RGBA32F: quaternion, translation, uniform scale), qts-half
@@ -224,9 +225,9 @@ int cmdAnim(const Args &a) {
   reporter.quiet = a.has("quiet");
   crowd::AnimBakeOptions opt;
   opt.clip = a.get("clip");
-  opt.fps = number(a, "fps", 30);
-  if (!(opt.fps > 0 && opt.fps <= 1000))
-    throw UsageError("--fps must be in (0, 1000]");
+  opt.fps = a.get("fps") == "source" ? 0 : number(a, "fps", 30);
+  if (a.get("fps") != "source" && !(opt.fps > 0 && opt.fps <= 1000))
+    throw UsageError("--fps must be in (0, 1000], or source");
   double width = number(a, "max-width", 4096);
   if (width < 2 || width > 65536 || width != std::floor(width))
     throw UsageError("--max-width must be an integer in [2, 65536]");
@@ -256,7 +257,10 @@ int cmdAnim(const Args &a) {
   auto t2 = Clock::now();
 
   std::ostringstream fps;
-  fps << opt.fps;
+  if (opt.fps > 0)
+    fps << opt.fps;
+  else
+    fps << "source";
   result.pack.provenance =
       crowd::makeProvenance(character.sourceFiles, {{"command", "anim"},
                                                     {"clip", opt.clip},

@@ -26,7 +26,8 @@ const Precision &precisionByName(const std::string &name); // throws on an unkno
 struct AnimBakeOptions {
   std::string clip;         // bake only this clip; empty: every clip
   double fps = 30;          // target sampling rate; each clip's rate is adjusted so its last
-                            // frame lands exactly on its end time
+                            // frame lands exactly on its end time. 0: the source's own rate
+                            // (its shortest key interval), so frames sit on the keys
   uint32_t maxWidth = 4096; // animation and skin texture width limit, texels
   std::string precision = "float";
   int threads = 0; // 0: all cores; output bytes never depend on it
