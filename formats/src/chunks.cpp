@@ -13,6 +13,15 @@ constexpr uint32_t kChunkVersion = 1;
 constexpr uint32_t kMaxTextureSide = 65536;
 constexpr uint64_t kMaxElements = uint64_t(1) << 32;
 
+// Texture width and height, each in 1..maxSide.
+void readSize(ByteReader &r, uint32_t &width, uint32_t &height, uint32_t maxSide) {
+  width = r.get<uint32_t>("width");
+  height = r.get<uint32_t>("height");
+  if (width == 0 || height == 0 || width > maxSide || height > maxSide)
+    r.fail("width/height", std::to_string(width) + "x" + std::to_string(height) +
+                               " is out of range 1.." + std::to_string(maxSide));
+}
+
 void checkFinite(ByteReader &r, const std::vector<float> &v, const char *field) {
   for (size_t i = 0; i < v.size(); ++i)
     if (!std::isfinite(v[i]))
@@ -185,14 +194,10 @@ AnimationTexture decodeAnimationTexture(std::span<const uint8_t> bytes,
   if (fmt > 1)
     r.fail("texel format", "unknown texel format " + std::to_string(fmt));
   t.format = TexelFormat(fmt);
-  t.width = r.get<uint32_t>("width");
-  t.height = r.get<uint32_t>("height");
+  readSize(r, t.width, t.height, kMaxTextureSide);
   t.jointCount = r.get<uint32_t>("joint count");
   t.framesPerRow = r.get<uint32_t>("frames per row");
   t.frameCount = r.get<uint32_t>("frame count");
-  if (t.width == 0 || t.height == 0 || t.width > kMaxTextureSide || t.height > kMaxTextureSide)
-    r.fail("width/height",
-           std::to_string(t.width) + "x" + std::to_string(t.height) + " is out of range");
   if (t.jointCount == 0 || t.framesPerRow == 0 || t.frameCount == 0)
     r.fail("joint count/frames", "must be non-zero");
   if (uint64_t(t.framesPerRow) * t.jointCount * texelsPerJoint(t.encoding) > t.width)
@@ -227,13 +232,10 @@ std::vector<uint8_t> encode(const SkinTexture &t) {
 SkinTexture decodeSkinTexture(std::span<const uint8_t> bytes, const std::string &context) {
   ByteReader r(bytes, context);
   SkinTexture t;
-  t.width = r.get<uint32_t>("width");
-  t.height = r.get<uint32_t>("height");
+  readSize(r, t.width, t.height, kMaxTextureSide);
   t.vertexCount = r.get<uint32_t>("vertex count");
-  if (t.width == 0 || t.height == 0 || t.width > kMaxTextureSide || t.height > kMaxTextureSide ||
-      t.width % 2 != 0)
-    r.fail("width/height", std::to_string(t.width) + "x" + std::to_string(t.height) +
-                               " is out of range (width must be even)");
+  if (t.width % 2 != 0)
+    r.fail("width", std::to_string(t.width) + " is odd: a vertex's two texels share a row");
   if (uint64_t(t.vertexCount) * 2 > uint64_t(t.width) * t.height)
     r.fail("vertex count", "does not fit in the texture");
   uint64_t expected = uint64_t(t.width) * t.height * 4;
@@ -328,11 +330,7 @@ std::vector<uint8_t> encode(const Texture &t) {
 Texture decodeTexture(std::span<const uint8_t> bytes, const std::string &context) {
   ByteReader r(bytes, context);
   Texture t;
-  t.width = r.get<uint32_t>("width");
-  t.height = r.get<uint32_t>("height");
-  if (t.width == 0 || t.height == 0 || t.width > 16384 || t.height > 16384)
-    r.fail("width/height",
-           std::to_string(t.width) + "x" + std::to_string(t.height) + " is out of range 1..16384");
+  readSize(r, t.width, t.height, 16384);
   uint64_t expected = uint64_t(t.width) * t.height * 4;
   t.rgba = r.getArray<uint8_t>("texels", expected);
   if (t.rgba.size() != expected)
