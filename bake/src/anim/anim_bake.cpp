@@ -215,25 +215,25 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
     first += cf.count;
   }
 
+  pk.skin = buildSkin(c.mesh, options.maxWidth); // the same for every precision
   // Accuracy of every precision, with the player's interpolation.
   for (const auto &p : precisions()) {
     PrecisionAccuracy pa{p, 0, {}};
     pack::AnimationTexture tex = buildTexture(joints, c.jointCount(), p, options.maxWidth);
     pa.textureBytes = tex.texels.size();
-    pack::SkinTexture skin = buildSkin(c.mesh, options.maxWidth);
     std::vector<double> frameMax(total), frameSum(total), midMax(total), midSum(total);
     parallelFor(total, options.threads, [&](size_t f) {
       const pack::Clip &clip = pk.clips[frameList[f].first];
       uint32_t i = frameList[f].second;
       for (uint32_t v = 0; v < c.mesh.vertexCount(); ++v) {
         double e = glm::length(
-            glm::dvec3(runtime::skinVertex(tex, skin, clip, i, 0.0f, v, c.mesh.positions[v])) -
+            glm::dvec3(runtime::skinVertex(tex, pk.skin, clip, i, 0.0f, v, c.mesh.positions[v])) -
             reference[f][v]);
         frameMax[f] = std::max(frameMax[f], e);
         frameSum[f] += e;
         if (!midReference[f].empty()) {
           e = glm::length(
-              glm::dvec3(runtime::skinVertex(tex, skin, clip, i, 0.5f, v, c.mesh.positions[v])) -
+              glm::dvec3(runtime::skinVertex(tex, pk.skin, clip, i, 0.5f, v, c.mesh.positions[v])) -
               midReference[f][v]);
           midMax[f] = std::max(midMax[f], e);
           midSum[f] += e;
@@ -256,7 +256,6 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
     if (p.name == chosen.name) {
       result.baked = result.accuracy.size();
       pk.animation = std::move(tex);
-      pk.skin = std::move(skin);
     }
     result.accuracy.push_back(std::move(pa));
   }
