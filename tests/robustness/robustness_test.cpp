@@ -204,6 +204,9 @@ TEST(Usage, BadUsageExitsTwo) {
   EXPECT_EQ(crowdbake("anim a.glb -o x --fps banana").code, 2);
   EXPECT_EQ(crowdbake("anim a.glb -o x --precision triple").code, 2);
   EXPECT_EQ(crowdbake("anim --help").code, 0);
+  EXPECT_EQ(crowdbake("impostor a.glb -o x --views 32").code, 2);
+  EXPECT_EQ(crowdbake("impostor a.glb -o x --texels 2").code, 2);
+  EXPECT_EQ(crowdbake("impostor --help").code, 0);
 }
 
 // A damaged pack fails verify with a message naming what is wrong.

@@ -15,10 +15,12 @@
 
 #include "crowd/bake/anim_bake.h"
 #include "crowd/bake/import.h"
+#include "crowd/bake/impostor_bake.h"
 #include "crowd/bake/preview.h"
 #include "crowd/bake/provenance.h"
 #include "crowd/formats/chunks.h"
 #include "crowd/formats/error.h"
+#include "crowd/formats/impostor.h"
 #include "crowd/samples/samples.h"
 
 using nlohmann::ordered_json;
@@ -36,6 +38,7 @@ usage: crowdbake <command> [options]
 commands:
   samples   write the bundled sample characters (humanoid and three outfits) as .glb
   anim      bake animation textures, skin weights and mesh from a glTF character
+  impostor  bake per-frame atlases of views (normals, region ids) for far-away characters
   inspect   list a pack's chunks, joints, clips, textures and sizes
   verify    check every offset, size, checksum and cross-reference of a pack
   export    write a pack's textures as images
@@ -76,6 +79,27 @@ options:
 
 example:
   crowdbake anim humanoid.glb -o humanoid.crowdpack --fps 30 --report report.json
+)"},
+    {"impostor", R"(usage: crowdbake impostor IN.glb -o OUT.crowdpack [options]
+
+For sampled frames of a clip, renders the character from azimuths x elevations over the upper
+hemisphere with the deterministic rasterizer: object-space normals (RGB) with the region
+(sub-mesh) id + 1 in alpha, each view cropped to its silhouette and shelf-packed into one atlas
+per frame. First slice: no UV maps, mirroring or best impostor planes yet.
+
+options:
+  -o, --output FILE    pack to write (written atomically)
+  --clip NAME          clip to sample (default: the first)
+  --mesh NAME          mesh to bake (default: every mesh bound to the largest skin)
+  --frames N           frames sampled evenly over the clip (default 16)
+  --views AxE          azimuths x elevations (default 32x8)
+  --texels N           a full view's size before cropping (default 128)
+  --threads N          worker threads (default: all cores); output never depends on it
+  --report FILE.json   occupancy, bytes per frame (packed and naive), time
+  --quiet              no warnings on stderr
+
+example:
+  crowdbake impostor humanoid.glb -o humanoid_impostor.crowdpack --clip walk --frames 16
 )"},
     {"inspect", R"(usage: crowdbake inspect PACK [--json]
 
@@ -321,6 +345,108 @@ int cmdAnim(const Args &a) {
   return 0;
 }
 
+int cmdImpostor(const Args &a) {
+  oneInput(a, "impostor");
+  if (!a.options.count("output"))
+    throw UsageError("impostor needs -o OUT.crowdpack");
+  auto t0 = std::chrono::steady_clock::now();
+  crowd::ImpostorOptions opt;
+  opt.clip = a.get("clip");
+  auto whole = [&](const char *key, double def, double lo, double hi) {
+    double v = number(a, key, def);
+    if (v < lo || v > hi || v != std::floor(v))
+      throw UsageError(std::string("--") + key + " must be an integer in [" +
+                       std::to_string(int64_t(lo)) + ", " + std::to_string(int64_t(hi)) + "]");
+    return uint32_t(v);
+  };
+  opt.frames = whole("frames", 16, 1, 4096);
+  opt.texels = whole("texels", 128, 4, 4096);
+  opt.threads = int(whole("threads", 0, 0, 1024));
+  std::string views = a.get("views", "32x8");
+  auto x = views.find('x');
+  try {
+    if (x == std::string::npos)
+      throw std::invalid_argument(views);
+    opt.azimuths = uint32_t(std::stoul(views.substr(0, x)));
+    opt.elevations = uint32_t(std::stoul(views.substr(x + 1)));
+  } catch (const std::exception &) {
+    throw UsageError("--views expects AxE, e.g. 32x8, got '" + views + "'");
+  }
+  crowd::Reporter reporter;
+  reporter.quiet = a.has("quiet");
+  crowd::ImportOptions io;
+  io.mesh = a.get("mesh");
+  crowd::Character character = crowd::importGltf(a.positional[0], io, reporter);
+  crowd::ImpostorBakeResult r = crowd::bakeImpostor(character, opt, reporter);
+  crowd::pack::ImpostorPack pk;
+  pk.impostor = std::move(r.impostor);
+  pk.provenance =
+      crowd::makeProvenance(character.sourceFiles, {{"command", "impostor"},
+                                                    {"clip", opt.clip},
+                                                    {"mesh", io.mesh},
+                                                    {"frames", std::to_string(opt.frames)},
+                                                    {"views", views},
+                                                    {"texels", std::to_string(opt.texels)}});
+  std::vector<uint8_t> bytes = crowd::pack::packBytes(pk);
+  crowd::pack::writeFileAtomic(a.get("output"), bytes);
+  double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (a.options.count("report")) {
+    ordered_json j;
+    j["command"] = "impostor";
+    j["input"] = a.positional[0];
+    j["output"] = a.get("output");
+    j["clip"] = pk.impostor.clip;
+    j["frames"] = opt.frames;
+    j["views"] = views;
+    j["texels"] = opt.texels;
+    j["atlas"] =
+        std::to_string(pk.impostor.atlasWidth) + "x" + std::to_string(pk.impostor.atlasHeight);
+    j["occupancy"] = r.occupancy;
+    j["bytes_per_frame"] = r.bytesPerFrame;
+    j["naive_bytes_per_frame"] = r.naiveBytesPerFrame;
+    j["pack_bytes"] = bytes.size();
+    j["time_s"] = seconds;
+    j["warnings"] = ordered_json::array();
+    for (const auto &w : reporter.warnings())
+      j["warnings"].push_back({{"code", w.code}, {"message", w.message}, {"count", w.count}});
+    writeJson(a.get("report"), j);
+  }
+  return 0;
+}
+
+void inspectImpostor(const crowd::pack::Reader &reader, bool json) {
+  auto p = crowd::pack::loadImpostorPack(reader);
+  const auto &m = p.impostor;
+  uint64_t used = 0;
+  for (const auto &v : m.views)
+    used += uint64_t(v.width) * v.height;
+  double occupancy = double(used) / (double(m.frames) * m.atlasWidth * m.atlasHeight);
+  if (json) {
+    ordered_json j;
+    j["file"] = std::filesystem::path(reader.name()).filename().string();
+    j["bytes"] = reader.fileSize();
+    j["impostor"] = {{"clip", m.clip},
+                     {"frames", m.frames},
+                     {"azimuths", m.azimuths},
+                     {"elevations", m.elevations},
+                     {"texels", m.texels},
+                     {"atlas_width", m.atlasWidth},
+                     {"atlas_height", m.atlasHeight},
+                     {"occupancy", occupancy},
+                     {"atlas_bytes", m.atlases.size()}};
+    std::cout << j.dump(2) << "\n";
+    return;
+  }
+  std::cout << "pack " << std::filesystem::path(reader.name()).filename().string() << ": "
+            << reader.fileSize() << " bytes, impostor of clip '" << m.clip << "'\n"
+            << "  " << m.frames << " frames from t=" << m.startTime << " s every " << m.frameStep
+            << " s, " << m.azimuths << "x" << m.elevations << " views of " << m.texels << "x"
+            << m.texels << " texels\n"
+            << "  atlas " << m.atlasWidth << "x" << m.atlasHeight << " rgba8 per frame ("
+            << uint64_t(m.atlasWidth) * m.atlasHeight * 4 << " bytes), occupancy " << occupancy
+            << "\n";
+}
+
 std::string hex32(uint32_t v) {
   char b[16];
   std::snprintf(b, sizeof b, "%08x", v);
@@ -330,6 +456,10 @@ std::string hex32(uint32_t v) {
 int cmdInspect(const Args &a) {
   oneInput(a, "inspect");
   auto reader = crowd::pack::Reader::open(a.positional[0]);
+  if (reader.find(crowd::pack::kImpostor)) {
+    inspectImpostor(reader, a.has("json"));
+    return 0;
+  }
   auto p = crowd::pack::loadAnimationPack(reader);
   using namespace crowd::pack;
   const auto &t = p.animation;
@@ -434,6 +564,12 @@ int cmdInspect(const Args &a) {
 int cmdVerify(const Args &a) {
   oneInput(a, "verify");
   auto reader = crowd::pack::Reader::open(a.positional[0]);
+  if (reader.find(crowd::pack::kImpostor)) {
+    auto m = crowd::pack::loadImpostorPack(reader).impostor;
+    std::cout << "ok: " << a.positional[0] << " (impostor, " << m.frames << " frames x "
+              << m.views.size() / m.frames << " views, " << reader.fileSize() << " bytes)\n";
+    return 0;
+  }
   auto p = crowd::pack::loadAnimationPack(reader);
   std::cout << "ok: " << a.positional[0] << " (" << reader.chunks().size() << " chunks, "
             << reader.fileSize() << " bytes, " << p.skeleton.jointCount() << " joints, "
@@ -455,12 +591,39 @@ int cmdExport(const Args &a) {
   oneInput(a, "export");
   if (!a.options.count("images"))
     throw UsageError("export needs --images DIR");
-  auto p = crowd::pack::loadAnimationPack(crowd::pack::Reader::open(a.positional[0]));
+  auto reader = crowd::pack::Reader::open(a.positional[0]);
   std::string dir = a.get("images");
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec)
     throw crowd::Error(dir + ": cannot create directory: " + ec.message());
+  if (reader.find(crowd::pack::kImpostor)) {
+    // Per frame: the normals as RGB (black where empty) and the region ids as distinct greys,
+    // so both can be looked at; the pack keeps them in one RGBA texel.
+    auto m = crowd::pack::loadImpostorPack(reader).impostor;
+    size_t texels = size_t(m.atlasWidth) * m.atlasHeight;
+    std::vector<uint8_t> normals(texels * 3), regions(texels);
+    for (uint32_t f = 0; f < m.frames; ++f) {
+      const uint8_t *src = m.atlases.data() + f * texels * 4;
+      for (size_t t = 0; t < texels; ++t) {
+        bool empty = src[t * 4 + 3] == 0;
+        for (size_t k = 0; k < 3; ++k)
+          normals[t * 3 + k] = empty ? 0 : src[t * 4 + k];
+        regions[t] = uint8_t(std::min(255, src[t * 4 + 3] * 37));
+      }
+      char name[40];
+      std::snprintf(name, sizeof name, "/frame_%03u_normals.png", f);
+      writeImage(dir + name, int(m.atlasWidth), int(m.atlasHeight), 3, OIIO::TypeDesc::UINT8,
+                 normals.data());
+      std::cout << dir << name << "\n";
+      std::snprintf(name, sizeof name, "/frame_%03u_regions.png", f);
+      writeImage(dir + name, int(m.atlasWidth), int(m.atlasHeight), 1, OIIO::TypeDesc::UINT8,
+                 regions.data());
+      std::cout << dir << name << "\n";
+    }
+    return 0;
+  }
+  auto p = crowd::pack::loadAnimationPack(reader);
   const auto &t = p.animation;
   writeImage(dir + "/animation.exr", int(t.width), int(t.height), 4,
              t.format == crowd::pack::TexelFormat::RGBA32F ? OIIO::TypeDesc::FLOAT
@@ -508,6 +671,10 @@ int main(int argc, char **argv) {
           parse(argc, argv,
                 {"output", "clip", "mesh", "fps", "max-width", "precision", "threads", "report"},
                 {"quiet"}));
+    if (command == "impostor")
+      return cmdImpostor(parse(
+          argc, argv, {"output", "clip", "mesh", "frames", "views", "texels", "threads", "report"},
+          {"quiet"}));
     if (command == "inspect")
       return cmdInspect(parse(argc, argv, {}, {"json"}));
     if (command == "verify")

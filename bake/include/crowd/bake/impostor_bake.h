@@ -1,0 +1,33 @@
+// Impostor bake (first slice): for sampled frames of a clip, orthographic views from azimuths x
+// elevations over the upper hemisphere, drawn with the deterministic rasterizer as object-space
+// normals with region ids, cropped to their silhouettes and shelf-packed into one atlas per frame.
+#pragma once
+#include <cstdint>
+#include <string>
+
+#include "crowd/bake/character.h"
+#include "crowd/bake/report.h"
+#include "crowd/formats/impostor.h"
+
+namespace crowd {
+
+struct ImpostorOptions {
+  std::string clip;     // empty: the first clip (or the rest pose when there is none)
+  uint32_t frames = 16; // frames sampled evenly over the clip
+  uint32_t azimuths = 32, elevations = 8;
+  uint32_t texels = 128;                 // a full view is texels x texels before cropping
+  int threads = 0;                       // 0: all cores; the bytes never depend on it
+  uint64_t maxBytes = uint64_t(4) << 30; // memory guard on the uncropped views
+};
+
+struct ImpostorBakeResult {
+  pack::Impostor impostor;
+  double occupancy = 0;            // silhouette-crop texels / atlas texels
+  uint64_t bytesPerFrame = 0;      // one packed atlas
+  uint64_t naiveBytesPerFrame = 0; // every view uncropped: views x texels^2 x 4
+};
+
+ImpostorBakeResult bakeImpostor(const Character &character, const ImpostorOptions &options,
+                                Reporter &reporter);
+
+} // namespace crowd

@@ -1,0 +1,195 @@
+#include "crowd/bake/impostor_bake.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "crowd/bake/evaluate.h"
+#include "crowd/bake/parallel.h"
+#include "crowd/bake/raster.h"
+#include "crowd/formats/error.h"
+
+namespace crowd {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+struct Crop {
+  uint32_t x0 = 0, y0 = 0, width = 0, height = 0;
+  std::vector<uint8_t> rgba;
+};
+
+struct Posed {
+  std::vector<glm::vec3> positions, normals;
+};
+
+Posed pose(const Character &c, const AnimationClip *clip, double t) {
+  auto joints = jointMatrices(c, clip, t);
+  Posed p;
+  for (const auto &q : skinPositions(c, joints))
+    p.positions.push_back(glm::vec3(q));
+  for (size_t v = 0; v < c.mesh.vertexCount(); ++v) {
+    glm::dvec3 n(0);
+    for (int k = 0; k < 4; ++k)
+      n += double(c.mesh.weights[v][k]) * glm::dvec3(joints[c.mesh.joints[v][size_t(k)]] *
+                                                     glm::dvec4(glm::dvec3(c.mesh.normals[v]), 0));
+    p.normals.push_back(glm::vec3(glm::length(n) > 0 ? glm::normalize(n) : n));
+  }
+  return p;
+}
+
+} // namespace
+
+ImpostorBakeResult bakeImpostor(const Character &c, const ImpostorOptions &o, Reporter &reporter) {
+  if (o.frames == 0 || o.frames > 4096)
+    throw Error("--frames must be in 1..4096");
+  if (o.azimuths == 0 || o.azimuths > 256 || o.elevations == 0 || o.elevations > 64)
+    throw Error("--views must be AxE with A in 1..256 and E in 1..64");
+  if (o.texels < 4 || o.texels > 4096)
+    throw Error("--texels must be in 4..4096");
+  const uint64_t views = uint64_t(o.azimuths) * o.elevations;
+  const uint64_t naive = uint64_t(o.frames) * views * o.texels * o.texels * 4;
+  if (naive > o.maxBytes)
+    throw Error("impostor would need " + std::to_string(naive >> 20) +
+                " MiB of uncropped views (limit " + std::to_string(o.maxBytes >> 20) +
+                " MiB): lower --frames, --views or --texels");
+
+  const AnimationClip *clip = nullptr;
+  for (const auto &cl : c.clips)
+    if (o.clip.empty() ? !clip : cl.name == o.clip)
+      clip = &cl;
+  if (!o.clip.empty() && !clip) {
+    std::string names;
+    for (const auto &cl : c.clips)
+      names += (names.empty() ? "" : ", ") + cl.name;
+    throw Error("no clip named '" + o.clip + "' (clips: " + (names.empty() ? "none" : names) + ")");
+  }
+  if (!clip)
+    reporter.warn("no_animation", "no animation: the impostor shows the rest pose");
+  if (c.mesh.parts.size() > 255)
+    reporter.warn("too_many_regions", std::to_string(c.mesh.parts.size()) +
+                                          " sub-meshes: region ids above 254 are clamped");
+
+  pack::Impostor m;
+  m.clip = clip ? clip->name : "rest";
+  m.frames = o.frames;
+  m.azimuths = o.azimuths;
+  m.elevations = o.elevations;
+  m.texels = o.texels;
+  m.startTime = clip ? float(clip->start) : 0.0f;
+  // A looping clip's end pose repeats its start, so frames split [start, end) evenly.
+  m.frameStep = clip ? float((clip->end - clip->start) / o.frames) : 0.0f;
+
+  std::vector<Posed> posed(o.frames);
+  parallelFor(o.frames, o.threads, [&](size_t f) {
+    posed[f] = pose(c, clip, double(m.startTime) + double(f) * double(m.frameStep));
+  });
+  glm::dvec3 lo(INFINITY), hi(-INFINITY);
+  for (const auto &p : posed)
+    for (const auto &q : p.positions) {
+      lo = glm::min(lo, glm::dvec3(q));
+      hi = glm::max(hi, glm::dvec3(q));
+    }
+  glm::dvec3 centre = (lo + hi) * 0.5;
+  double radius = 0;
+  for (const auto &p : posed)
+    for (const auto &q : p.positions)
+      radius = std::max(radius, glm::length(glm::dvec3(q) - centre));
+  radius = std::max(radius * 1.02, 1e-6); // a texel of margin around the silhouette
+  m.sphere = {float(centre.x), float(centre.y), float(centre.z), float(radius)};
+
+  std::vector<uint8_t> region(c.mesh.indices.size() / 3, 0);
+  for (size_t p = 0; p < c.mesh.parts.size(); ++p)
+    for (uint32_t t = c.mesh.parts[p].firstIndex / 3;
+         t < (c.mesh.parts[p].firstIndex + c.mesh.parts[p].indexCount) / 3; ++t)
+      region[t] = uint8_t(std::min<size_t>(p + 1, 255));
+
+  // Render and crop every view of every frame.
+  const int n = int(o.texels);
+  std::vector<Crop> crops(size_t(o.frames) * views);
+  parallelFor(crops.size(), o.threads, [&](size_t i) {
+    size_t f = i / views, e = (i % views) / o.azimuths, a = i % o.azimuths;
+    double az = 2 * kPi * double(a) / o.azimuths, el = 0.5 * kPi * (double(e) + 0.5) / o.elevations;
+    glm::dvec3 dir(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
+    auto cam = raster::orthographic(centre + dir * (2 * radius), centre, {0, 1, 0}, radius, radius,
+                                    0.5 * radius, 3.5 * radius);
+    raster::Image img = raster::rasterize(posed[f].positions, c.mesh.indices, cam, n, n, {true, 1});
+    int x0 = n, y0 = n, x1 = -1, y1 = -1;
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x)
+        if (img.triangle[img.index(x, y)] >= 0) {
+          x0 = std::min(x0, x), y0 = std::min(y0, y), x1 = std::max(x1, x), y1 = std::max(y1, y);
+        }
+    Crop &cr = crops[i];
+    if (x1 < 0)
+      return; // nothing in view
+    cr.x0 = uint32_t(x0), cr.y0 = uint32_t(y0);
+    cr.width = uint32_t(x1 - x0 + 1), cr.height = uint32_t(y1 - y0 + 1);
+    cr.rgba.assign(size_t(cr.width) * cr.height * 4, 0);
+    for (int y = y0; y <= y1; ++y)
+      for (int x = x0; x <= x1; ++x) {
+        size_t pi = img.index(x, y);
+        if (img.triangle[pi] < 0)
+          continue;
+        glm::vec3 nn = raster::interpolate(img, pi, posed[f].normals, c.mesh.indices);
+        float len = glm::length(nn);
+        nn = len > 0 ? nn / len : glm::vec3(0, 1, 0);
+        uint8_t *out = &cr.rgba[((size_t(y - y0)) * cr.width + size_t(x - x0)) * 4];
+        for (int k = 0; k < 3; ++k)
+          out[k] = uint8_t(std::lround((nn[k] * 0.5f + 0.5f) * 255.0f));
+        out[3] = region[size_t(img.triangle[pi])];
+      }
+  });
+
+  // Shelf packing, tallest first (ties by view index): the same layout at any thread count.
+  uint64_t area = 0;
+  uint32_t widest = 1;
+  for (const auto &cr : crops) {
+    area += uint64_t(cr.width) * cr.height;
+    widest = std::max(widest, cr.width);
+  }
+  uint32_t width = std::max(widest, uint32_t(std::ceil(std::sqrt(double(area) / o.frames * 1.1))));
+  width = (width + 3) / 4 * 4;
+  std::vector<std::array<uint32_t, 2>> place(crops.size());
+  uint32_t height = 1;
+  for (uint32_t f = 0; f < o.frames; ++f) {
+    std::vector<size_t> order(views);
+    std::iota(order.begin(), order.end(), size_t(f) * views);
+    std::stable_sort(order.begin(), order.end(),
+                     [&](size_t a, size_t b) { return crops[a].height > crops[b].height; });
+    uint32_t x = 0, y = 0, shelf = 0;
+    for (size_t i : order) {
+      if (x + crops[i].width > width)
+        x = 0, y += shelf, shelf = 0;
+      place[i] = {x, y};
+      x += crops[i].width;
+      shelf = std::max(shelf, crops[i].height);
+    }
+    height = std::max(height, y + shelf);
+  }
+  if (width > 16384 || height > 16384)
+    throw Error("impostor atlas would be " + std::to_string(width) + "x" + std::to_string(height) +
+                ", larger than 16384: lower --texels or --views");
+  m.atlasWidth = width;
+  m.atlasHeight = height;
+  m.atlases.assign(size_t(o.frames) * width * height * 4, 0);
+  m.views.resize(crops.size());
+  for (size_t i = 0; i < crops.size(); ++i) {
+    const Crop &cr = crops[i];
+    size_t f = i / views;
+    m.views[i] = {
+        uint16_t(place[i][0]), uint16_t(place[i][1]),          uint16_t(cr.width),
+        uint16_t(cr.height),   float(n) * 0.5f - float(cr.x0), float(n) * 0.5f - float(cr.y0)};
+    for (uint32_t y = 0; y < cr.height; ++y)
+      std::copy_n(&cr.rgba[size_t(y) * cr.width * 4], size_t(cr.width) * 4,
+                  &m.atlases[((f * height + place[i][1] + y) * width + place[i][0]) * 4]);
+  }
+  ImpostorBakeResult r;
+  r.occupancy = double(area) / (double(o.frames) * width * height);
+  r.bytesPerFrame = uint64_t(width) * height * 4;
+  r.naiveBytesPerFrame = views * o.texels * o.texels * 4;
+  r.impostor = std::move(m);
+  return r;
+}
+
+} // namespace crowd

@@ -1,0 +1,48 @@
+// The impostor chunk: for each sampled frame of a clip, views of the character from azimuths x
+// elevations over the upper hemisphere, each cropped to its silhouette and packed into one atlas
+// per frame. Texels: RGB the object-space normal (n * 0.5 + 0.5), A the region id + 1 (0: empty).
+#pragma once
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "crowd/formats/chunks.h"
+
+namespace crowd::pack {
+
+inline constexpr uint32_t kImpostor = fourcc("IMPO");
+
+struct ImpostorView {
+  uint16_t x = 0, y = 0, width = 0, height = 0; // crop rectangle in the frame's atlas (texels)
+  float pivotX = 0, pivotY = 0; // the sphere centre's position in the crop, texels from its corner
+};
+
+struct Impostor {
+  std::string clip;
+  float startTime = 0, frameStep = 0; // frame f shows clip time startTime + f * frameStep
+  uint32_t frames = 0, azimuths = 0, elevations = 0;
+  uint32_t texels = 0;                      // a full view is texels x texels before cropping
+  std::array<float, 4> sphere{};            // the volume every view frames: centre xyz, radius
+  uint32_t atlasWidth = 0, atlasHeight = 0; // every frame's atlas has this size
+  // Frame-major, then elevation, then azimuth: views[(f * elevations + e) * azimuths + a].
+  // Azimuth a looks from angle 2 pi a / azimuths about +Y (0: from +Z); elevation e from
+  // 90 (e + 0.5) / elevations degrees above the horizon.
+  std::vector<ImpostorView> views;
+  std::vector<uint8_t> atlases; // frames * atlasWidth * atlasHeight * 4 bytes
+  size_t viewIndex(uint32_t f, uint32_t e, uint32_t a) const {
+    return (size_t(f) * elevations + e) * azimuths + a;
+  }
+};
+
+std::vector<uint8_t> encode(const Impostor &);
+Impostor decodeImpostor(std::span<const uint8_t>, const std::string &context);
+
+struct ImpostorPack {
+  Provenance provenance;
+  Impostor impostor;
+};
+ImpostorPack loadImpostorPack(const Reader &reader);
+std::vector<uint8_t> packBytes(const ImpostorPack &pack);
+
+} // namespace crowd::pack

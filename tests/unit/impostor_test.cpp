@@ -1,0 +1,105 @@
+#include <gtest/gtest.h>
+
+#include "crowd/bake/import.h"
+#include "crowd/bake/impostor_bake.h"
+#include "crowd/formats/error.h"
+#include "crowd/samples/samples.h"
+#include "gltf_writer.h"
+
+using namespace crowd;
+
+namespace {
+
+const Character &humanoid() {
+  static Character c = [] {
+    std::string dir = test::tempDir("impostor_samples");
+    samples::writeSamples(dir);
+    Reporter r;
+    return importGltf(dir + "/humanoid.glb", {}, r);
+  }();
+  return c;
+}
+
+ImpostorOptions small() {
+  ImpostorOptions o;
+  o.clip = "walk";
+  o.frames = 3;
+  o.azimuths = 8;
+  o.elevations = 2;
+  o.texels = 48;
+  return o;
+}
+
+TEST(Impostor, SameBytesAtAnyThreadCount) {
+  Reporter r;
+  auto o = small();
+  o.threads = 1;
+  auto one = pack::packBytes(pack::ImpostorPack{{}, bakeImpostor(humanoid(), o, r).impostor});
+  o.threads = 3;
+  auto three = pack::packBytes(pack::ImpostorPack{{}, bakeImpostor(humanoid(), o, r).impostor});
+  EXPECT_EQ(one, three);
+}
+
+TEST(Impostor, ViewsAreCroppedPackedWithoutOverlapAndHoldRegions) {
+  Reporter r;
+  ImpostorBakeResult res = bakeImpostor(humanoid(), small(), r);
+  const auto &m = res.impostor;
+  ASSERT_EQ(m.views.size(), 3u * 16);
+  EXPECT_GT(res.occupancy, 0.5);
+  EXPECT_LT(res.bytesPerFrame, res.naiveBytesPerFrame);
+  for (uint32_t f = 0; f < m.frames; ++f) {
+    std::vector<int> owner(size_t(m.atlasWidth) * m.atlasHeight, -1);
+    for (uint32_t v = 0; v < 16; ++v) {
+      const auto &view = m.views[f * 16 + v];
+      ASSERT_GT(view.width, 0) << "the character is in every view";
+      size_t filled = 0;
+      for (uint32_t y = view.y; y < uint32_t(view.y) + view.height; ++y)
+        for (uint32_t x = view.x; x < uint32_t(view.x) + view.width; ++x) {
+          size_t t = size_t(y) * m.atlasWidth + x;
+          ASSERT_EQ(owner[t], -1) << "views overlap in frame " << f;
+          owner[t] = int(v);
+          uint8_t region = m.atlases[(size_t(f) * m.atlasWidth * m.atlasHeight + t) * 4 + 3];
+          EXPECT_LE(region, humanoid().mesh.parts.size());
+          filled += region > 0;
+        }
+      // Cropped to the silhouette: every crop row and column is touched, so it is well filled.
+      EXPECT_GT(filled, size_t(view.width) * view.height / 5);
+      // The pivot is the sphere centre, which the character's silhouette surrounds.
+      EXPECT_GT(view.pivotX, 0);
+      EXPECT_LT(view.pivotX, view.width);
+    }
+  }
+  pack::Reader reader(pack::packBytes(pack::ImpostorPack{{}, m}), "mem");
+  EXPECT_EQ(pack::loadImpostorPack(reader).impostor.views.size(), m.views.size());
+}
+
+TEST(Impostor, OneFrameClipsRestPosesAndMemoryGuard) {
+  Reporter r;
+  r.quiet = true;
+  auto o = small();
+  o.frames = 1;
+  EXPECT_EQ(bakeImpostor(humanoid(), o, r).impostor.frames, 1u);
+
+  test::GltfBuilder b;
+  b.skinnedQuad(); // no animation: the rest pose, with a warning
+  Character quad = importGltf(b.write(test::tempDir("impostor_quad"), "q"), {}, r);
+  ImpostorOptions q = small();
+  q.clip = "";
+  auto res = bakeImpostor(quad, q, r);
+  EXPECT_EQ(res.impostor.clip, "rest");
+  EXPECT_EQ(r.warnings().back().code, "no_animation");
+
+  auto huge = small();
+  huge.frames = 64;
+  huge.azimuths = 64;
+  huge.elevations = 16;
+  huge.texels = 4096;
+  try {
+    bakeImpostor(humanoid(), huge, r);
+    FAIL();
+  } catch (const Error &e) {
+    EXPECT_NE(std::string(e.what()).find("lower --frames, --views or --texels"), std::string::npos);
+  }
+}
+
+} // namespace
