@@ -26,6 +26,7 @@ std::vector<uint8_t> encode(const Impostor &m) {
     w.put<float>(v.pivotY);
   }
   w.putArray(m.atlases);
+  w.putArray(m.uvAtlases);
   return w.take();
 }
 
@@ -74,6 +75,9 @@ Impostor decodeImpostor(std::span<const uint8_t> bytes, const std::string &conte
   m.atlases = r.getArray<uint8_t>("atlases", expected);
   if (m.atlases.size() != expected)
     r.fail("atlases", "size is not frames x width x height x 4");
+  m.uvAtlases = r.getArray<uint16_t>("uv atlases", expected);
+  if (!m.uvAtlases.empty() && m.uvAtlases.size() != expected)
+    r.fail("uv atlases", "size is not frames x width x height x 4");
   r.expectEnd();
   return m;
 }

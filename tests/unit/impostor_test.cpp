@@ -1,3 +1,5 @@
+#include <set>
+
 #include <gtest/gtest.h>
 
 #include "crowd/bake/import.h"
@@ -69,6 +71,10 @@ TEST(Impostor, ViewsAreCroppedPackedWithoutOverlapAndHoldRegions) {
       EXPECT_LT(view.pivotX, view.width);
     }
   }
+  // The UV map shares the layout and carries the same region ids.
+  ASSERT_EQ(m.uvAtlases.size(), m.atlases.size());
+  for (size_t t = 0; t < m.atlases.size(); t += 4)
+    ASSERT_EQ(m.uvAtlases[t + 2], m.atlases[t + 3]);
   pack::Reader reader(pack::packBytes(pack::ImpostorPack{{}, m}), "mem");
   EXPECT_EQ(pack::loadImpostorPack(reader).impostor.views.size(), m.views.size());
 }
@@ -87,7 +93,12 @@ TEST(Impostor, OneFrameClipsRestPosesAndMemoryGuard) {
   q.clip = "";
   auto res = bakeImpostor(quad, q, r);
   EXPECT_EQ(res.impostor.clip, "rest");
-  EXPECT_EQ(r.warnings().back().code, "no_animation");
+  std::set<std::string> codes;
+  for (const auto &w : r.warnings())
+    codes.insert(w.code);
+  EXPECT_TRUE(codes.count("no_animation"));
+  EXPECT_TRUE(codes.count("no_uvs")) << "the quad has no UVs: no UV map";
+  EXPECT_TRUE(res.impostor.uvAtlases.empty());
 
   auto huge = small();
   huge.frames = 64;

@@ -616,6 +616,16 @@ int cmdExport(const Args &a) {
       writeImage(dir + name, int(m.atlasWidth), int(m.atlasHeight), 3, OIIO::TypeDesc::UINT8,
                  normals.data());
       std::cout << dir << name << "\n";
+      if (!m.uvAtlases.empty()) {
+        std::vector<uint16_t> uv(texels * 3);
+        for (size_t t = 0; t < texels; ++t)
+          for (size_t k = 0; k < 3; ++k)
+            uv[t * 3 + k] = k < 2 ? m.uvAtlases[(f * texels + t) * 4 + k] : 0;
+        std::snprintf(name, sizeof name, "/frame_%03u_uv.png", f);
+        writeImage(dir + name, int(m.atlasWidth), int(m.atlasHeight), 3, OIIO::TypeDesc::UINT16,
+                   uv.data());
+        std::cout << dir << name << "\n";
+      }
       std::snprintf(name, sizeof name, "/frame_%03u_regions.png", f);
       writeImage(dir + name, int(m.atlasWidth), int(m.atlasHeight), 1, OIIO::TypeDesc::UINT8,
                  regions.data());

@@ -17,6 +17,7 @@ constexpr double kPi = 3.14159265358979323846;
 struct Crop {
   uint32_t x0 = 0, y0 = 0, width = 0, height = 0;
   std::vector<uint8_t> rgba;
+  std::vector<uint16_t> uv; // u, v, region, 0 per texel; empty without UVs
 };
 
 struct Posed {
@@ -104,6 +105,10 @@ ImpostorBakeResult bakeImpostor(const Character &c, const ImpostorOptions &o, Re
          t < (c.mesh.parts[p].firstIndex + c.mesh.parts[p].indexCount) / 3; ++t)
       region[t] = uint8_t(std::min<size_t>(p + 1, 255));
 
+  const bool hasUvs = !c.mesh.uvs.empty();
+  if (!hasUvs)
+    reporter.warn("no_uvs", "the mesh has no UVs: the impostor's UV map is left out");
+
   // Render and crop every view of every frame.
   const int n = int(o.texels);
   std::vector<Crop> crops(size_t(o.frames) * views);
@@ -126,6 +131,8 @@ ImpostorBakeResult bakeImpostor(const Character &c, const ImpostorOptions &o, Re
     cr.x0 = uint32_t(x0), cr.y0 = uint32_t(y0);
     cr.width = uint32_t(x1 - x0 + 1), cr.height = uint32_t(y1 - y0 + 1);
     cr.rgba.assign(size_t(cr.width) * cr.height * 4, 0);
+    if (hasUvs)
+      cr.uv.assign(size_t(cr.width) * cr.height * 4, 0);
     for (int y = y0; y <= y1; ++y)
       for (int x = x0; x <= x1; ++x) {
         size_t pi = img.index(x, y);
@@ -138,6 +145,13 @@ ImpostorBakeResult bakeImpostor(const Character &c, const ImpostorOptions &o, Re
         for (int k = 0; k < 3; ++k)
           out[k] = uint8_t(std::lround((nn[k] * 0.5f + 0.5f) * 255.0f));
         out[3] = region[size_t(img.triangle[pi])];
+        if (hasUvs) {
+          glm::vec2 uv = raster::interpolate(img, pi, c.mesh.uvs, c.mesh.indices);
+          uint16_t *u = &cr.uv[((size_t(y - y0)) * cr.width + size_t(x - x0)) * 4];
+          for (int k = 0; k < 2; ++k) // wrapped into [0, 1): textures repeat
+            u[k] = uint16_t(std::lround((uv[k] - std::floor(uv[k])) * 65535.0f));
+          u[2] = out[3];
+        }
       }
   });
 
@@ -173,6 +187,8 @@ ImpostorBakeResult bakeImpostor(const Character &c, const ImpostorOptions &o, Re
   m.atlasWidth = width;
   m.atlasHeight = height;
   m.atlases.assign(size_t(o.frames) * width * height * 4, 0);
+  if (hasUvs)
+    m.uvAtlases.assign(m.atlases.size(), 0);
   m.views.resize(crops.size());
   for (size_t i = 0; i < crops.size(); ++i) {
     const Crop &cr = crops[i];
@@ -180,14 +196,17 @@ ImpostorBakeResult bakeImpostor(const Character &c, const ImpostorOptions &o, Re
     m.views[i] = {
         uint16_t(place[i][0]), uint16_t(place[i][1]),          uint16_t(cr.width),
         uint16_t(cr.height),   float(n) * 0.5f - float(cr.x0), float(n) * 0.5f - float(cr.y0)};
-    for (uint32_t y = 0; y < cr.height; ++y)
-      std::copy_n(&cr.rgba[size_t(y) * cr.width * 4], size_t(cr.width) * 4,
-                  &m.atlases[((f * height + place[i][1] + y) * width + place[i][0]) * 4]);
+    for (uint32_t y = 0; y < cr.height; ++y) {
+      size_t to = ((f * height + place[i][1] + y) * width + place[i][0]) * 4;
+      std::copy_n(&cr.rgba[size_t(y) * cr.width * 4], size_t(cr.width) * 4, &m.atlases[to]);
+      if (hasUvs)
+        std::copy_n(&cr.uv[size_t(y) * cr.width * 4], size_t(cr.width) * 4, &m.uvAtlases[to]);
+    }
   }
   ImpostorBakeResult r;
   r.occupancy = double(area) / (double(o.frames) * width * height);
-  r.bytesPerFrame = uint64_t(width) * height * 4;
-  r.naiveBytesPerFrame = views * o.texels * o.texels * 4;
+  r.bytesPerFrame = uint64_t(width) * height * (hasUvs ? 12 : 4);
+  r.naiveBytesPerFrame = views * o.texels * o.texels * (hasUvs ? 12 : 4);
   r.impostor = std::move(m);
   return r;
 }

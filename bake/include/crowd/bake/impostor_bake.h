@@ -1,6 +1,7 @@
 // Impostor bake (first slice): for sampled frames of a clip, orthographic views from azimuths x
 // elevations over the upper hemisphere, drawn with the deterministic rasterizer as object-space
-// normals with region ids, cropped to their silhouettes and shelf-packed into one atlas per frame.
+// normals and 16-bit UVs with region ids, cropped to their silhouettes and shelf-packed into one
+// atlas per frame.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -23,8 +24,8 @@ struct ImpostorOptions {
 struct ImpostorBakeResult {
   pack::Impostor impostor;
   double occupancy = 0;            // silhouette-crop texels / atlas texels
-  uint64_t bytesPerFrame = 0;      // one packed atlas
-  uint64_t naiveBytesPerFrame = 0; // every view uncropped: views x texels^2 x 4
+  uint64_t bytesPerFrame = 0;      // one frame's packed atlases (normals, and UVs if any)
+  uint64_t naiveBytesPerFrame = 0; // the same for every view uncropped
 };
 
 ImpostorBakeResult bakeImpostor(const Character &character, const ImpostorOptions &options,

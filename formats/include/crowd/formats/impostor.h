@@ -1,6 +1,7 @@
 // The impostor chunk: for each sampled frame of a clip, views of the character from azimuths x
 // elevations over the upper hemisphere, each cropped to its silhouette and packed into one atlas
-// per frame. Texels: RGB the object-space normal (n * 0.5 + 0.5), A the region id + 1 (0: empty).
+// per frame. Texels: RGB the object-space normal (n * 0.5 + 0.5), A the region id + 1 (0: empty);
+// and, when the mesh has UVs, a second atlas of the same layout with 16-bit UVs and the region.
 #pragma once
 #include <array>
 #include <cstdint>
@@ -30,6 +31,9 @@ struct Impostor {
   // 90 (e + 0.5) / elevations degrees above the horizon.
   std::vector<ImpostorView> views;
   std::vector<uint8_t> atlases; // frames * atlasWidth * atlasHeight * 4 bytes
+  // Same layout, 4 x u16 per texel: u, v (0..65535 over 0..1, wrapped), region id + 1, 0.
+  // Empty when the mesh has no UVs.
+  std::vector<uint16_t> uvAtlases;
   size_t viewIndex(uint32_t f, uint32_t e, uint32_t a) const {
     return (size_t(f) * elevations + e) * azimuths + a;
   }
