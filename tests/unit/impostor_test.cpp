@@ -114,3 +114,16 @@ TEST(Impostor, OneFrameClipsRestPosesAndMemoryGuard) {
 }
 
 } // namespace
+
+namespace {
+TEST(Impostor, MirroringIsMeasuredNotAssumed) {
+  Reporter r;
+  auto o = small();
+  o.frames = 4; // even: frame f + 2 is half a walk cycle later
+  auto res = bakeImpostor(humanoid(), o, r);
+  EXPECT_GT(res.mirrorIouMean, 0.95) << "the sample walk is left-right symmetric";
+  EXPECT_LE(res.mirrorIouMin, res.mirrorIouMean);
+  o.frames = 3;
+  EXPECT_EQ(bakeImpostor(humanoid(), o, r).mirrorIouMean, -1) << "odd frame counts: not measured";
+}
+} // namespace

@@ -404,6 +404,8 @@ int cmdImpostor(const Args &a) {
     j["occupancy"] = r.occupancy;
     j["bytes_per_frame"] = r.bytesPerFrame;
     j["naive_bytes_per_frame"] = r.naiveBytesPerFrame;
+    j["mirror_iou_min"] = r.mirrorIouMin;
+    j["mirror_iou_mean"] = r.mirrorIouMean;
     j["pack_bytes"] = bytes.size();
     j["time_s"] = seconds;
     j["warnings"] = ordered_json::array();

@@ -155,6 +155,40 @@ ImpostorBakeResult bakeImpostor(const Character &c, const ImpostorOptions &o, Re
       }
   });
 
+  // Mirroring, measured: a walk's frame t + T/2 is close to frame t mirrored left-right, and the
+  // mirror of the view from azimuth a is the view from -a flipped horizontally. Silhouette IoU
+  // over every view says how close (1: mirroring half the azimuths would lose nothing).
+  ImpostorBakeResult r;
+  if (o.frames % 2 == 0 && clip) {
+    auto covered = [&](const Crop &cr, int x, int y) {
+      if (x < int(cr.x0) || y < int(cr.y0) || x >= int(cr.x0 + cr.width) ||
+          y >= int(cr.y0 + cr.height))
+        return false;
+      return cr.rgba[(size_t(y - int(cr.y0)) * cr.width + size_t(x - int(cr.x0))) * 4 + 3] > 0;
+    };
+    std::vector<double> iou(crops.size(), 1.0);
+    parallelFor(crops.size(), o.threads, [&](size_t i) {
+      size_t f = i / views, e = (i % views) / o.azimuths, a = i % o.azimuths;
+      size_t j =
+          ((f + o.frames / 2) % o.frames) * views + e * o.azimuths + (o.azimuths - a) % o.azimuths;
+      size_t both = 0, either = 0;
+      const Crop &ci = crops[i], &cj = crops[j]; // only the union of the two boxes can differ
+      int xs = std::min(int(ci.x0), n - int(cj.x0 + cj.width)),
+          xe = std::max(int(ci.x0 + ci.width), n - int(cj.x0));
+      int ys = std::min(ci.y0, cj.y0), ye = std::max(ci.y0 + ci.height, cj.y0 + cj.height);
+      for (int y = ys; y < ye; ++y)
+        for (int x = std::max(xs, 0); x < std::min(xe, n); ++x) {
+          bool p = covered(crops[i], x, y), q = covered(crops[j], n - 1 - x, y);
+          both += p && q;
+          either += p || q;
+        }
+      if (either)
+        iou[i] = double(both) / double(either);
+    });
+    r.mirrorIouMin = *std::min_element(iou.begin(), iou.end());
+    r.mirrorIouMean = std::accumulate(iou.begin(), iou.end(), 0.0) / double(iou.size());
+  }
+
   // Shelf packing, tallest first (ties by view index): the same layout at any thread count.
   uint64_t area = 0;
   uint32_t widest = 1;
@@ -203,7 +237,6 @@ ImpostorBakeResult bakeImpostor(const Character &c, const ImpostorOptions &o, Re
         std::copy_n(&cr.uv[size_t(y) * cr.width * 4], size_t(cr.width) * 4, &m.uvAtlases[to]);
     }
   }
-  ImpostorBakeResult r;
   r.occupancy = double(area) / (double(o.frames) * width * height);
   r.bytesPerFrame = uint64_t(width) * height * (hasUvs ? 12 : 4);
   r.naiveBytesPerFrame = views * o.texels * o.texels * (hasUvs ? 12 : 4);

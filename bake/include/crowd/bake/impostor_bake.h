@@ -26,6 +26,9 @@ struct ImpostorBakeResult {
   double occupancy = 0;            // silhouette-crop texels / atlas texels
   uint64_t bytesPerFrame = 0;      // one frame's packed atlases (normals, and UVs if any)
   uint64_t naiveBytesPerFrame = 0; // the same for every view uncropped
+  // Left-right mirroring measured (even frame counts of a clip; -1 otherwise): silhouette IoU of
+  // each view against the view from the opposite azimuth half a clip later, flipped.
+  double mirrorIouMin = -1, mirrorIouMean = -1;
 };
 
 ImpostorBakeResult bakeImpostor(const Character &character, const ImpostorOptions &options,
