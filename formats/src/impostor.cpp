@@ -24,6 +24,7 @@ std::vector<uint8_t> encode(const Impostor &m) {
       w.put<uint16_t>(u);
     w.put<float>(v.pivotX);
     w.put<float>(v.pivotY);
+    w.put<float>(v.planeOffset);
   }
   w.putArray(m.atlases);
   w.putArray(m.uvAtlases);
@@ -66,9 +67,10 @@ Impostor decodeImpostor(std::span<const uint8_t> bytes, const std::string &conte
     v.height = r.get<uint16_t>("view height");
     v.pivotX = r.get<float>("view pivot x");
     v.pivotY = r.get<float>("view pivot y");
+    v.planeOffset = r.get<float>("view plane offset");
     if (uint32_t(v.x) + v.width > m.atlasWidth || uint32_t(v.y) + v.height > m.atlasHeight)
       r.fail("view rectangle", "lies outside the atlas");
-    if (!std::isfinite(v.pivotX) || !std::isfinite(v.pivotY))
+    if (!std::isfinite(v.pivotX) || !std::isfinite(v.pivotY) || !std::isfinite(v.planeOffset))
       r.fail("view pivot", "not finite");
   }
   uint64_t expected = uint64_t(m.frames) * m.atlasWidth * m.atlasHeight * 4;

@@ -127,3 +127,24 @@ TEST(Impostor, MirroringIsMeasuredNotAssumed) {
   EXPECT_EQ(bakeImpostor(humanoid(), o, r).mirrorIouMean, -1) << "odd frame counts: not measured";
 }
 } // namespace
+
+namespace {
+TEST(Impostor, BestPlaneSitsOnTheVisibleSurface) {
+  Reporter r;
+  auto o = small();
+  o.elevations = 4;
+  auto m = bakeImpostor(humanoid(), o, r).impostor;
+  double radius = m.sphere[3];
+  std::vector<double> byElevation(4, 0.0);
+  for (uint32_t e = 0; e < 4; ++e)
+    for (uint32_t a = 0; a < 8; ++a) {
+      double offset = m.views[m.viewIndex(0, e, a)].planeOffset;
+      // The visible surface is the near side: in front of the centre, inside the sphere.
+      EXPECT_GT(offset, 0.0) << e << " " << a;
+      EXPECT_LT(offset, 0.6 * radius) << e << " " << a;
+      byElevation[e] += offset / 8;
+    }
+  // Seen from higher up, the visible surface is the top of the body, further above the centre.
+  EXPECT_LT(byElevation[0], byElevation[3]);
+}
+} // namespace

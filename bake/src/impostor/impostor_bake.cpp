@@ -16,6 +16,7 @@ constexpr double kPi = 3.14159265358979323846;
 
 struct Crop {
   uint32_t x0 = 0, y0 = 0, width = 0, height = 0;
+  float planeOffset = 0;
   std::vector<uint8_t> rgba;
   std::vector<uint16_t> uv; // u, v, region, 0 per texel; empty without UVs
 };
@@ -130,6 +131,15 @@ ImpostorBakeResult bakeImpostor(const Character &c, const ImpostorOptions &o, Re
       return; // nothing in view
     cr.x0 = uint32_t(x0), cr.y0 = uint32_t(y0);
     cr.width = uint32_t(x1 - x0 + 1), cr.height = uint32_t(y1 - y0 + 1);
+    std::vector<float> depths; // NDC depth of every visible texel
+    for (size_t pi = 0; pi < img.depth.size(); ++pi)
+      if (img.triangle[pi] >= 0)
+        depths.push_back(img.depth[pi]);
+    std::nth_element(depths.begin(), depths.begin() + long(depths.size() / 2), depths.end());
+    // Orthographic: NDC depth maps linearly onto [near, far] = [0.5 r, 3.5 r] from the camera,
+    // which sits 2 r from the centre.
+    double median = 0.5 * radius + (double(depths[depths.size() / 2]) + 1) * 0.5 * 3.0 * radius;
+    cr.planeOffset = float(2 * radius - median);
     cr.rgba.assign(size_t(cr.width) * cr.height * 4, 0);
     if (hasUvs)
       cr.uv.assign(size_t(cr.width) * cr.height * 4, 0);
@@ -229,7 +239,8 @@ ImpostorBakeResult bakeImpostor(const Character &c, const ImpostorOptions &o, Re
     size_t f = i / views;
     m.views[i] = {
         uint16_t(place[i][0]), uint16_t(place[i][1]),          uint16_t(cr.width),
-        uint16_t(cr.height),   float(n) * 0.5f - float(cr.x0), float(n) * 0.5f - float(cr.y0)};
+        uint16_t(cr.height),   float(n) * 0.5f - float(cr.x0), float(n) * 0.5f - float(cr.y0),
+        cr.planeOffset};
     for (uint32_t y = 0; y < cr.height; ++y) {
       size_t to = ((f * height + place[i][1] + y) * width + place[i][0]) * 4;
       std::copy_n(&cr.rgba[size_t(y) * cr.width * 4], size_t(cr.width) * 4, &m.atlases[to]);

@@ -17,6 +17,10 @@ inline constexpr uint32_t kImpostor = fourcc("IMPO");
 struct ImpostorView {
   uint16_t x = 0, y = 0, width = 0, height = 0; // crop rectangle in the frame's atlas (texels)
   float pivotX = 0, pivotY = 0; // the sphere centre's position in the crop, texels from its corner
+  // Best impostor plane: it faces the view and sits planeOffset model units from the sphere
+  // centre towards the camera, at the median depth of the visible surface, which minimises the
+  // summed distance of the visible points to a view-facing plane.
+  float planeOffset = 0;
 };
 
 struct Impostor {
