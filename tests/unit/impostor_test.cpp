@@ -148,3 +148,21 @@ TEST(Impostor, BestPlaneSitsOnTheVisibleSurface) {
   EXPECT_LT(byElevation[0], byElevation[3]);
 }
 } // namespace
+
+namespace {
+TEST(Impostor, AccuracyIsExactAtTheViewsAndImprovesWithMoreViews) {
+  Reporter r;
+  auto o = small();
+  auto coarse = bakeImpostor(humanoid(), o, r).impostor;
+  ImpostorAccuracy a = measureImpostor(humanoid(), coarse, 1);
+  // At a stored view the impostor is that view: only 8-bit normal quantisation is left.
+  EXPECT_GE(a.atViews.iouMin, 0.999);
+  EXPECT_LT(a.atViews.normalMeanDeg, 1.0);
+  EXPECT_LT(a.betweenViews.iouMean, a.atViews.iouMean);
+  o.azimuths = 32;
+  o.elevations = 8;
+  ImpostorAccuracy fine = measureImpostor(humanoid(), bakeImpostor(humanoid(), o, r).impostor, 1);
+  EXPECT_GT(fine.betweenViews.iouMean, a.betweenViews.iouMean);
+  EXPECT_LT(fine.betweenViews.normalMeanDeg, a.betweenViews.normalMeanDeg);
+}
+} // namespace

@@ -95,7 +95,8 @@ options:
   --views AxE          azimuths x elevations (default 32x8)
   --texels N           a full view's size before cropping (default 128)
   --threads N          worker threads (default: all cores); output never depends on it
-  --report FILE.json   occupancy, bytes per frame (packed and naive), time
+  --report FILE.json   occupancy, bytes per frame (packed and naive), mirroring, time, and the
+                       accuracy against the true render at and between the views (frame 0)
   --quiet              no warnings on stderr
 
 example:
@@ -406,6 +407,23 @@ int cmdImpostor(const Args &a) {
     j["naive_bytes_per_frame"] = r.naiveBytesPerFrame;
     j["mirror_iou_min"] = r.mirrorIouMin;
     j["mirror_iou_mean"] = r.mirrorIouMean;
+    auto t1 = std::chrono::steady_clock::now();
+    crowd::ImpostorAccuracy acc = crowd::measureImpostor(character, pk.impostor, opt.threads);
+    auto figures = [](const crowd::ImpostorAccuracy::Figures &f) {
+      return ordered_json{{"iou_mean", f.iouMean},
+                          {"iou_min", f.iouMin},
+                          {"normal_error_mean_deg", f.normalMeanDeg},
+                          {"normal_error_max_deg", f.normalMaxDeg}};
+    };
+    j["accuracy"] = {
+        {"frame", 0},
+        {"at_views", figures(acc.atViews)},
+        {"between_views", figures(acc.betweenViews)},
+        {"worst",
+         {{"azimuth_deg", acc.worstAzimuthDeg},
+          {"elevation_deg", acc.worstElevationDeg},
+          {"iou", acc.worstIou}}},
+        {"time_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count()}};
     j["pack_bytes"] = bytes.size();
     j["time_s"] = seconds;
     j["warnings"] = ordered_json::array();

@@ -255,4 +255,132 @@ ImpostorBakeResult bakeImpostor(const Character &c, const ImpostorOptions &o, Re
   return r;
 }
 
+namespace {
+
+struct ViewFrame {
+  glm::dvec3 dir, right, up; // towards the camera; image x and y axes
+};
+
+ViewFrame viewFrame(double azimuth, double elevation) {
+  ViewFrame v;
+  v.dir = {std::cos(elevation) * std::sin(azimuth), std::sin(elevation),
+           std::cos(elevation) * std::cos(azimuth)};
+  v.right = glm::normalize(glm::cross(-v.dir, glm::dvec3(0, 1, 0)));
+  v.up = glm::cross(v.right, -v.dir);
+  return v;
+}
+
+} // namespace
+
+ImpostorAccuracy measureImpostor(const Character &c, const pack::Impostor &m, int threads) {
+  const AnimationClip *clip = nullptr;
+  for (const auto &cl : c.clips)
+    if (cl.name == m.clip)
+      clip = &cl;
+  Posed posed = pose(c, clip, m.startTime);
+  const glm::dvec3 centre(m.sphere[0], m.sphere[1], m.sphere[2]);
+  const double radius = m.sphere[3];
+  const int n = int(m.texels);
+  auto sampledAz = [&](uint32_t a) { return 2 * kPi * a / m.azimuths; };
+  auto sampledEl = [&](double e) { return 0.5 * kPi * (e + 0.5) / m.elevations; };
+
+  struct Result {
+    double iou = 1, angleSum = 0, angleMax = 0;
+    size_t angles = 0;
+  };
+  // Directions: at every sampled view, then halfway to the next azimuth and elevation.
+  const size_t views = size_t(m.azimuths) * m.elevations;
+  std::vector<Result> results(2 * views);
+  parallelFor(results.size(), threads, [&](size_t i) {
+    bool between = i >= views;
+    size_t k = i % views, e = k / m.azimuths, a = k % m.azimuths;
+    double half = between ? 0.5 : 0.0;
+    double az = sampledAz(uint32_t(a)) + half * 2 * kPi / m.azimuths;
+    // Halfway up too, except above the top row: there the views stop (and looking straight
+    // down leaves the camera's "up" undefined).
+    double el = sampledEl(double(e) + (e + 1 < m.elevations ? half : 0.0));
+    ViewFrame cam = viewFrame(az, el);
+    auto camera = raster::orthographic(centre + cam.dir * (2 * radius), centre, {0, 1, 0}, radius,
+                                       radius, 0.5 * radius, 3.5 * radius);
+    raster::Image truth =
+        raster::rasterize(posed.positions, c.mesh.indices, camera, n, n, {true, 1});
+    // The nearest stored view.
+    size_t best = 0;
+    double bestDot = -2;
+    for (uint32_t ve = 0; ve < m.elevations; ++ve)
+      for (uint32_t va = 0; va < m.azimuths; ++va) {
+        double d = glm::dot(viewFrame(sampledAz(va), sampledEl(ve)).dir, cam.dir);
+        if (d > bestDot)
+          bestDot = d, best = size_t(ve) * m.azimuths + va;
+      }
+    ViewFrame sv =
+        viewFrame(sampledAz(uint32_t(best % m.azimuths)), sampledEl(double(best / m.azimuths)));
+    const pack::ImpostorView &view = m.views[best];
+    glm::dvec3 planePoint = centre + sv.dir * double(view.planeOffset);
+    size_t both = 0, either = 0;
+    Result &r = results[i];
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x) {
+        // The camera ray through this pixel meets the stored view's plane at q.
+        glm::dvec3 p = centre + cam.right * (((x + 0.5) / n * 2 - 1) * radius) +
+                       cam.up * ((1 - (y + 0.5) / n * 2) * radius);
+        double denom = glm::dot(-cam.dir, sv.dir);
+        glm::dvec3 q = p - cam.dir * (glm::dot(planePoint - p, sv.dir) / denom);
+        glm::dvec3 local = q - centre;
+        int px = int(std::floor((glm::dot(local, sv.right) / radius + 1) * 0.5 * n));
+        int py = int(std::floor((1 - glm::dot(local, sv.up) / radius) * 0.5 * n));
+        int cx = px - int(std::lround(n * 0.5 - view.pivotX)),
+            cy = py - int(std::lround(n * 0.5 - view.pivotY));
+        const uint8_t *texel = nullptr;
+        if (cx >= 0 && cy >= 0 && cx < view.width && cy < view.height) {
+          texel =
+              &m.atlases[((size_t(view.y) + size_t(cy)) * m.atlasWidth + view.x + size_t(cx)) * 4];
+          if (texel[3] == 0)
+            texel = nullptr;
+        }
+        size_t ti = truth.index(x, y);
+        bool real = truth.triangle[ti] >= 0;
+        both += real && texel;
+        either += real || texel;
+        if (real && texel) {
+          glm::vec3 stored(texel[0], texel[1], texel[2]);
+          stored = glm::normalize(stored / 255.0f * 2.0f - 1.0f);
+          glm::vec3 actual =
+              glm::normalize(raster::interpolate(truth, ti, posed.normals, c.mesh.indices));
+          double angle =
+              glm::degrees(std::acos(std::clamp(double(glm::dot(stored, actual)), -1.0, 1.0)));
+          r.angleSum += angle;
+          r.angleMax = std::max(r.angleMax, angle);
+          ++r.angles;
+        }
+      }
+    r.iou = either ? double(both) / double(either) : 1.0;
+  });
+
+  ImpostorAccuracy acc;
+  for (int part = 0; part < 2; ++part) {
+    ImpostorAccuracy::Figures &f = part ? acc.betweenViews : acc.atViews;
+    double angleSum = 0;
+    size_t angles = 0;
+    for (size_t k = 0; k < views; ++k) {
+      const Result &r = results[size_t(part) * views + k];
+      f.iouMean += r.iou / double(views);
+      f.iouMin = std::min(f.iouMin, r.iou);
+      f.normalMaxDeg = std::max(f.normalMaxDeg, r.angleMax);
+      angleSum += r.angleSum;
+      angles += r.angles;
+      if (r.iou < acc.worstIou) {
+        acc.worstIou = r.iou;
+        acc.worstAzimuthDeg =
+            glm::degrees(sampledAz(uint32_t(k % m.azimuths))) + (part ? 180.0 / m.azimuths : 0);
+        size_t e = k / m.azimuths;
+        acc.worstElevationDeg =
+            glm::degrees(sampledEl(double(e) + (part && e + 1 < m.elevations ? 0.5 : 0)));
+      }
+    }
+    f.normalMeanDeg = angles ? angleSum / double(angles) : 0;
+  }
+  return acc;
+}
+
 } // namespace crowd

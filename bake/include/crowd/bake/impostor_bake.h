@@ -34,4 +34,18 @@ struct ImpostorBakeResult {
 ImpostorBakeResult bakeImpostor(const Character &character, const ImpostorOptions &options,
                                 Reporter &reporter);
 
+// Accuracy of a baked impostor against the true render, for frame 0: each camera direction is
+// drawn from the nearest stored view (its crop on its best plane, facing the camera) and
+// compared with the mesh rasterized from that direction at the same size.
+struct ImpostorAccuracy {
+  struct Figures {
+    double iouMean = 0, iouMin = 1;             // silhouette intersection over union
+    double normalMeanDeg = 0, normalMaxDeg = 0; // angle between stored and true normals
+  };
+  Figures atViews, betweenViews; // directions at the sampled views; halfway between them
+  double worstAzimuthDeg = 0, worstElevationDeg = 0, worstIou = 1; // lowest IoU found
+};
+ImpostorAccuracy measureImpostor(const Character &character, const pack::Impostor &impostor,
+                                 int threads = 0);
+
 } // namespace crowd
