@@ -7,6 +7,7 @@
 
 #include "crowd/formats/chunks.h"
 #include "crowd/formats/error.h"
+#include "crowd/formats/impostor.h"
 
 using namespace crowd::pack;
 
@@ -15,7 +16,10 @@ namespace {
 void readAll(std::vector<uint8_t> bytes) {
   try {
     Reader r(std::move(bytes), "fuzz");
-    loadAnimationPack(r);
+    if (r.find(kImpostor))
+      loadImpostorPack(r);
+    else
+      loadAnimationPack(r);
   } catch (const crowd::Error &) {
   }
 }
