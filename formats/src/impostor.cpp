@@ -14,6 +14,7 @@ std::vector<uint8_t> encode(const Impostor &m) {
   w.put<float>(m.frameStep);
   for (uint32_t v : {m.frames, m.azimuths, m.elevations, m.texels})
     w.put<uint32_t>(v);
+  w.put<uint8_t>(m.mirrored ? 1 : 0);
   for (float f : m.sphere)
     w.put<float>(f);
   w.put<uint32_t>(m.atlasWidth);
@@ -41,6 +42,10 @@ Impostor decodeImpostor(std::span<const uint8_t> bytes, const std::string &conte
   m.azimuths = r.get<uint32_t>("azimuths");
   m.elevations = r.get<uint32_t>("elevations");
   m.texels = r.get<uint32_t>("texels");
+  uint8_t mirrored = r.get<uint8_t>("mirrored");
+  if (mirrored > 1)
+    r.fail("mirrored", "flag is " + std::to_string(mirrored));
+  m.mirrored = mirrored == 1;
   if (!std::isfinite(m.startTime) || !std::isfinite(m.frameStep) || m.frameStep < 0)
     r.fail("start time/frame step", "not finite or negative");
   if (m.frames == 0 || m.frames > 4096 || m.azimuths == 0 || m.azimuths > 256 ||
@@ -57,8 +62,10 @@ Impostor decodeImpostor(std::span<const uint8_t> bytes, const std::string &conte
   if (m.atlasWidth == 0 || m.atlasHeight == 0 || m.atlasWidth > 16384 || m.atlasHeight > 16384)
     r.fail("atlas width/height", "out of range 1..16384");
   uint64_t count = r.get<uint64_t>("view count");
-  if (count != uint64_t(m.frames) * m.azimuths * m.elevations)
-    r.fail("view count", std::to_string(count) + " is not frames x azimuths x elevations");
+  if (m.mirrored && (m.azimuths % 2 != 0 || m.frames % 2 != 0))
+    r.fail("mirrored", "needs even azimuth and frame counts");
+  if (count != uint64_t(m.frames) * m.storedAzimuths() * m.elevations)
+    r.fail("view count", std::to_string(count) + " is not frames x stored azimuths x elevations");
   m.views.resize(count);
   for (auto &v : m.views) {
     v.x = r.get<uint16_t>("view x");

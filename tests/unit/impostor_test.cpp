@@ -166,3 +166,26 @@ TEST(Impostor, AccuracyIsExactAtTheViewsAndImprovesWithMoreViews) {
   EXPECT_LT(fine.betweenViews.normalMeanDeg, a.betweenViews.normalMeanDeg);
 }
 } // namespace
+
+namespace {
+TEST(Impostor, MirroredPacksStoreHalfTheAzimuthsAndStillMatch) {
+  Reporter r;
+  auto o = small();
+  o.frames = 4;
+  o.mirror = true;
+  auto mirrored = bakeImpostor(humanoid(), o, r);
+  const auto &m = mirrored.impostor;
+  EXPECT_TRUE(m.mirrored);
+  EXPECT_EQ(m.views.size(), 4u * 2 * 5); // azimuths 0..4 of 8
+  auto [index, flip] = m.lookup(0, 1, 6);
+  EXPECT_TRUE(flip);
+  EXPECT_EQ(index, m.viewIndex(2, 1, 2)); // azimuth 8 - 6, two frames (half the clip) later
+  ImpostorAccuracy a = measureImpostor(humanoid(), m, 1);
+  EXPECT_GE(a.atViews.iouMean, 0.99); // the mirrored views stand in for the real ones
+  EXPECT_LT(a.atViews.normalMeanDeg, 2.0);
+  pack::Reader reader(pack::packBytes(pack::ImpostorPack{{}, m}), "mem");
+  EXPECT_TRUE(pack::loadImpostorPack(reader).impostor.mirrored);
+  o.frames = 3;
+  EXPECT_THROW(bakeImpostor(humanoid(), o, r), Error);
+}
+} // namespace

@@ -85,7 +85,7 @@ example:
 For sampled frames of a clip, renders the character from azimuths x elevations over the upper
 hemisphere with the deterministic rasterizer: object-space normals (RGB) with the region
 (sub-mesh) id + 1 in alpha, each view cropped to its silhouette and shelf-packed into one atlas
-per frame. First slice: no UV maps, mirroring or best impostor planes yet.
+per frame, with a 16-bit UV map and a best impostor plane per view.
 
 options:
   -o, --output FILE    pack to write (written atomically)
@@ -94,6 +94,8 @@ options:
   --frames N           frames sampled evenly over the clip (default 16)
   --views AxE          azimuths x elevations (default 32x8)
   --texels N           a full view's size before cropping (default 128)
+  --mirror             store azimuths 0..A/2 only: the others are mirrors of the views half a
+                       clip later (a walk); the report's mirror IoU says what that costs
   --threads N          worker threads (default: all cores); output never depends on it
   --report FILE.json   occupancy, bytes per frame (packed and naive), mirroring, time, and the
                        accuracy against the true render at and between the views (frame 0)
@@ -363,6 +365,7 @@ int cmdImpostor(const Args &a) {
   opt.frames = whole("frames", 16, 1, 4096);
   opt.texels = whole("texels", 128, 4, 4096);
   opt.threads = int(whole("threads", 0, 0, 1024));
+  opt.mirror = a.has("mirror");
   std::string views = a.get("views", "32x8");
   auto x = views.find('x');
   try {
@@ -387,7 +390,8 @@ int cmdImpostor(const Args &a) {
                                                     {"mesh", io.mesh},
                                                     {"frames", std::to_string(opt.frames)},
                                                     {"views", views},
-                                                    {"texels", std::to_string(opt.texels)}});
+                                                    {"texels", std::to_string(opt.texels)},
+                                                    {"mirror", opt.mirror ? "yes" : "no"}});
   std::vector<uint8_t> bytes = crowd::pack::packBytes(pk);
   crowd::pack::writeFileAtomic(a.get("output"), bytes);
   double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -461,7 +465,8 @@ void inspectImpostor(const crowd::pack::Reader &reader, bool json) {
             << reader.fileSize() << " bytes, impostor of clip '" << m.clip << "'\n"
             << "  " << m.frames << " frames from t=" << m.startTime << " s every " << m.frameStep
             << " s, " << m.azimuths << "x" << m.elevations << " views of " << m.texels << "x"
-            << m.texels << " texels\n"
+            << m.texels << " texels" << (m.mirrored ? ", mirrored (azimuths 0..A/2 stored)" : "")
+            << "\n"
             << "  atlas " << m.atlasWidth << "x" << m.atlasHeight << " rgba8 per frame ("
             << uint64_t(m.atlasWidth) * m.atlasHeight * 4 << " bytes), occupancy " << occupancy
             << "\n";
@@ -704,7 +709,7 @@ int main(int argc, char **argv) {
     if (command == "impostor")
       return cmdImpostor(parse(
           argc, argv, {"output", "clip", "mesh", "frames", "views", "texels", "threads", "report"},
-          {"quiet"}));
+          {"quiet", "mirror"}));
     if (command == "inspect")
       return cmdInspect(parse(argc, argv, {}, {"json"}));
     if (command == "verify")

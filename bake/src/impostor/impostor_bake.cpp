@@ -49,6 +49,8 @@ ImpostorBakeResult bakeImpostor(const Character &c, const ImpostorOptions &o, Re
     throw Error("--views must be AxE with A in 1..256 and E in 1..64");
   if (o.texels < 4 || o.texels > 4096)
     throw Error("--texels must be in 4..4096");
+  if (o.mirror && (o.frames % 2 != 0 || o.azimuths % 2 != 0))
+    throw Error("--mirror needs an even number of frames and of azimuths");
   const uint64_t views = uint64_t(o.azimuths) * o.elevations;
   const uint64_t naive = uint64_t(o.frames) * views * o.texels * o.texels * 4;
   if (naive > o.maxBytes)
@@ -78,6 +80,7 @@ ImpostorBakeResult bakeImpostor(const Character &c, const ImpostorOptions &o, Re
   m.azimuths = o.azimuths;
   m.elevations = o.elevations;
   m.texels = o.texels;
+  m.mirrored = o.mirror;
   m.startTime = clip ? float(clip->start) : 0.0f;
   // A looping clip's end pose repeats its start, so frames split [start, end) evenly.
   m.frameStep = clip ? float((clip->end - clip->start) / o.frames) : 0.0f;
@@ -199,20 +202,29 @@ ImpostorBakeResult bakeImpostor(const Character &c, const ImpostorOptions &o, Re
     r.mirrorIouMean = std::accumulate(iou.begin(), iou.end(), 0.0) / double(iou.size());
   }
 
+  if (o.mirror && !clip)
+    throw Error("--mirror needs a clip (a walk's frame t + T/2 mirrors frame t)");
+  // The views the pack keeps, in pack order: all, or azimuths 0..A/2 when mirrored.
+  std::vector<size_t> stored;
+  for (size_t i = 0; i < crops.size(); ++i)
+    if (i % o.azimuths < m.storedAzimuths())
+      stored.push_back(i);
+
   // Shelf packing, tallest first (ties by view index): the same layout at any thread count.
   uint64_t area = 0;
   uint32_t widest = 1;
-  for (const auto &cr : crops) {
-    area += uint64_t(cr.width) * cr.height;
-    widest = std::max(widest, cr.width);
+  for (size_t i : stored) {
+    area += uint64_t(crops[i].width) * crops[i].height;
+    widest = std::max(widest, crops[i].width);
   }
+  const size_t storedPerFrame = stored.size() / o.frames;
   uint32_t width = std::max(widest, uint32_t(std::ceil(std::sqrt(double(area) / o.frames * 1.1))));
   width = (width + 3) / 4 * 4;
   std::vector<std::array<uint32_t, 2>> place(crops.size());
   uint32_t height = 1;
   for (uint32_t f = 0; f < o.frames; ++f) {
-    std::vector<size_t> order(views);
-    std::iota(order.begin(), order.end(), size_t(f) * views);
+    std::vector<size_t> order(stored.begin() + long(f * storedPerFrame),
+                              stored.begin() + long((f + 1) * storedPerFrame));
     std::stable_sort(order.begin(), order.end(),
                      [&](size_t a, size_t b) { return crops[a].height > crops[b].height; });
     uint32_t x = 0, y = 0, shelf = 0;
@@ -233,11 +245,12 @@ ImpostorBakeResult bakeImpostor(const Character &c, const ImpostorOptions &o, Re
   m.atlases.assign(size_t(o.frames) * width * height * 4, 0);
   if (hasUvs)
     m.uvAtlases.assign(m.atlases.size(), 0);
-  m.views.resize(crops.size());
-  for (size_t i = 0; i < crops.size(); ++i) {
+  m.views.resize(stored.size());
+  for (size_t k = 0; k < stored.size(); ++k) {
+    size_t i = stored[k];
     const Crop &cr = crops[i];
     size_t f = i / views;
-    m.views[i] = {
+    m.views[k] = {
         uint16_t(place[i][0]), uint16_t(place[i][1]),          uint16_t(cr.width),
         uint16_t(cr.height),   float(n) * 0.5f - float(cr.x0), float(n) * 0.5f - float(cr.y0),
         cr.planeOffset};
@@ -315,7 +328,11 @@ ImpostorAccuracy measureImpostor(const Character &c, const pack::Impostor &m, in
       }
     ViewFrame sv =
         viewFrame(sampledAz(uint32_t(best % m.azimuths)), sampledEl(double(best / m.azimuths)));
-    const pack::ImpostorView &view = m.views[best];
+    auto [stored, flip] = m.lookup(0, uint32_t(best / m.azimuths), uint32_t(best % m.azimuths));
+    const pack::ImpostorView &view = m.views[stored];
+    // A mirrored view may come from another frame's atlas.
+    const size_t frameBase =
+        stored / (size_t(m.elevations) * m.storedAzimuths()) * m.atlasWidth * m.atlasHeight;
     glm::dvec3 planePoint = centre + sv.dir * double(view.planeOffset);
     size_t both = 0, either = 0;
     Result &r = results[i];
@@ -329,12 +346,15 @@ ImpostorAccuracy measureImpostor(const Character &c, const pack::Impostor &m, in
         glm::dvec3 local = q - centre;
         int px = int(std::floor((glm::dot(local, sv.right) / radius + 1) * 0.5 * n));
         int py = int(std::floor((1 - glm::dot(local, sv.up) / radius) * 0.5 * n));
+        if (flip) // the stored view is this one's mirror image
+          px = n - 1 - px;
         int cx = px - int(std::lround(n * 0.5 - view.pivotX)),
             cy = py - int(std::lround(n * 0.5 - view.pivotY));
         const uint8_t *texel = nullptr;
         if (cx >= 0 && cy >= 0 && cx < view.width && cy < view.height) {
-          texel =
-              &m.atlases[((size_t(view.y) + size_t(cy)) * m.atlasWidth + view.x + size_t(cx)) * 4];
+          texel = &m.atlases[(frameBase + (size_t(view.y) + size_t(cy)) * m.atlasWidth + view.x +
+                              size_t(cx)) *
+                             4];
           if (texel[3] == 0)
             texel = nullptr;
         }
@@ -343,12 +363,14 @@ ImpostorAccuracy measureImpostor(const Character &c, const pack::Impostor &m, in
         both += real && texel;
         either += real || texel;
         if (real && texel) {
-          glm::vec3 stored(texel[0], texel[1], texel[2]);
-          stored = glm::normalize(stored / 255.0f * 2.0f - 1.0f);
+          glm::vec3 normal(texel[0], texel[1], texel[2]);
+          normal = glm::normalize(normal / 255.0f * 2.0f - 1.0f);
+          if (flip)
+            normal.x = -normal.x;
           glm::vec3 actual =
               glm::normalize(raster::interpolate(truth, ti, posed.normals, c.mesh.indices));
           double angle =
-              glm::degrees(std::acos(std::clamp(double(glm::dot(stored, actual)), -1.0, 1.0)));
+              glm::degrees(std::acos(std::clamp(double(glm::dot(normal, actual)), -1.0, 1.0)));
           r.angleSum += angle;
           r.angleMax = std::max(r.angleMax, angle);
           ++r.angles;

@@ -16,8 +16,9 @@ struct ImpostorOptions {
   std::string clip;     // empty: the first clip (or the rest pose when there is none)
   uint32_t frames = 16; // frames sampled evenly over the clip
   uint32_t azimuths = 32, elevations = 8;
-  uint32_t texels = 128;                 // a full view is texels x texels before cropping
-  int threads = 0;                       // 0: all cores; the bytes never depend on it
+  uint32_t texels = 128; // a full view is texels x texels before cropping
+  bool mirror = false;   // store azimuths 0..A/2 only (needs even frames and azimuths)
+  int threads = 0;       // 0: all cores; the bytes never depend on it
   uint64_t maxBytes = uint64_t(4) << 30; // memory guard on the uncropped views
 };
 

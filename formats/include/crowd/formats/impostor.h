@@ -6,6 +6,7 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "crowd/formats/chunks.h"
@@ -27,10 +28,13 @@ struct Impostor {
   std::string clip;
   float startTime = 0, frameStep = 0; // frame f shows clip time startTime + f * frameStep
   uint32_t frames = 0, azimuths = 0, elevations = 0;
-  uint32_t texels = 0;                      // a full view is texels x texels before cropping
+  uint32_t texels = 0; // a full view is texels x texels before cropping
+  // Mirrored: only azimuths 0..A/2 are stored; the view from azimuth a > A/2 at frame f is the
+  // stored view from A - a at frame f + frames/2, flipped left-right (normal x negated).
+  bool mirrored = false;
   std::array<float, 4> sphere{};            // the volume every view frames: centre xyz, radius
   uint32_t atlasWidth = 0, atlasHeight = 0; // every frame's atlas has this size
-  // Frame-major, then elevation, then azimuth: views[(f * elevations + e) * azimuths + a].
+  // Frame-major, then elevation, then azimuth (stored ones only): see viewIndex.
   // Azimuth a looks from angle 2 pi a / azimuths about +Y (0: from +Z); elevation e from
   // 90 (e + 0.5) / elevations degrees above the horizon.
   std::vector<ImpostorView> views;
@@ -38,8 +42,16 @@ struct Impostor {
   // Same layout, 4 x u16 per texel: u, v (0..65535 over 0..1, wrapped), region id + 1, 0.
   // Empty when the mesh has no UVs.
   std::vector<uint16_t> uvAtlases;
+  uint32_t storedAzimuths() const { return mirrored ? azimuths / 2 + 1 : azimuths; }
+  // Index of a stored view (a < storedAzimuths()).
   size_t viewIndex(uint32_t f, uint32_t e, uint32_t a) const {
-    return (size_t(f) * elevations + e) * azimuths + a;
+    return (size_t(f) * elevations + e) * storedAzimuths() + a;
+  }
+  // The stored view that shows frame f from (e, a), and whether to flip it left-right.
+  std::pair<size_t, bool> lookup(uint32_t f, uint32_t e, uint32_t a) const {
+    if (!mirrored || a <= azimuths / 2)
+      return {viewIndex(f, e, a), false};
+    return {viewIndex((f + frames / 2) % frames, e, azimuths - a), true};
   }
 };
 
