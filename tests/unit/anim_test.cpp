@@ -10,20 +10,13 @@
 #include "crowd/runtime/texture_skinning.h"
 #include "crowd/samples/samples.h"
 #include "gltf_writer.h"
+#include "sample_character.h"
 
 using namespace crowd;
 
 namespace {
 
-const Character &humanoid() {
-  static Character c = [] {
-    std::string dir = test::tempDir("anim_samples");
-    samples::writeSamples(dir);
-    Reporter r;
-    return importGltf(dir + "/humanoid.glb", {}, r);
-  }();
-  return c;
-}
+const Character &humanoid() { return test::sampleHumanoid(); }
 
 AnimBakeResult bake(const Character &c, AnimBakeOptions o = {}) {
   Reporter r;

@@ -7,20 +7,13 @@
 #include "crowd/formats/error.h"
 #include "crowd/samples/samples.h"
 #include "gltf_writer.h"
+#include "sample_character.h"
 
 using namespace crowd;
 
 namespace {
 
-const Character &humanoid() {
-  static Character c = [] {
-    std::string dir = test::tempDir("impostor_samples");
-    samples::writeSamples(dir);
-    Reporter r;
-    return importGltf(dir + "/humanoid.glb", {}, r);
-  }();
-  return c;
-}
+const Character &humanoid() { return test::sampleHumanoid(); }
 
 ImpostorOptions small() {
   ImpostorOptions o;
