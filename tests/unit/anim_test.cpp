@@ -8,7 +8,6 @@
 #include "crowd/bake/preview.h"
 #include "crowd/formats/error.h"
 #include "crowd/runtime/texture_skinning.h"
-#include "crowd/samples/samples.h"
 #include "gltf_writer.h"
 #include "sample_character.h"
 

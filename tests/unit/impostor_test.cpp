@@ -5,7 +5,6 @@
 #include "crowd/bake/import.h"
 #include "crowd/bake/impostor_bake.h"
 #include "crowd/formats/error.h"
-#include "crowd/samples/samples.h"
 #include "gltf_writer.h"
 #include "sample_character.h"
 
