@@ -17,6 +17,8 @@ struct Instance {
 layout(std430, binding = 0) readonly buffer Clips { vec4 clips[]; }; // fps, frames, first, loop
 layout(std430, binding = 1) readonly buffer Instances { Instance instances[]; };
 layout(std430, binding = 2) readonly buffer Palettes { vec4 colours[]; };
+// The instances drawn as geometry this frame (the others are culled or impostors).
+layout(std430, binding = 3) readonly buffer Drawn { uint drawn[]; };
 
 uniform mat4 u_viewProjection;
 uniform float u_time;
@@ -68,8 +70,8 @@ void main() {
     rows = u_rows;
     params = u_params;
   } else {
-    rows = instances[gl_InstanceID].rows;
-    params = instances[gl_InstanceID].params;
+    rows = instances[drawn[gl_InstanceID]].rows;
+    params = instances[drawn[gl_InstanceID]].params;
   }
   vec4 clip = clips[int(params.x)];
   float last = clip.y - 1.0;

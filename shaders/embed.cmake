@@ -1,7 +1,16 @@
-# Writes OUT: a header with every shader as a raw string literal (run at build time).
-file(READ ${SRC}/crowd.vert VERT)
-file(READ ${SRC}/crowd.frag FRAG)
+# Writes OUT: a header with every shader as a raw string literal (run at build time):
+# shaders/NAME.vert becomes kNameVert, NAME.frag kNameFrag.
 file(WRITE ${OUT}.tmp "// Generated from shaders/ by shaders/embed.cmake: do not edit.\n#pragma once\n")
-file(APPEND ${OUT}.tmp "inline constexpr const char* kCrowdVert = R\"glsl(${VERT})glsl\";\n")
-file(APPEND ${OUT}.tmp "inline constexpr const char* kCrowdFrag = R\"glsl(${FRAG})glsl\";\n")
+foreach(NAME crowd impostor)
+  string(SUBSTRING ${NAME} 0 1 FIRST)
+  string(TOUPPER ${FIRST} FIRST)
+  string(SUBSTRING ${NAME} 1 -1 REST)
+  foreach(STAGE vert frag)
+    file(READ ${SRC}/${NAME}.${STAGE} TEXT)
+    string(SUBSTRING ${STAGE} 0 1 S)
+    string(TOUPPER ${S} S)
+    string(SUBSTRING ${STAGE} 1 -1 TAIL)
+    file(APPEND ${OUT}.tmp "inline constexpr const char* k${FIRST}${REST}${S}${TAIL} = R\"glsl(${TEXT})glsl\";\n")
+  endforeach()
+endforeach()
 file(COPY_FILE ${OUT}.tmp ${OUT} ONLY_IF_DIFFERENT)

@@ -7,6 +7,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "crowd/formats/error.h"
+#include "crowd/runtime/impostor_runtime.h"
 #include "crowd_shaders.h" // generated at build time from shaders/
 
 namespace crowd::runtime {
@@ -29,9 +30,9 @@ unsigned compile(GLenum type, const char *source, const char *name) {
 
 } // namespace
 
-unsigned buildCrowdProgram() {
-  unsigned vs = compile(GL_VERTEX_SHADER, kCrowdVert, "crowd.vert");
-  unsigned fs = compile(GL_FRAGMENT_SHADER, kCrowdFrag, "crowd.frag");
+unsigned buildProgram(const char *vertex, const char *fragment, const char *name) {
+  unsigned vs = compile(GL_VERTEX_SHADER, vertex, (std::string(name) + ".vert").c_str());
+  unsigned fs = compile(GL_FRAGMENT_SHADER, fragment, (std::string(name) + ".frag").c_str());
   unsigned p = glCreateProgram();
   glAttachShader(p, vs);
   glAttachShader(p, fs);
@@ -43,32 +44,82 @@ unsigned buildCrowdProgram() {
   if (!ok) {
     char log[4096];
     glGetProgramInfoLog(p, sizeof log, nullptr, log);
-    throw Error(std::string("shaders do not link: ") + log);
+    throw Error(std::string("shaders ") + name + " do not link: " + log);
   }
   return p;
 }
 
 struct CrowdRenderer::Character {
   const pack::AnimationPack *pack = nullptr;
-  unsigned vao = 0, buffers[7] = {}, textures[3] = {};
+  const pack::Impostor *impostor = nullptr;
+  // Mesh, normals, indices, clips, instances, palettes, UVs, geometry ids, impostor ids, views.
+  unsigned vao = 0, buffers[10] = {}, textures[5] = {};
   std::vector<float> instanceData; // per instance: 3 rows + params, 16 floats
   uint32_t instanceCount = 0;
+  uint32_t mipLevels = 0;
+  // Hybrid: whether an instance plays the impostor's clip, and whether it is an impostor now
+  // (the switch has hysteresis, so it depends on the last frame).
+  std::vector<uint8_t> eligible, far;
+  std::vector<uint32_t> geometryIds, impostorIds;
 
   ~Character() {
     glDeleteVertexArrays(1, &vao);
-    glDeleteBuffers(7, buffers);
-    glDeleteTextures(3, textures);
+    glDeleteBuffers(10, buffers);
+    glDeleteTextures(5, textures);
   }
 };
 
-CrowdRenderer::CrowdRenderer(const std::vector<pack::AnimationPack> &packs, const Scene &scene)
+namespace {
+
+// The impostor's atlases as two texture arrays (a layer per frame) with the mode-filtered mip
+// chain, and its view table.
+uint32_t uploadImpostor(const pack::Impostor &m, unsigned normals, unsigned uvs, unsigned views) {
+  // Mip levels stop where a level would mix whole views: half the smallest crop dimension.
+  uint32_t smallest = UINT32_MAX;
+  for (const auto &v : m.views)
+    if (v.width && v.height)
+      smallest = std::min<uint32_t>(smallest, std::min(v.width, v.height));
+  uint32_t levels = 1;
+  while (levels < 6 && (smallest >> levels) >= 2)
+    ++levels;
+  const auto w = GLsizei(m.atlasWidth), h = GLsizei(m.atlasHeight), d = GLsizei(m.frames);
+  glTextureStorage3D(normals, GLsizei(levels), GL_RGBA8, w, h, d);
+  if (!m.uvAtlases.empty())
+    glTextureStorage3D(uvs, GLsizei(levels), GL_RGBA16, w, h, d);
+  for (uint32_t f = 0; f < m.frames; ++f) {
+    auto mips = impostorMips(m, f, levels);
+    for (uint32_t l = 0; l < mips.size(); ++l) {
+      glTextureSubImage3D(normals, GLint(l), 0, 0, GLint(f), GLsizei(mips[l].width),
+                          GLsizei(mips[l].height), 1, GL_RGBA, GL_UNSIGNED_BYTE,
+                          mips[l].normals.data());
+      if (!m.uvAtlases.empty())
+        glTextureSubImage3D(uvs, GLint(l), 0, 0, GLint(f), GLsizei(mips[l].width),
+                            GLsizei(mips[l].height), 1, GL_RGBA, GL_UNSIGNED_SHORT,
+                            mips[l].uvs.data());
+    }
+  }
+  std::vector<float> table;
+  for (const auto &v : m.views)
+    table.insert(table.end(), {float(v.x), float(v.y), float(v.width), float(v.height), v.pivotX,
+                               v.pivotY, v.planeOffset, 0.0f});
+  glNamedBufferStorage(views, GLsizeiptr(table.size() * sizeof(float)), table.data(), 0);
+  return levels;
+}
+
+} // namespace
+
+CrowdRenderer::CrowdRenderer(const std::vector<pack::AnimationPack> &packs,
+                             const std::vector<const pack::Impostor *> &impostors,
+                             const Scene &scene)
     : light_(scene.lightDirection) {
-  program_ = buildCrowdProgram();
+  program_ = buildProgram(kCrowdVert, kCrowdFrag, "crowd");
+  impostorProgram_ = buildProgram(kImpostorVert, kImpostorFrag, "impostor");
   for (size_t pi = 0; pi < packs.size(); ++pi) {
     const auto &p = packs[pi];
     characters_.push_back(std::make_unique<Character>());
     Character *c = characters_.back().get();
     c->pack = &p;
+    c->impostor = pi < impostors.size() ? impostors[pi] : nullptr;
     // Clip of each scene clip name in this pack ("" = the first clip).
     std::vector<uint32_t> clipOf;
     for (const auto &name : scene.clipNames) {
@@ -108,6 +159,7 @@ CrowdRenderer::CrowdRenderer(const std::vector<pack::AnimationPack> &packs, cons
                            float(inst.palette)};
       c->instanceData.insert(c->instanceData.end(), d, d + 16);
       ++c->instanceCount;
+      c->eligible.push_back(c->impostor && p.clips[clipOf[inst.clip]].name == c->impostor->clip);
     }
     std::vector<float> clips;
     for (const auto &cl : p.clips)
@@ -126,8 +178,9 @@ CrowdRenderer::CrowdRenderer(const std::vector<pack::AnimationPack> &packs, cons
         colours.insert(colours.end(), {col.r, col.g, col.b, 1.0f});
       }
 
+    c->far.assign(c->instanceCount, 0);
     glCreateVertexArrays(1, &c->vao);
-    glCreateBuffers(7, c->buffers);
+    glCreateBuffers(10, c->buffers);
     auto upload = [](unsigned b, const auto &v) {
       glNamedBufferStorage(b, GLsizeiptr(v.size() * sizeof(v[0])), v.data(), 0);
     };
@@ -139,6 +192,10 @@ CrowdRenderer::CrowdRenderer(const std::vector<pack::AnimationPack> &packs, cons
       c->instanceData.assign(16, 0.0f);
     upload(c->buffers[4], c->instanceData);
     upload(c->buffers[5], colours);
+    // Which instances draw as geometry, and which as impostors: rewritten every frame.
+    for (unsigned b : {c->buffers[7], c->buffers[8]})
+      glNamedBufferStorage(b, GLsizeiptr(std::max(c->instanceCount, 1u) * 4), nullptr,
+                           GL_DYNAMIC_STORAGE_BIT);
     glVertexArrayVertexBuffer(c->vao, 0, c->buffers[0], 0, 12);
     glVertexArrayVertexBuffer(c->vao, 1, c->buffers[1], 0, 12);
     for (unsigned a = 0; a < 2; ++a) {
@@ -156,6 +213,10 @@ CrowdRenderer::CrowdRenderer(const std::vector<pack::AnimationPack> &packs, cons
     glVertexArrayElementBuffer(c->vao, c->buffers[2]);
 
     glCreateTextures(GL_TEXTURE_2D, 3, c->textures);
+    if (c->impostor) {
+      glCreateTextures(GL_TEXTURE_2D_ARRAY, 2, c->textures + 3);
+      c->mipLevels = uploadImpostor(*c->impostor, c->textures[3], c->textures[4], c->buffers[9]);
+    }
     const auto &t = p.animation;
     bool half = t.format == pack::TexelFormat::RGBA16F;
     glTextureStorage2D(c->textures[0], 1, half ? GL_RGBA16F : GL_RGBA32F, GLsizei(t.width),
@@ -185,13 +246,17 @@ CrowdRenderer::CrowdRenderer(const std::vector<pack::AnimationPack> &packs, cons
   }
 }
 
-CrowdRenderer::~CrowdRenderer() { glDeleteProgram(program_); }
+CrowdRenderer::~CrowdRenderer() {
+  glDeleteProgram(program_);
+  glDeleteProgram(impostorProgram_);
+}
 
-DrawStats CrowdRenderer::draw(const glm::mat4 &viewProjection, float seconds, bool naive) {
+DrawStats CrowdRenderer::draw(const FrameView &view, float seconds, DrawPath path) {
   DrawStats stats;
+  const bool naive = path == DrawPath::Naive;
   glUseProgram(program_);
   auto loc = [&](const char *name) { return glGetUniformLocation(program_, name); };
-  glUniformMatrix4fv(loc("u_viewProjection"), 1, GL_FALSE, glm::value_ptr(viewProjection));
+  glUniformMatrix4fv(loc("u_viewProjection"), 1, GL_FALSE, glm::value_ptr(view.viewProjection));
   glUniform1f(loc("u_time"), seconds);
   glUniform3fv(loc("u_lightDirection"), 1, glm::value_ptr(light_));
   glUniform1i(loc("u_naive"), naive);
@@ -200,6 +265,34 @@ DrawStats CrowdRenderer::draw(const glm::mat4 &viewProjection, float seconds, bo
     if (c->instanceCount == 0)
       continue;
     const auto &p = *c->pack;
+    // Split the instances: past the one-texel-per-pixel distance an eligible instance becomes
+    // an impostor, and back to geometry only 10% nearer, so none flickers at the boundary.
+    c->geometryIds.clear();
+    c->impostorIds.clear();
+    const bool hybrid = path == DrawPath::Hybrid && c->impostor;
+    const double switchAt =
+        hybrid ? oneToOneDistance(*c->impostor, view.fovY, view.viewportHeight) : 0.0;
+    for (uint32_t i = 0; i < c->instanceCount; ++i) {
+      if (hybrid && c->eligible[i]) {
+        const float *d = &c->instanceData[size_t(i) * 16];
+        const auto &s = c->impostor->sphere;
+        glm::vec3 centre(d[0] * s[0] + d[1] * s[1] + d[2] * s[2] + d[3],
+                         d[4] * s[0] + d[5] * s[1] + d[6] * s[2] + d[7],
+                         d[8] * s[0] + d[9] * s[1] + d[10] * s[2] + d[11]);
+        double distance = glm::length(view.eye - centre);
+        c->far[i] = c->far[i] ? distance > 0.9 * switchAt : distance > 1.1 * switchAt;
+      } else {
+        c->far[i] = 0;
+      }
+      (c->far[i] ? c->impostorIds : c->geometryIds).push_back(i);
+    }
+    glNamedBufferSubData(c->buffers[7], 0, GLsizeiptr(c->geometryIds.size() * 4),
+                         c->geometryIds.data());
+    glNamedBufferSubData(c->buffers[8], 0, GLsizeiptr(c->impostorIds.size() * 4),
+                         c->impostorIds.data());
+    const auto drawnCount = GLsizei(c->geometryIds.size());
+
+    glUseProgram(program_);
     glUniform1i(loc("u_encoding"), int(p.animation.encoding));
     glUniform1i(loc("u_jointCount"), int(p.animation.jointCount));
     glUniform1i(loc("u_framesPerRow"), int(p.animation.framesPerRow));
@@ -213,7 +306,8 @@ DrawStats CrowdRenderer::draw(const glm::mat4 &viewProjection, float seconds, bo
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, c->buffers[3]);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, c->buffers[4]);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, c->buffers[5]);
-    for (size_t s = 0; s < p.mesh.subMeshes.size(); ++s) {
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, c->buffers[7]);
+    for (size_t s = 0; s < p.mesh.subMeshes.size() && drawnCount > 0; ++s) {
       const auto &sub = p.mesh.subMeshes[s];
       glUniform1i(subMeshLoc, int(s));
       const void *offset = reinterpret_cast<const void *>(uintptr_t(sub.firstIndex) * 4);
@@ -226,12 +320,42 @@ DrawStats CrowdRenderer::draw(const glm::mat4 &viewProjection, float seconds, bo
         }
       } else {
         glDrawElementsInstanced(GL_TRIANGLES, GLsizei(sub.indexCount), GL_UNSIGNED_INT, offset,
-                                GLsizei(c->instanceCount));
+                                drawnCount);
         ++stats.drawCalls;
       }
-      stats.triangles += uint64_t(sub.indexCount / 3) * c->instanceCount;
+      stats.triangles += uint64_t(sub.indexCount / 3) * uint64_t(drawnCount);
     }
     stats.instances += c->instanceCount;
+
+    if (!c->impostorIds.empty()) {
+      const pack::Impostor &m = *c->impostor;
+      glUseProgram(impostorProgram_);
+      auto iloc = [&](const char *name) { return glGetUniformLocation(impostorProgram_, name); };
+      glUniformMatrix4fv(iloc("u_viewProjection"), 1, GL_FALSE,
+                         glm::value_ptr(view.viewProjection));
+      glUniform1f(iloc("u_time"), seconds);
+      glUniform3fv(iloc("u_eye"), 1, glm::value_ptr(view.eye));
+      glUniform4fv(iloc("u_sphere"), 1, m.sphere.data());
+      glUniform4i(iloc("u_layout"), int(m.azimuths), int(m.elevations), int(m.storedAzimuths()),
+                  int(m.frames));
+      glUniform1i(iloc("u_mirrored"), m.mirrored);
+      glUniform1f(iloc("u_frameStep"), m.frameStep > 0 ? m.frameStep : 1.0f);
+      glUniform1f(iloc("u_texelSize"), 2.0f * m.sphere[3] / float(m.texels));
+      glUniform1f(iloc("u_oneToOne"), float(switchAt));
+      glUniform1i(iloc("u_maxLevel"), int(c->mipLevels) - 1);
+      glUniform1i(iloc("u_hasTexture"), p.diffuse ? 1 : 0);
+      glUniform1i(iloc("u_hasUvs"), !m.uvAtlases.empty());
+      glUniform1i(iloc("u_subMeshCount"), int(p.mesh.subMeshes.size()));
+      glUniform3fv(iloc("u_lightDirection"), 1, glm::value_ptr(light_));
+      glBindTextureUnit(0, c->textures[3]);
+      glBindTextureUnit(1, c->textures[4]);
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, c->buffers[8]);
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, c->buffers[9]);
+      glDrawArraysInstanced(GL_TRIANGLES, 0, 6, GLsizei(c->impostorIds.size()));
+      ++stats.drawCalls;
+      stats.impostors += uint32_t(c->impostorIds.size());
+      stats.triangles += 2 * uint64_t(c->impostorIds.size());
+    }
   }
   return stats;
 }

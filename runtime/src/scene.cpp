@@ -145,12 +145,18 @@ Scene parseScene(const std::string &text, const std::string &path, size_t instan
   if (!j.contains("packs") || !j["packs"].is_array() || j["packs"].empty())
     c.fail({"packs"}, "expected a non-empty list of {\"name\", \"path\"}");
   for (const auto &p : j["packs"]) {
-    c.onlyKeys(p, {"packs"}, {"name", "path"});
+    c.onlyKeys(p, {"packs"}, {"name", "path", "impostor"});
     if (!p.contains("path") || !p["path"].is_string())
       c.fail({"packs"}, "each pack needs a \"path\"");
     s.packPaths.push_back((dir / p["path"].get<std::string>()).lexically_normal().string());
     s.packNames.push_back(
         p.value("name", std::filesystem::path(p["path"].get<std::string>()).stem().string()));
+    if (p.contains("impostor") && !p["impostor"].is_string())
+      c.fail({"packs", "impostor"}, "expected the path of an impostor pack");
+    s.impostorPaths.push_back(
+        p.contains("impostor")
+            ? (dir / p["impostor"].get<std::string>()).lexically_normal().string()
+            : std::string());
   }
 
   if (!j.contains("instances"))

@@ -1,6 +1,7 @@
 // crowdplay end to end, under xvfb-run (Mesa llvmpipe here and in CI): the player draws what was
 // baked (against the CPU reference), draw calls do not grow with instances, a small scene matches
-// its golden screenshot within a tolerance, and bad input fails with one clear line.
+// its golden screenshot within a tolerance, impostors stand in for the geometry at the switch
+// (with hysteresis), and bad input fails with one clear line.
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -14,6 +15,8 @@
 #include "crowd/bake/evaluate.h"
 #include "crowd/bake/import.h"
 #include "crowd/bake/raster.h"
+#include "crowd/formats/impostor.h"
+#include "crowd/runtime/impostor_runtime.h"
 #include "crowd/samples/samples.h"
 
 using namespace crowd;
@@ -216,6 +219,109 @@ TEST(Player, SmallSceneMatchesItsGoldenScreenshot) {
   // Tolerant, not byte-exact: another Mesa or GPU may round edges differently.
   EXPECT_LE(sum / double(a.rgb.size()), 1.5);
   EXPECT_GE(double(close) / double(a.rgb.size() / 3), 0.99);
+}
+
+// An impostor of the walk (4 frames, mirrored) for the hybrid tests, and the distance where one
+// of its texels covers a pixel for a 45-degree, 240-pixel-high view.
+struct HybridSetup {
+  std::string pack;
+  glm::dvec3 centre;
+  double switchAt = 0;
+};
+const HybridSetup &hybrid() {
+  static HybridSetup h = [] {
+    HybridSetup s;
+    s.pack = work() + "/walk.impostor.crowdpack";
+    EXPECT_EQ(run(std::string(CROWDBAKE) + " impostor " + work() + "/humanoid.glb -o " + s.pack +
+                  " --clip walk --frames 4 --mirror --quiet")
+                  .code,
+              0);
+    auto m = pack::loadImpostorPack(pack::Reader::open(s.pack)).impostor;
+    s.centre = {m.sphere[0], m.sphere[1], m.sphere[2]};
+    s.switchAt = runtime::oneToOneDistance(m, glm::radians(45.0), 240);
+    return s;
+  }();
+  return h;
+}
+
+nlohmann::json hybridScene(const std::vector<nlohmann::json> &path) {
+  auto s = oneCharacter();
+  s["packs"][0]["impostor"] = hybrid().pack;
+  s["instances"]["time_offset"] = 0; // frame 0 of the walk: a stored frame
+  s["camera"] = {{"fov", 45}, {"loop", false}, {"path", path}};
+  return s;
+}
+
+// From the instance's sphere centre: `distance` away, `azimuthDeg` about +Y, 10 degrees up.
+nlohmann::json cameraKey(double time, double distance, double azimuthDeg) {
+  const glm::dvec3 c = hybrid().centre;
+  double az = glm::radians(azimuthDeg), el = glm::radians(10.0);
+  glm::dvec3 eye =
+      c + distance * glm::dvec3(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
+  return {{"time", time}, {"position", {eye.x, eye.y, eye.z}}, {"target", {c.x, c.y, c.z}}};
+}
+
+TEST(Player, ImpostorsStandInForTheGeometryPastTheSwitch) {
+  // Just past the switch (hysteresis: 1.1x), from a stored azimuth and from a mirrored one.
+  for (double azimuth : {33.75, -33.75}) {
+    double d = 1.15 * hybrid().switchAt;
+    std::string scene = writeScene("hybrid", hybridScene({cameraKey(0, d, azimuth)}));
+    std::string a = work() + "/hybrid.png", b = work() + "/geometry.png",
+                stats = work() + "/hybrid_stats.json";
+    auto r = run(std::string(CROWDPLAY) + " " + scene +
+                 " --headless --frames 1 --size 320x240 --screenshot " + a + " --stats " + stats);
+    ASSERT_EQ(r.code, 0) << r.err;
+    auto j = nlohmann::json::parse(std::ifstream(stats));
+    EXPECT_EQ(j["summary"]["impostors"].get<double>(), 1);
+    EXPECT_EQ(j["summary"]["draw_calls"].get<double>(), 1); // the geometry draws nothing
+    ASSERT_EQ(run(std::string(CROWDPLAY) + " " + scene +
+                  " --headless --frames 1 --size 320x240 --geometry --screenshot " + b)
+                  .code,
+              0);
+    Image hy = readPng(a), geo = readPng(b);
+    size_t both = 0, either = 0;
+    double diff = 0;
+    for (size_t i = 0; i < hy.rgb.size() / 3; ++i) {
+      bool p = !isBackground(hy, i), q = !isBackground(geo, i);
+      both += p && q;
+      either += p || q;
+      for (int k = 0; p && q && k < 3; ++k)
+        diff += std::abs(int(hy.rgb[i * 3 + size_t(k)]) - int(geo.rgb[i * 3 + size_t(k)])) / 3.0;
+    }
+    double iou = double(both) / double(either);
+    std::printf("impostor vs geometry at %.2f m, azimuth %.2f: silhouette IoU %.4f over %zu "
+                "pixels, mean |difference| %.2f of 255\n",
+                d, azimuth, iou, either, diff / double(both));
+    EXPECT_GT(either, 1000u);
+    EXPECT_GE(iou, 0.85);
+    EXPECT_LE(diff / double(both), 20.0);
+  }
+}
+
+TEST(Player, TheImpostorSwitchHasHysteresis) {
+  // The camera backs away from 0.8x to 1.2x the switch distance and comes back: at 1.0x the
+  // character is geometry on the way out and an impostor on the way back.
+  double d = hybrid().switchAt;
+  std::string scene = writeScene(
+      "hysteresis", hybridScene({cameraKey(0, 0.8 * d, 20), cameraKey(1, 1.2 * d, 20),
+                                 cameraKey(2, 0.8 * d, 20)}));
+  std::string stats = work() + "/hysteresis_stats.json";
+  auto r = run(std::string(CROWDPLAY) + " " + scene +
+               " --headless --frames 21 --step 0.1 --size 320x240 --stats " + stats);
+  ASSERT_EQ(r.code, 0) << r.err;
+  auto frames = nlohmann::json::parse(std::ifstream(stats))["frames"];
+  ASSERT_EQ(frames.size(), 21u);
+  EXPECT_EQ(frames[0]["impostors"], 0);  // 0.8x
+  EXPECT_EQ(frames[5]["impostors"], 0);  // 1.0x, going out
+  EXPECT_EQ(frames[10]["impostors"], 1); // 1.2x
+  EXPECT_EQ(frames[15]["impostors"], 1); // 1.0x, coming back
+  EXPECT_EQ(frames[20]["impostors"], 0); // 0.8x
+  // --geometry never switches.
+  r = run(std::string(CROWDPLAY) + " " + scene +
+          " --headless --frames 21 --step 0.1 --size 320x240 --geometry --stats " + stats);
+  ASSERT_EQ(r.code, 0) << r.err;
+  for (const auto &f : nlohmann::json::parse(std::ifstream(stats))["frames"])
+    EXPECT_EQ(f["impostors"], 0);
 }
 
 void expectOneLineError(const CliRun &r, const std::string &needle) {

@@ -1,5 +1,6 @@
 #include "gltf_writer.h"
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <unistd.h>
@@ -139,8 +140,20 @@ std::string GltfBuilder::writeGlb(const std::string &dir, const std::string &nam
 }
 
 std::string tempDir(const std::string &name) {
+  // Removed when the test program exits, unless CROWD_KEEP_TEST_FILES is set (to look at them).
+  static struct Cleanup {
+    std::vector<std::filesystem::path> dirs;
+    ~Cleanup() {
+      if (!std::getenv("CROWD_KEEP_TEST_FILES"))
+        for (const auto &d : dirs) {
+          std::error_code ignored;
+          std::filesystem::remove_all(d, ignored);
+        }
+    }
+  } cleanup;
   auto dir = std::filesystem::temp_directory_path() /
              ("crowd_test_" + name + "_" + std::to_string(::getpid()));
+  cleanup.dirs.push_back(dir);
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir.string();

@@ -48,6 +48,7 @@ private:
                   bool normalized);
 };
 
+// A fresh folder for one test, removed at exit (kept when CROWD_KEEP_TEST_FILES is set).
 std::string tempDir(const std::string &name);
 
 } // namespace crowd::test

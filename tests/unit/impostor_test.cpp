@@ -1,3 +1,4 @@
+#include <cmath>
 #include <set>
 
 #include <gtest/gtest.h>
@@ -5,6 +6,7 @@
 #include "crowd/bake/import.h"
 #include "crowd/bake/impostor_bake.h"
 #include "crowd/formats/error.h"
+#include "crowd/runtime/impostor_runtime.h"
 #include "gltf_writer.h"
 #include "sample_character.h"
 
@@ -179,5 +181,60 @@ TEST(Impostor, MirroredPacksStoreHalfTheAzimuthsAndStillMatch) {
   EXPECT_TRUE(pack::loadImpostorPack(reader).impostor.mirrored);
   o.frames = 3;
   EXPECT_THROW(bakeImpostor(humanoid(), o, r), Error);
+}
+} // namespace
+
+namespace {
+// What the player's impostor shader does, on the CPU: the view it picks is the stored view that
+// the bake rendered from the nearest direction, half a clip later and flipped when mirrored.
+TEST(ImpostorRuntime, ChoosesTheNearestStoredViewAndFrame) {
+  Reporter r;
+  auto o = small();
+  o.frames = 4;
+  o.mirror = true;
+  const auto m = bakeImpostor(humanoid(), o, r).impostor;
+  const double pi = 3.14159265358979323846, step = m.frameStep;
+  auto dir = [&](double azDeg, double elDeg) {
+    double a = azDeg * pi / 180, e = elDeg * pi / 180;
+    return glm::vec3(std::cos(e) * std::sin(a), std::sin(e), std::cos(e) * std::cos(a));
+  };
+  auto c = runtime::chooseImpostorView(m, dir(44, 10), 1.1 * step, true);
+  EXPECT_EQ(c.azimuth, 1u); // 45 degrees apart: 44 is nearest to 45
+  EXPECT_EQ(c.elevation, 0u); // rows at 22.5 and 67.5
+  EXPECT_EQ(c.frame, 1u);
+  EXPECT_FALSE(c.flip);
+  EXPECT_EQ(c.view, m.viewIndex(1, 0, 1));
+  c = runtime::chooseImpostorView(m, dir(-90, 80), 4.9 * step, true); // wraps to frame 1
+  EXPECT_EQ(c.azimuth, 6u);
+  EXPECT_EQ(c.elevation, 1u);
+  EXPECT_TRUE(c.flip);
+  EXPECT_EQ(c.frame, 3u); // frame 1, mirrored: half the clip later
+  EXPECT_EQ(c.view, m.viewIndex(3, 1, 2));
+  c = runtime::chooseImpostorView(m, dir(0, 10), 9 * step, false); // past the end: clamped
+  EXPECT_EQ(c.frame, 3u);
+  // The 1:1 distance: a texel (2 r / texels) covers a pixel.
+  double d = runtime::oneToOneDistance(m, pi / 2, 480);
+  EXPECT_NEAR(2.0 * d * std::tan(pi / 4) / 480, 2.0 * m.sphere[3] / m.texels, 1e-9);
+}
+
+TEST(ImpostorRuntime, MipLevelsNeverAverageRegionIds) {
+  pack::Impostor m;
+  m.frames = 1;
+  m.atlasWidth = 4;
+  m.atlasHeight = 2;
+  // Block 1: regions 1, 3, 3, empty -> 3 (the mode), never 2. Block 2: one texel covered -> empty.
+  const uint8_t a[8] = {1, 3, 0, 0, 3, 0, 0, 9};
+  for (uint8_t region : a) {
+    m.atlases.insert(m.atlases.end(), {uint8_t(region * 20), 0, 0, region});
+    m.uvAtlases.insert(m.uvAtlases.end(), {uint16_t(region * 1000), 7, region, 0});
+  }
+  auto mips = runtime::impostorMips(m, 0, 8);
+  ASSERT_EQ(mips.size(), 3u); // 4x2, 2x1, 1x1
+  EXPECT_EQ(mips[1].width, 2u);
+  EXPECT_EQ(mips[1].normals[3], 3);
+  EXPECT_EQ(mips[1].normals[0], 60); // the normal of a region-3 texel, not a blend
+  EXPECT_EQ(mips[1].uvs[0], 3000);
+  EXPECT_EQ(mips[1].normals[7], 0); // a lone covered texel does not survive
+  EXPECT_EQ(mips[2].normals[3], 3); // one covered texel of two: half
 }
 } // namespace

@@ -28,6 +28,13 @@ TEST(Scene, DefaultsAndPathsRelativeToTheScene) {
   EXPECT_EQ(s.packNames, std::vector<std::string>{"a"});
   ASSERT_EQ(s.instances.size(), 5u);
   EXPECT_EQ(s.clipNames, std::vector<std::string>{""}); // the pack's first clip
+  EXPECT_EQ(s.impostorPaths, std::vector<std::string>{""}); // no impostors
+  auto h = parseScene(R"({"packs": [{"path": "a", "impostor": "../b.crowdpack"}], "instances": {}})",
+                      "scenes/s.json");
+  EXPECT_EQ(h.impostorPaths, std::vector<std::string>{"b.crowdpack"});
+  EXPECT_NE(errorOf(R"({"packs": [{"path": "a", "impostor": 3}], "instances": {}})")
+                .find("s.json:1:"),
+            std::string::npos);
 }
 
 TEST(Scene, GridRandomAndListPlacements) {

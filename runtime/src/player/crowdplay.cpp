@@ -18,6 +18,7 @@
 
 #include "crowd/formats/chunks.h"
 #include "crowd/formats/error.h"
+#include "crowd/formats/impostor.h"
 #include "crowd/runtime/crowd_renderer.h"
 #include "crowd/runtime/scene.h"
 
@@ -26,7 +27,9 @@ namespace {
 const char *kHelp = R"(usage: crowdplay SCENE.json [options]
 
 Draws the scene's crowd from baked packs with skinned instancing (one instanced draw per
-sub-mesh per character type). Without --headless a window opens: drag with the left mouse button
+sub-mesh per character type). Where a scene pack names an impostor pack, instances playing the
+impostor's clip draw as impostors once one impostor texel is no bigger than a pixel (all of a
+type in one more instanced draw). Without --headless a window opens: drag with the left mouse button
 to orbit, scroll to zoom, W/A/S/D to move, Esc to quit; the title shows frame time, instances,
 triangles and draw calls.
 
@@ -36,9 +39,12 @@ options:
   --size WxH           image size (default 1280x720)
   --instances K        override the scene's instance count (its placement rule stays)
   --screenshot FILE    write the last frame as PNG
-  --stats FILE         write per-frame frame_ms, gpu_ms, draw_calls, instances, triangles and
+  --stats FILE         write per-frame frame_ms, gpu_ms, draw_calls, instances, impostors,
+                       triangles (an impostor counts two) and
                        their means under "summary"
-  --naive              one draw per instance per sub-mesh, instance data in uniforms
+  --naive              one draw per instance per sub-mesh, instance data in uniforms (no
+                       impostors)
+  --geometry           instanced geometry only: no impostors (the baseline of the hybrid)
   --time SECONDS       scene time of the first frame (default 0)
   --step SECONDS       headless time step between frames (default 1/30)
 
@@ -52,7 +58,8 @@ struct UsageError : std::runtime_error {
 
 struct Options {
   std::string scene, screenshot, stats;
-  bool headless = false, naive = false;
+  bool headless = false;
+  crowd::runtime::DrawPath path = crowd::runtime::DrawPath::Hybrid;
   int frames = 60, width = 1280, height = 720;
   size_t instances = 0;
   double startTime = 0, step = 1.0 / 30.0;
@@ -81,7 +88,9 @@ Options parse(int argc, char **argv) {
     if (a == "--headless")
       o.headless = true;
     else if (a == "--naive")
-      o.naive = true;
+      o.path = crowd::runtime::DrawPath::Naive;
+    else if (a == "--geometry")
+      o.path = crowd::runtime::DrawPath::Instanced;
     else if (a == "--frames")
       o.frames = int(integer(value(i), "--frames", 1, 1000000));
     else if (a == "--instances")
@@ -121,13 +130,24 @@ Options parse(int argc, char **argv) {
   return o;
 }
 
-glm::mat4 viewProjection(const crowd::runtime::Camera &cam, double t, double aspect,
-                         glm::dvec3 offset = glm::dvec3(0)) {
+crowd::runtime::FrameView frameView(const crowd::runtime::Camera &cam, double t, int width,
+                                    int height) {
   glm::dvec3 eye, target;
   cam.at(t, eye, target);
-  return glm::mat4(
-      glm::perspective(glm::radians(cam.fovYDegrees), aspect, cam.nearPlane, cam.farPlane) *
-      glm::lookAt(eye + offset, target + offset, glm::dvec3(0, 1, 0)));
+  crowd::runtime::FrameView v;
+  v.fovY = glm::radians(cam.fovYDegrees);
+  v.viewportHeight = height;
+  v.eye = glm::vec3(eye);
+  v.viewProjection = glm::mat4(
+      glm::perspective(v.fovY, double(width) / std::max(height, 1), cam.nearPlane, cam.farPlane) *
+      glm::lookAt(eye, target, glm::dvec3(0, 1, 0)));
+  return v;
+}
+
+const char *pathName(crowd::runtime::DrawPath p) {
+  return p == crowd::runtime::DrawPath::Naive       ? "naive"
+         : p == crowd::runtime::DrawPath::Instanced ? "instanced"
+                                                    : "hybrid";
 }
 
 void writePng(const std::string &path, int w, int h, const std::vector<uint8_t> &rgba) {
@@ -192,15 +212,14 @@ int headless(const Options &o, crowd::runtime::CrowdRenderer &renderer,
   glViewport(0, 0, o.width, o.height);
   glEnable(GL_DEPTH_TEST);
   nlohmann::ordered_json frames = nlohmann::ordered_json::array();
-  double sums[5] = {};
+  double sums[6] = {};
   for (int f = 0; f < o.frames; ++f) {
     double t = o.startTime + f * o.step;
     auto t0 = std::chrono::steady_clock::now();
     glClearColor(0.55f, 0.62f, 0.70f, 1);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     glBeginQuery(GL_TIME_ELAPSED, query);
-    auto stats = renderer.draw(viewProjection(scene.camera, t, double(o.width) / o.height),
-                               float(t), o.naive);
+    auto stats = renderer.draw(frameView(scene.camera, t, o.width, o.height), float(t), o.path);
     glEndQuery(GL_TIME_ELAPSED);
     glFinish();
     double frameMs =
@@ -214,10 +233,15 @@ int headless(const Options &o, crowd::runtime::CrowdRenderer &renderer,
                       {"gpu_ms", gpuMs},
                       {"draw_calls", stats.drawCalls},
                       {"instances", stats.instances},
+                      {"impostors", stats.impostors},
                       {"triangles", stats.triangles}});
-    double v[5] = {frameMs, gpuMs, double(stats.drawCalls), double(stats.instances),
+    double v[6] = {frameMs,
+                   gpuMs,
+                   double(stats.drawCalls),
+                   double(stats.instances),
+                   double(stats.impostors),
                    double(stats.triangles)};
-    for (int k = 0; k < 5; ++k)
+    for (int k = 0; k < 6; ++k)
       sums[k] += v[k];
   }
   if (!o.screenshot.empty()) {
@@ -225,13 +249,14 @@ int headless(const Options &o, crowd::runtime::CrowdRenderer &renderer,
     glReadPixels(0, 0, o.width, o.height, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
     writePng(o.screenshot, o.width, o.height, rgba);
   }
-  const char *keys[5] = {"frame_ms", "gpu_ms", "draw_calls", "instances", "triangles"};
+  const char *keys[6] = {"frame_ms",  "gpu_ms",    "draw_calls",
+                         "instances", "impostors", "triangles"};
   nlohmann::ordered_json summary;
   summary["frames"] = o.frames;
-  for (int k = 0; k < 5; ++k)
+  for (int k = 0; k < 6; ++k)
     summary[keys[k]] = sums[k] / o.frames;
   summary["renderer"] = reinterpret_cast<const char *>(glGetString(GL_RENDERER));
-  summary["path"] = o.naive ? "naive" : "instanced";
+  summary["path"] = pathName(o.path);
   summary["size"] = std::to_string(o.width) + "x" + std::to_string(o.height);
   if (!o.stats.empty()) {
     std::ofstream f(o.stats);
@@ -239,10 +264,10 @@ int headless(const Options &o, crowd::runtime::CrowdRenderer &renderer,
     if (!f)
       throw crowd::Error(o.stats + ": cannot write stats");
   }
-  std::printf("%d frames, %s: %.2f ms/frame (gpu %.2f ms), %.0f draw calls, %.0f instances, %.0f "
-              "triangles\n",
-              o.frames, o.naive ? "naive" : "instanced", sums[0] / o.frames, sums[1] / o.frames,
-              sums[2] / o.frames, sums[3] / o.frames, sums[4] / o.frames);
+  std::printf("%d frames, %s: %.2f ms/frame (gpu %.2f ms), %.0f draw calls, %.0f instances "
+              "(%.0f impostors), %.0f triangles\n",
+              o.frames, pathName(o.path), sums[0] / o.frames, sums[1] / o.frames,
+              sums[2] / o.frames, sums[3] / o.frames, sums[4] / o.frames, sums[5] / o.frames);
   return 0;
 }
 
@@ -309,8 +334,7 @@ int interactive(GLFWwindow *win, const Options &o, crowd::runtime::CrowdRenderer
     glViewport(0, 0, w, h);
     glClearColor(0.55f, 0.62f, 0.70f, 1);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    auto stats = renderer.draw(viewProjection(scene.camera, t, double(w) / std::max(h, 1)),
-                               float(t), o.naive);
+    auto stats = renderer.draw(frameView(scene.camera, t, w, h), float(t), o.path);
     glfwSwapBuffers(win);
     glfwPollEvents();
     auto t1 = std::chrono::steady_clock::now();
@@ -318,8 +342,10 @@ int interactive(GLFWwindow *win, const Options &o, crowd::runtime::CrowdRenderer
     if (t1 - lastTitle > std::chrono::milliseconds(500)) {
       char title[256];
       std::snprintf(title, sizeof title,
-                    "crowdplay  %.1f ms  %u instances  %.2f M triangles  %u draw calls", frameMs,
-                    stats.instances, double(stats.triangles) / 1e6, stats.drawCalls);
+                    "crowdplay  %.1f ms  %u instances (%u impostors)  %.2f M triangles  %u draw "
+                    "calls",
+                    frameMs, stats.instances, stats.impostors, double(stats.triangles) / 1e6,
+                    stats.drawCalls);
       glfwSetWindowTitle(win, title);
       lastTitle = t1;
     }
@@ -345,10 +371,22 @@ int main(int argc, char **argv) {
                            "' does not exist (bake it first: ./run demo)");
       packs.push_back(crowd::pack::loadAnimationPack(crowd::pack::Reader::open(path)));
     }
+    std::vector<crowd::pack::ImpostorPack> impostorPacks(scene.impostorPaths.size());
+    std::vector<const crowd::pack::Impostor *> impostors(scene.impostorPaths.size(), nullptr);
+    for (size_t k = 0; k < scene.impostorPaths.size(); ++k) {
+      const std::string &path = scene.impostorPaths[k];
+      if (path.empty())
+        continue;
+      if (!std::filesystem::exists(path))
+        throw crowd::Error(o.scene + ": impostor pack '" + path +
+                           "' does not exist (bake it: crowdbake impostor)");
+      impostorPacks[k] = crowd::pack::loadImpostorPack(crowd::pack::Reader::open(path));
+      impostors[k] = &impostorPacks[k].impostor;
+    }
     Glfw glfw;
     GLFWwindow *win =
         openWindow(o.headless ? 64 : o.width, o.headless ? 64 : o.height, !o.headless);
-    crowd::runtime::CrowdRenderer renderer(packs, scene);
+    crowd::runtime::CrowdRenderer renderer(packs, impostors, scene);
     int rc = o.headless ? headless(o, renderer, scene) : interactive(win, o, renderer, scene);
     return rc;
   } catch (const UsageError &e) {

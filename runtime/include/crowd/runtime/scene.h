@@ -39,6 +39,9 @@ struct Scene {
   std::string path;
   std::vector<std::string> packPaths; // resolved against the scene file's folder
   std::vector<std::string> packNames;
+  // Per pack: its impostor pack ("" for none); instances of the impostor's clip draw as
+  // impostors past the one-texel-per-pixel distance.
+  std::vector<std::string> impostorPaths;
   // Clip names instances choose from (Instance::clip indexes it); resolved by the player.
   std::vector<std::string> clipNames;
   std::vector<Instance> instances;
