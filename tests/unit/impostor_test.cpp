@@ -54,9 +54,11 @@ TEST(Impostor, ViewsAreCroppedPackedWithoutOverlapAndHoldRegions) {
           size_t t = size_t(y) * m.atlasWidth + x;
           ASSERT_EQ(owner[t], -1) << "views overlap in frame " << f;
           owner[t] = int(v);
-          uint8_t region = m.atlases[(size_t(f) * m.atlasWidth * m.atlasHeight + t) * 4 + 3];
-          EXPECT_LE(region, humanoid().mesh.parts.size());
-          filled += region > 0;
+          const uint8_t *texel = &m.atlases[(size_t(f) * m.atlasWidth * m.atlasHeight + t) * 4];
+          EXPECT_LE(texel[3], humanoid().mesh.parts.size());
+          filled += texel[3] > 0;
+          // Dilated: empty texels of a crop hold a neighbour's normal (never black), region 0.
+          ASSERT_GT(int(texel[0]) + texel[1] + texel[2], 0) << "undilated texel in frame " << f;
         }
       // Cropped to the silhouette: every crop row and column is touched, so it is well filled.
       EXPECT_GT(filled, size_t(view.width) * view.height / 5);
@@ -93,6 +95,8 @@ TEST(Impostor, OneFrameClipsRestPosesAndMemoryGuard) {
   EXPECT_TRUE(codes.count("no_animation"));
   EXPECT_TRUE(codes.count("no_uvs")) << "the quad has no UVs: no UV map";
   EXPECT_TRUE(res.impostor.uvAtlases.empty());
+
+  EXPECT_TRUE(codes.count("empty_views")) << "the flat quad seen edge-on from the horizon";
 
   auto huge = small();
   huge.frames = 64;
@@ -236,5 +240,39 @@ TEST(ImpostorRuntime, MipLevelsNeverAverageRegionIds) {
   EXPECT_EQ(mips[1].uvs[0], 3000);
   EXPECT_EQ(mips[1].normals[7], 0); // a lone covered texel does not survive
   EXPECT_EQ(mips[2].normals[3], 3); // one covered texel of two: half
+}
+} // namespace
+
+namespace {
+TEST(Impostor, DegenerateMeshesFailClearlyAndExtraRegionsAreClamped) {
+  Reporter r;
+  r.quiet = true;
+  Character flat = humanoid();
+  for (auto &p : flat.mesh.positions)
+    p = glm::vec3(0.1f, 0.2f, 0.3f); // every triangle collapses to a point
+  try {
+    bakeImpostor(flat, small(), r);
+    FAIL() << "a degenerate mesh baked";
+  } catch (const Error &e) {
+    EXPECT_NE(std::string(e.what()).find("degenerate"), std::string::npos) << e.what();
+  }
+
+  // 300 sub-meshes: ids above 254 do not fit the 8-bit region channel.
+  Character many = humanoid();
+  const uint32_t triangles = uint32_t(many.mesh.indices.size() / 3);
+  many.mesh.parts.clear();
+  for (uint32_t k = 0; k < 300; ++k) {
+    uint32_t first = triangles * k / 300, last = triangles * (k + 1) / 300;
+    many.mesh.parts.push_back({"part" + std::to_string(k), first * 3, (last - first) * 3});
+  }
+  auto res = bakeImpostor(many, small(), r);
+  bool warned = false;
+  for (const auto &w : r.warnings())
+    warned |= w.code == "too_many_regions";
+  EXPECT_TRUE(warned);
+  uint8_t highest = 0;
+  for (size_t t = 3; t < res.impostor.atlases.size(); t += 4)
+    highest = std::max(highest, res.impostor.atlases[t]);
+  EXPECT_EQ(highest, 255); // clamped, not wrapped around to low ids
 }
 } // namespace

@@ -84,8 +84,10 @@ example:
 
 For sampled frames of a clip, renders the character from azimuths x elevations over the upper
 hemisphere with the deterministic rasterizer: object-space normals (RGB) with the region
-(sub-mesh) id + 1 in alpha, each view cropped to its silhouette and shelf-packed into one atlas
-per frame, with a 16-bit UV map and a best impostor plane per view.
+(sub-mesh) id + 1 in alpha, each view cropped to its silhouette, dilated (empty texels copy
+their nearest covered neighbour, region 0) and shelf-packed into one atlas per frame, with a
+16-bit UV map and a best impostor plane per view. crowdplay draws the pack for instances of
+this clip past the distance where a texel covers a pixel (scene file: "impostor" in a pack).
 
 options:
   -o, --output FILE    pack to write (written atomically)
@@ -417,7 +419,9 @@ int cmdImpostor(const Args &a) {
       return ordered_json{{"iou_mean", f.iouMean},
                           {"iou_min", f.iouMin},
                           {"normal_error_mean_deg", f.normalMeanDeg},
-                          {"normal_error_max_deg", f.normalMaxDeg}};
+                          {"normal_error_max_deg", f.normalMaxDeg},
+                          {"uv_error_mean", f.uvMean},
+                          {"uv_error_max", f.uvMax}};
     };
     j["accuracy"] = {
         {"frame", 0},

@@ -40,6 +40,32 @@ Posed pose(const Character &c, const AnimationClip *clip, double t) {
   return p;
 }
 
+// Empty texels of a crop take the normal and UV of the nearest covered texel (breadth first,
+// 4-neighbours, in scan order: deterministic); their region stays 0. Filtering or mip-mapping
+// the atlas then blends silhouette texels with copies of themselves, not with black.
+void dilate(Crop &cr) {
+  const size_t w = cr.width, h = cr.height;
+  std::vector<size_t> queue;
+  std::vector<uint8_t> done(w * h, 0);
+  for (size_t i = 0; i < w * h; ++i)
+    if (cr.rgba[i * 4 + 3] != 0)
+      queue.push_back(i), done[i] = 1;
+  for (size_t q = 0; q < queue.size(); ++q) {
+    size_t i = queue[q], x = i % w, y = i / w;
+    const size_t next[4] = {x > 0 ? i - 1 : i, x + 1 < w ? i + 1 : i, y > 0 ? i - w : i,
+                            y + 1 < h ? i + w : i};
+    for (size_t j : next) {
+      if (done[j])
+        continue;
+      done[j] = 1;
+      std::copy_n(&cr.rgba[i * 4], 3, &cr.rgba[j * 4]);
+      if (!cr.uv.empty())
+        std::copy_n(&cr.uv[i * 4], 2, &cr.uv[j * 4]);
+      queue.push_back(j);
+    }
+  }
+}
+
 } // namespace
 
 ImpostorBakeResult bakeImpostor(const Character &c, const ImpostorOptions &o, Reporter &reporter) {
@@ -166,6 +192,7 @@ ImpostorBakeResult bakeImpostor(const Character &c, const ImpostorOptions &o, Re
           u[2] = out[3];
         }
       }
+    dilate(cr);
   });
 
   // Mirroring, measured: a walk's frame t + T/2 is close to frame t mirrored left-right, and the
@@ -213,10 +240,19 @@ ImpostorBakeResult bakeImpostor(const Character &c, const ImpostorOptions &o, Re
   // Shelf packing, tallest first (ties by view index): the same layout at any thread count.
   uint64_t area = 0;
   uint32_t widest = 1;
+  size_t empty = 0;
   for (size_t i : stored) {
     area += uint64_t(crops[i].width) * crops[i].height;
     widest = std::max(widest, crops[i].width);
+    empty += crops[i].width == 0;
   }
+  if (area == 0)
+    throw Error("the character covers no texel in any view: its mesh is degenerate (every "
+                "triangle has zero area) or empty");
+  if (empty)
+    reporter.warn("empty_views", std::to_string(empty) + " of " + std::to_string(stored.size()) +
+                                     " views show nothing (a flat mesh seen edge-on?): they "
+                                     "are stored empty and draw nothing");
   const size_t storedPerFrame = stored.size() / o.frames;
   uint32_t width = std::max(widest, uint32_t(std::ceil(std::sqrt(double(area) / o.frames * 1.1))));
   width = (width + 3) / 4 * 4;
@@ -298,7 +334,7 @@ ImpostorAccuracy measureImpostor(const Character &c, const pack::Impostor &m, in
   auto sampledEl = [&](double e) { return 0.5 * kPi * (e + 0.5) / m.elevations; };
 
   struct Result {
-    double iou = 1, angleSum = 0, angleMax = 0;
+    double iou = 1, angleSum = 0, angleMax = 0, uvSum = 0, uvMax = 0;
     size_t angles = 0;
   };
   // Directions: at every sampled view, then halfway to the next azimuth and elevation.
@@ -315,7 +351,7 @@ ImpostorAccuracy measureImpostor(const Character &c, const pack::Impostor &m, in
     ViewFrame cam = viewFrame(az, el);
     auto camera = raster::orthographic(centre + cam.dir * (2 * radius), centre, {0, 1, 0}, radius,
                                        radius, 0.5 * radius, 3.5 * radius);
-    raster::Image truth =
+    raster::Image reference =
         raster::rasterize(posed.positions, c.mesh.indices, camera, n, n, {true, 1});
     // The nearest stored view.
     size_t best = 0;
@@ -358,8 +394,8 @@ ImpostorAccuracy measureImpostor(const Character &c, const pack::Impostor &m, in
           if (texel[3] == 0)
             texel = nullptr;
         }
-        size_t ti = truth.index(x, y);
-        bool real = truth.triangle[ti] >= 0;
+        size_t ti = reference.index(x, y);
+        bool real = reference.triangle[ti] >= 0;
         both += real && texel;
         either += real || texel;
         if (real && texel) {
@@ -368,12 +404,24 @@ ImpostorAccuracy measureImpostor(const Character &c, const pack::Impostor &m, in
           if (flip)
             normal.x = -normal.x;
           glm::vec3 actual =
-              glm::normalize(raster::interpolate(truth, ti, posed.normals, c.mesh.indices));
+              glm::normalize(raster::interpolate(reference, ti, posed.normals, c.mesh.indices));
           double angle =
               glm::degrees(std::acos(std::clamp(double(glm::dot(normal, actual)), -1.0, 1.0)));
           r.angleSum += angle;
           r.angleMax = std::max(r.angleMax, angle);
           ++r.angles;
+          if (!m.uvAtlases.empty()) { // both wrapped into [0, 1): compare around the circle
+            const uint16_t *stored = &m.uvAtlases[size_t(texel - m.atlases.data())];
+            glm::vec2 trueUv = raster::interpolate(reference, ti, c.mesh.uvs, c.mesh.indices);
+            double d2 = 0;
+            for (int k = 0; k < 2; ++k) {
+              double d = std::abs(stored[k] / 65535.0 - (trueUv[k] - std::floor(trueUv[k])));
+              d = std::min(d, 1.0 - d);
+              d2 += d * d;
+            }
+            r.uvSum += std::sqrt(d2);
+            r.uvMax = std::max(r.uvMax, std::sqrt(d2));
+          }
         }
       }
     r.iou = either ? double(both) / double(either) : 1.0;
@@ -382,10 +430,12 @@ ImpostorAccuracy measureImpostor(const Character &c, const pack::Impostor &m, in
   ImpostorAccuracy acc;
   for (int part = 0; part < 2; ++part) {
     ImpostorAccuracy::Figures &f = part ? acc.betweenViews : acc.atViews;
-    double angleSum = 0;
+    double angleSum = 0, uvSum = 0;
     size_t angles = 0;
     for (size_t k = 0; k < views; ++k) {
       const Result &r = results[size_t(part) * views + k];
+      uvSum += r.uvSum;
+      f.uvMax = std::max(f.uvMax, r.uvMax);
       f.iouMean += r.iou / double(views);
       f.iouMin = std::min(f.iouMin, r.iou);
       f.normalMaxDeg = std::max(f.normalMaxDeg, r.angleMax);
@@ -401,6 +451,7 @@ ImpostorAccuracy measureImpostor(const Character &c, const pack::Impostor &m, in
       }
     }
     f.normalMeanDeg = angles ? angleSum / double(angles) : 0;
+    f.uvMean = angles ? uvSum / double(angles) : 0;
   }
   return acc;
 }

@@ -42,6 +42,7 @@ struct ImpostorAccuracy {
   struct Figures {
     double iouMean = 0, iouMin = 1;             // silhouette intersection over union
     double normalMeanDeg = 0, normalMaxDeg = 0; // angle between stored and true normals
+    double uvMean = 0, uvMax = 0; // distance between stored and true UVs (texture widths)
   };
   Figures atViews, betweenViews; // directions at the sampled views; halfway between them
   double worstAzimuthDeg = 0, worstElevationDeg = 0, worstIou = 1; // lowest IoU found
