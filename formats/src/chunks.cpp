@@ -339,6 +339,41 @@ Texture decodeTexture(std::span<const uint8_t> bytes, const std::string &context
   return t;
 }
 
+std::vector<uint8_t> encode(const Lod &l) {
+  ByteWriter w;
+  w.put<uint32_t>(l.floorVertices);
+  w.putArray(l.collapse);
+  w.putArray(l.error);
+  w.putArray(l.triangleCounts);
+  return w.take();
+}
+
+Lod decodeLod(std::span<const uint8_t> bytes, const std::string &context) {
+  ByteReader r(bytes, context);
+  Lod l;
+  l.floorVertices = r.get<uint32_t>("floor vertices");
+  l.collapse = r.getArray<uint32_t>("collapse", kMaxElements);
+  l.error = r.getArray<float>("error", kMaxElements);
+  l.triangleCounts = r.getArray<uint32_t>("triangle counts", kMaxElements);
+  const size_t n = l.collapse.size();
+  if (n == 0 || l.floorVertices == 0 || l.floorVertices > n)
+    r.fail("floor vertices", std::to_string(l.floorVertices) + " of " + std::to_string(n));
+  for (size_t k = 0; k < n; ++k)
+    if (k < l.floorVertices ? l.collapse[k] != k : l.collapse[k] >= k)
+      r.fail("collapse", "vertex " + std::to_string(k) + " collapses into " +
+                             std::to_string(l.collapse[k]));
+  if (l.error.size() != n)
+    r.fail("error", "count differs from the collapse map");
+  checkFinite(r, l.error, "error");
+  if (l.triangleCounts.empty() || l.triangleCounts.size() % (n + 1) != 0)
+    r.fail("triangle counts", "not whole rows of vertex count + 1");
+  for (size_t i = 0; i < l.triangleCounts.size(); ++i)
+    if (i % (n + 1) != 0 && l.triangleCounts[i] < l.triangleCounts[i - 1])
+      r.fail("triangle counts", "decrease at entry " + std::to_string(i));
+  r.expectEnd();
+  return l;
+}
+
 AnimationPack loadAnimationPack(const Reader &reader) {
   auto ctx = [&](uint32_t type) {
     return "pack '" + reader.name() + "', chunk " + fourccName(type);
@@ -359,6 +394,19 @@ AnimationPack loadAnimationPack(const Reader &reader) {
     p.diffuse = decodeTexture(reader.payload(*texture), ctx(kDiffuseTexture));
     if (p.mesh.uvs.empty())
       throw Error(ctx(kDiffuseTexture) + ": the mesh has no UVs to map the texture with");
+  }
+  if (const ChunkEntry *lod = reader.find(kLod)) {
+    p.lod = decodeLod(reader.payload(*lod), ctx(kLod));
+    const size_t n = p.mesh.vertexCount();
+    if (p.lod->collapse.size() != n ||
+        p.lod->triangleCounts.size() != p.mesh.subMeshes.size() * (n + 1))
+      throw Error(ctx(kLod) + ": sized for another mesh (" +
+                  std::to_string(p.lod->collapse.size()) + " vertices, the mesh has " +
+                  std::to_string(n) + ")");
+    for (size_t s = 0; s < p.mesh.subMeshes.size(); ++s)
+      if (p.lod->triangleCount(s, uint32_t(n)) != p.mesh.subMeshes[s].indexCount / 3)
+        throw Error(ctx(kLod) + ", field 'triangle counts': sub-mesh '" +
+                    p.mesh.subMeshes[s].name + "' does not end at its triangle count");
   }
   if (p.animation.jointCount != p.skeleton.jointCount())
     throw Error(ctx(kAnimationTexture) +
@@ -392,6 +440,8 @@ std::vector<uint8_t> packBytes(const AnimationPack &p) {
   w.add(kMesh, kChunkVersion, encode(p.mesh));
   if (p.diffuse)
     w.add(kDiffuseTexture, kChunkVersion, encode(*p.diffuse));
+  if (p.lod)
+    w.add(kLod, kChunkVersion, encode(*p.lod));
   return w.bytes();
 }
 

@@ -207,6 +207,9 @@ TEST(Usage, BadUsageExitsTwo) {
   EXPECT_EQ(crowdbake("impostor a.glb -o x --views 32").code, 2);
   EXPECT_EQ(crowdbake("impostor a.glb -o x --texels 2").code, 2);
   EXPECT_EQ(crowdbake("impostor --help").code, 0);
+  EXPECT_EQ(crowdbake("lod a.glb").code, 2);
+  EXPECT_EQ(crowdbake("lod a.glb -o x --floor 2").code, 2);
+  EXPECT_EQ(crowdbake("lod --help").code, 0);
 }
 
 // A damaged pack fails verify with a message naming what is wrong.

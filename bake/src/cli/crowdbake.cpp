@@ -6,6 +6,7 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <unistd.h>
@@ -16,6 +17,7 @@
 #include "crowd/bake/anim_bake.h"
 #include "crowd/bake/import.h"
 #include "crowd/bake/impostor_bake.h"
+#include "crowd/bake/lod_bake.h"
 #include "crowd/bake/preview.h"
 #include "crowd/bake/provenance.h"
 #include "crowd/formats/chunks.h"
@@ -38,6 +40,7 @@ usage: crowdbake <command> [options]
 commands:
   samples   write the bundled sample characters (humanoid and three outfits) as .glb
   anim      bake animation textures, skin weights and mesh from a glTF character
+  lod       anim, plus continuous LOD: the mesh ordered for edge-collapse cuts at any vertex count
   impostor  bake per-frame atlases of views (normals, region ids) for far-away characters
   inspect   list a pack's chunks, joints, clips, textures and sizes
   verify    check every offset, size, checksum and cross-reference of a pack
@@ -74,11 +77,31 @@ options:
   --precision P        float (3 RGBA32F texels per joint, default), half (3 RGBA16F),
                        qts (2 RGBA32F: quaternion, translation, uniform scale), qts-half
   --threads N          worker threads (default: all cores); output never depends on it
+  --lod                add continuous LOD (as crowdbake lod does)
   --report FILE.json   write timings, sizes, warnings and per-clip errors
   --quiet              no warnings or progress on stderr
 
 example:
   crowdbake anim humanoid.glb -o humanoid.crowdpack --fps 30 --report report.json
+)"},
+    {"lod", R"(usage: crowdbake lod IN.glb|IN.gltf -o OUT.crowdpack [anim options] [--floor F]
+
+Bakes what crowdbake anim bakes, with the mesh ordered for continuous LOD: the full edge-collapse
+sequence down to a floor, so a renderer can draw any vertex count v by taking each sub-mesh's
+first triangles (their count for v is stored) and following indices through the collapse map
+until they are below v. Collapses run on a welded half-edge mesh (OpenMesh) by quadric cost;
+a UV or normal seam vertex collapses only along its seam, a boundary vertex only along its
+boundary; no cut has a degenerate triangle or one turned more than 75 degrees from its
+full-detail normal. No new vertices. Non-manifold, duplicate and zero-area triangles are
+repaired and reported.
+
+options:
+  --floor F            stop at this share of the triangles (default 0.02), or where no legal
+                       collapse is left
+  (and every option of crowdbake anim)
+
+example:
+  crowdbake lod humanoid.glb -o humanoid.crowdpack --report report.json
 )"},
     {"impostor", R"(usage: crowdbake impostor IN.glb -o OUT.crowdpack [options]
 
@@ -244,10 +267,15 @@ void writeJson(const std::string &path, const ordered_json &j) {
   std::filesystem::rename(tmp, path);
 }
 
-int cmdAnim(const Args &a) {
-  oneInput(a, "anim");
+int cmdAnim(const Args &a, const std::string &command) {
+  oneInput(a, command.c_str());
   if (!a.options.count("output"))
-    throw UsageError("anim needs -o OUT.crowdpack");
+    throw UsageError(command + " needs -o OUT.crowdpack");
+  const bool lod = command == "lod" || a.has("lod");
+  crowd::LodOptions lodOpt;
+  lodOpt.floorFraction = number(a, "floor", 0.02);
+  if (!(lodOpt.floorFraction >= 0 && lodOpt.floorFraction <= 1))
+    throw UsageError("--floor must be in [0, 1]");
   using Clock = std::chrono::steady_clock;
   auto t0 = Clock::now();
   crowd::Reporter reporter;
@@ -278,11 +306,21 @@ int cmdAnim(const Args &a) {
   if (progress)
     std::fprintf(stderr, "crowdbake: importing %s\n", input.c_str());
   crowd::Character character = crowd::importGltf(input, io, reporter);
+  const size_t inputTriangles = character.mesh.indices.size() / 3;
   auto t1 = Clock::now();
+  std::optional<crowd::pack::Lod> lodChunk;
+  double lodSeconds = 0;
+  if (lod) {
+    if (progress)
+      std::fprintf(stderr, "crowdbake: collapsing %zu triangles\n", inputTriangles);
+    lodChunk = crowd::applyLod(character, lodOpt, reporter);
+    lodSeconds = std::chrono::duration<double>(Clock::now() - t1).count();
+  }
 
   if (progress)
     std::fprintf(stderr, "crowdbake: sampling and checking %zu clip(s)\n", character.clips.size());
   crowd::AnimBakeResult result = crowd::bakeAnimation(character, opt, reporter);
+  result.pack.lod = lodChunk;
   auto t2 = Clock::now();
 
   std::ostringstream fps;
@@ -290,13 +328,16 @@ int cmdAnim(const Args &a) {
     fps << opt.fps;
   else
     fps << "source";
-  result.pack.provenance =
-      crowd::makeProvenance(character.sourceFiles, {{"command", "anim"},
-                                                    {"clip", opt.clip},
-                                                    {"mesh", io.mesh},
-                                                    {"fps", fps.str()},
-                                                    {"max-width", std::to_string(opt.maxWidth)},
-                                                    {"precision", opt.precision}});
+  std::vector<std::pair<std::string, std::string>> settings = {
+      {"command", command},
+      {"clip", opt.clip},
+      {"mesh", io.mesh},
+      {"fps", fps.str()},
+      {"max-width", std::to_string(opt.maxWidth)},
+      {"precision", opt.precision}};
+  if (lod)
+    settings.push_back({"lod-floor", std::to_string(lodOpt.floorFraction)});
+  result.pack.provenance = crowd::makeProvenance(character.sourceFiles, settings);
   std::vector<uint8_t> bytes = crowd::pack::packBytes(result.pack);
   crowd::pack::writeFileAtomic(a.get("output"), bytes);
   auto t3 = Clock::now();
@@ -304,7 +345,7 @@ int cmdAnim(const Args &a) {
   if (a.options.count("report")) {
     auto secs = [](auto d) { return std::chrono::duration<double>(d).count(); };
     ordered_json r;
-    r["command"] = "anim";
+    r["command"] = command;
     r["input"] = input;
     r["output"] = a.get("output");
     r["baker_version"] = crowd::kBakerVersion;
@@ -339,6 +380,34 @@ int cmdAnim(const Args &a) {
     }
     for (const auto &pa : result.accuracy)
       r["precisions"].push_back(accuracyJson(pa, result.diagonal));
+    if (lodChunk) {
+      const auto &l = *lodChunk;
+      const uint32_t n = uint32_t(l.collapse.size());
+      auto triangles = [&](uint32_t v) {
+        uint64_t t = 0;
+        for (size_t sm = 0; sm < character.mesh.parts.size(); ++sm)
+          t += l.triangleCount(sm, v);
+        return t;
+      };
+      ordered_json lj;
+      lj["input_triangles"] = inputTriangles;
+      lj["triangles"] = triangles(n);
+      lj["vertices"] = n;
+      lj["floor_vertices"] = l.floorVertices;
+      lj["floor_triangles"] = triangles(l.floorVertices);
+      lj["time_s"] = lodSeconds;
+      lj["input_triangles_per_s"] = double(inputTriangles) / std::max(lodSeconds, 1e-9);
+      for (double share : {0.5, 0.25, 0.1, 0.05}) { // the fewest vertices holding the share
+        uint32_t v = n;
+        while (v > l.floorVertices && double(triangles(v - 1)) >= share * double(triangles(n)))
+          --v;
+        lj["levels"].push_back({{"share", share},
+                                {"vertices", v},
+                                {"triangles", triangles(v)},
+                                {"quadric_error", l.error[std::min(v, n - 1)]}});
+      }
+      r["lod"] = lj;
+    }
     r["warnings"] = ordered_json::array();
     for (const auto &w : reporter.warnings())
       r["warnings"].push_back({{"code", w.code}, {"message", w.message}, {"count", w.count}});
@@ -548,6 +617,17 @@ int cmdInspect(const Args &a) {
                             {"width", p.diffuse->width},
                             {"height", p.diffuse->height},
                             {"bytes", p.diffuse->rgba.size()}};
+  if (p.lod) {
+    const uint32_t n = uint32_t(m.vertexCount());
+    uint64_t floorTriangles = 0;
+    for (size_t s = 0; s < m.subMeshes.size(); ++s)
+      floorTriangles += p.lod->triangleCount(s, p.lod->floorVertices);
+    j["lod"] = {{"vertices", n},
+                {"floor_vertices", p.lod->floorVertices},
+                {"floor_triangles", floorTriangles},
+                {"bytes", (p.lod->collapse.size() + p.lod->error.size() +
+                           p.lod->triangleCounts.size()) * 4}};
+  }
   if (a.has("json")) {
     std::cout << j.dump(2) << "\n";
     return 0;
@@ -586,6 +666,11 @@ int cmdInspect(const Args &a) {
   if (p.diffuse)
     o << "diffuse texture: " << p.diffuse->width << "x" << p.diffuse->height << " rgba8, "
       << p.diffuse->rgba.size() << " bytes\n";
+  if (p.lod)
+    o << "lod: edge collapses from " << j["lod"]["vertices"] << " vertices, "
+      << m.indices.size() / 3 << " triangles down to " << j["lod"]["floor_vertices"]
+      << " vertices, " << j["lod"]["floor_triangles"] << " triangles; " << j["lod"]["bytes"]
+      << " bytes\n";
   std::cout << o.str();
   return 0;
 }
@@ -705,11 +790,12 @@ int main(int argc, char **argv) {
       }
     if (command == "samples")
       return cmdSamples(parse(argc, argv, {"out"}, {}));
-    if (command == "anim")
-      return cmdAnim(
-          parse(argc, argv,
-                {"output", "clip", "mesh", "fps", "max-width", "precision", "threads", "report"},
-                {"quiet"}));
+    if (command == "anim" || command == "lod")
+      return cmdAnim(parse(argc, argv,
+                           {"output", "clip", "mesh", "fps", "max-width", "precision", "threads",
+                            "report", "floor"},
+                           {"quiet", "lod"}),
+                     command);
     if (command == "impostor")
       return cmdImpostor(parse(
           argc, argv, {"output", "clip", "mesh", "frames", "views", "texels", "threads", "report"},

@@ -19,6 +19,7 @@ inline constexpr uint32_t kAnimationTexture = fourcc("ANIM");
 inline constexpr uint32_t kSkinTexture = fourcc("SKIN");
 inline constexpr uint32_t kMesh = fourcc("MESH");
 inline constexpr uint32_t kDiffuseTexture = fourcc("TEXR");
+inline constexpr uint32_t kLod = fourcc("LODS");
 
 struct InputFile {
   std::string path;  // as given on the command line
@@ -103,6 +104,21 @@ struct Texture {
   std::vector<uint8_t> rgba;
 };
 
+// Continuous LOD of the mesh: its vertices are ordered so that vertex k is the one removed when
+// the mesh goes from k + 1 to k vertices, and each sub-mesh's triangles so that, cut at v
+// vertices, the sub-mesh is its first triangleCount(s, v) triangles with every index followed
+// through `collapse` until it is below v.
+struct Lod {
+  uint32_t floorVertices = 0;    // the fewest vertices the sequence reaches (>= 1)
+  std::vector<uint32_t> collapse; // per vertex: collapse[k] < k from the floor up
+  std::vector<float> error;       // per vertex: cost of the collapse that removes it
+  // Per sub-mesh, vertexCount + 1 counts (v = 0..vertexCount), non-decreasing in v.
+  std::vector<uint32_t> triangleCounts;
+  uint32_t triangleCount(size_t subMesh, uint32_t v) const {
+    return triangleCounts[subMesh * collapse.size() + subMesh + v];
+  }
+};
+
 std::vector<uint8_t> encode(const Provenance &);
 std::vector<uint8_t> encode(const Skeleton &);
 std::vector<uint8_t> encode(const std::vector<Clip> &);
@@ -110,6 +126,7 @@ std::vector<uint8_t> encode(const AnimationTexture &);
 std::vector<uint8_t> encode(const SkinTexture &);
 std::vector<uint8_t> encode(const Mesh &);
 std::vector<uint8_t> encode(const Texture &);
+std::vector<uint8_t> encode(const Lod &);
 
 // Decoders validate everything local to the chunk; `context` prefixes error messages.
 Provenance decodeProvenance(std::span<const uint8_t>, const std::string &context);
@@ -119,6 +136,7 @@ AnimationTexture decodeAnimationTexture(std::span<const uint8_t>, const std::str
 SkinTexture decodeSkinTexture(std::span<const uint8_t>, const std::string &context);
 Mesh decodeMesh(std::span<const uint8_t>, const std::string &context);
 Texture decodeTexture(std::span<const uint8_t>, const std::string &context);
+Lod decodeLod(std::span<const uint8_t>, const std::string &context);
 
 // Every chunk of an animation pack, decoded and cross-checked (joint ids < joint count,
 // clip frames inside the texture, one skin entry per mesh vertex, ...).
@@ -130,6 +148,7 @@ struct AnimationPack {
   SkinTexture skin;
   Mesh mesh;
   std::optional<Texture> diffuse; // optional chunk: only when the mesh has UVs and a texture
+  std::optional<Lod> lod;         // optional chunk: crowdbake lod, or anim --lod
 };
 AnimationPack loadAnimationPack(const Reader &reader);
 void writePack(const AnimationPack &pack, const std::string &path);

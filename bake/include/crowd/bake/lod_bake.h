@@ -1,0 +1,50 @@
+// Continuous LOD (first slice): the full edge-collapse sequence of a mesh, from all its
+// triangles down to a floor, as arrays a renderer can cut at any vertex count. Collapses run on
+// a welded half-edge mesh (OpenMesh) with bind-pose quadric costs; a UV or normal seam vertex
+// only collapses along its seam, a boundary vertex only along its boundary, and no collapse
+// leaves a triangle degenerate or turned more than `maxNormalDeviationDeg` from its full-detail
+// normal. No new vertices: every LOD vertex is an original one.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "crowd/bake/report.h"
+#include "crowd/formats/chunks.h"
+
+namespace crowd {
+
+struct LodOptions {
+  double floorFraction = 0.02; // stop at this share of the triangles (or no legal collapse)
+  double maxNormalDeviationDeg = 75;
+};
+
+// Cut at v vertices: take the first triangleCount[v] triangles and follow each index through
+// `collapse` until it is < v.
+struct LodResult {
+  std::vector<uint32_t> order;         // new vertex k is input vertex order[k]
+  std::vector<uint32_t> collapse;      // new numbering: collapse[k] < k (collapse[0] = 0)
+  std::vector<uint32_t> indices;       // the kept input triangles, reordered, new numbering
+  std::vector<uint32_t> triangleCount; // for v = 0..vertices
+  std::vector<float> error;            // quadric cost of the step that removed vertex k
+  std::vector<uint32_t> source;        // per triangle: the input triangle
+  std::vector<uint32_t> killedBy;      // per triangle: the vertex whose removal deletes it
+                                       // (UINT32_MAX: none, it lasts to the floor)
+  uint32_t floorVertices = 0;          // the fewest vertices the sequence reaches
+  uint32_t inputTriangles = 0;         // before repairs (dropped faces are reported)
+};
+
+// The same arrays, applied to a character: its mesh reordered (vertices, and triangles within
+// each sub-mesh) and the pack's LOD chunk for it.
+struct Character;
+pack::Lod applyLod(Character &character, const LodOptions &options, Reporter &reporter,
+                   LodResult *details = nullptr);
+
+// Seams are where input vertices share a position but not their other attributes (UV, normal):
+// such copies weld into one topological vertex, unless `group` (per vertex, optional) differs.
+LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uint32_t> &indices,
+                  const LodOptions &options, Reporter &reporter,
+                  const std::vector<uint32_t> &group = {});
+
+} // namespace crowd

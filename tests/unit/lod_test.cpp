@@ -1,0 +1,212 @@
+// The LOD arrays, walked at every vertex count: indices below the count, no degenerate triangle,
+// no normal turned past the bake's limit against the full mesh; on the sample humanoid, every
+// shared asset, and meshes built to fail (non-manifold, duplicates, isolated vertices, tiny,
+// open, zero-area, more than 65k vertices).
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <set>
+
+#include <gtest/gtest.h>
+
+#include "crowd/bake/anim_bake.h"
+#include "crowd/bake/import.h"
+#include "crowd/bake/lod_bake.h"
+#include "crowd/formats/error.h"
+#include "sample_character.h"
+
+using namespace crowd;
+
+namespace {
+
+// Walks from all vertices down to the floor, updating only the triangles the removed vertex
+// touches; returns the triangles left at the floor.
+size_t walk(const LodResult &r, const std::vector<glm::vec3> &input, double maxDeg) {
+  const size_t V = r.order.size(), T = r.indices.size() / 3;
+  EXPECT_EQ(r.collapse.size(), V);
+  EXPECT_EQ(r.triangleCount.size(), V + 1);
+  EXPECT_EQ(r.triangleCount[V], T);
+  std::vector<glm::vec3> pos(V);
+  for (size_t k = 0; k < V; ++k)
+    pos[k] = input[r.order[k]];
+  std::vector<uint32_t> cur = r.indices;
+  auto normal = [&](size_t t) {
+    return glm::cross(pos[cur[3 * t + 1]] - pos[cur[3 * t]], pos[cur[3 * t + 2]] - pos[cur[3 * t]]);
+  };
+  std::vector<glm::vec3> original(T);
+  std::vector<std::vector<uint32_t>> refs(V);
+  for (size_t t = 0; t < T; ++t) {
+    original[t] = glm::normalize(normal(t));
+    for (int k = 0; k < 3; ++k)
+      refs[cur[3 * t + size_t(k)]].push_back(uint32_t(t));
+  }
+  const float cosLimit = float(std::cos(glm::radians(maxDeg)));
+  size_t failures = 0;
+  for (size_t v = V; v > r.floorVertices; --v) {
+    const uint32_t k = uint32_t(v - 1), into = r.collapse[k];
+    if (into >= k && ++failures < 5)
+      ADD_FAILURE() << "vertex " << k << " collapses into " << into;
+    EXPECT_LE(r.triangleCount[k], r.triangleCount[v]);
+    for (uint32_t t : refs[k]) {
+      for (int c = 0; c < 3; ++c)
+        if (cur[3 * t + size_t(c)] == k)
+          cur[3 * t + size_t(c)] = into;
+      refs[into].push_back(t);
+      if (t >= r.triangleCount[k])
+        continue; // gone at k vertices
+      uint32_t a = cur[3 * t], b = cur[3 * t + 1], c = cur[3 * t + 2];
+      glm::vec3 n = normal(t);
+      bool bad = a == b || b == c || a == c || a >= k || b >= k || c >= k || glm::length(n) == 0 ||
+                 glm::dot(glm::normalize(n), original[t]) < cosLimit - 1e-4f;
+      if (bad && ++failures < 5)
+        ADD_FAILURE() << "at " << k << " vertices, triangle " << t << " (" << a << ", " << b
+                      << ", " << c << ") is degenerate, out of range or flipped";
+    }
+  }
+  EXPECT_EQ(failures, 0u);
+  return r.triangleCount[r.floorVertices];
+}
+
+std::set<std::string> codes(const Reporter &r) {
+  std::set<std::string> s;
+  for (const auto &w : r.warnings())
+    s.insert(w.code);
+  return s;
+}
+
+TEST(Lod, TheHumanoidWalksCleanlyToTheFloor) {
+  const auto &m = test::sampleHumanoid().mesh;
+  Reporter rep;
+  LodOptions o;
+  LodResult r = bakeLod(m.positions, m.indices, o, rep);
+  size_t floor = walk(r, m.positions, o.maxNormalDeviationDeg);
+  std::printf("humanoid: %zu triangles -> %zu at %u vertices\n", m.indices.size() / 3, floor,
+              r.floorVertices);
+  EXPECT_LE(floor, m.indices.size() / 3 / 10) << "stuck far above the 2% floor";
+  // No new vertices: every LOD vertex is an input vertex (copied where a non-manifold face was
+  // split off), and every input vertex is there.
+  std::set<uint32_t> distinct(r.order.begin(), r.order.end());
+  EXPECT_EQ(distinct.size(), m.positions.size());
+  EXPECT_LT(*distinct.rbegin(), m.positions.size());
+}
+
+TEST(Lod, EverySharedAssetWalksCleanly) {
+  std::string dir = CROWD_SHARED_ASSETS;
+  if (!std::filesystem::exists(dir))
+    GTEST_SKIP() << "shared assets absent at " << dir;
+  for (const auto &e : std::filesystem::recursive_directory_iterator(dir)) {
+    if (e.path().extension() != ".glb" && e.path().extension() != ".gltf")
+      continue;
+    SCOPED_TRACE(e.path().string());
+    Reporter rep;
+    rep.quiet = true;
+    Character c = importGltf(e.path().string(), {}, rep);
+    LodResult r = bakeLod(c.mesh.positions, c.mesh.indices, {}, rep);
+    walk(r, c.mesh.positions, LodOptions{}.maxNormalDeviationDeg);
+  }
+}
+
+// A w x h grid of quads in the XZ plane (open boundary), two triangles each.
+void grid(int w, int h, std::vector<glm::vec3> &p, std::vector<uint32_t> &idx) {
+  for (int y = 0; y <= h; ++y)
+    for (int x = 0; x <= w; ++x)
+      p.push_back({float(x), 0.05f * float((x * 7 + y * 3) % 5), float(y)});
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      uint32_t a = uint32_t(y * (w + 1) + x), b = a + 1, c = a + uint32_t(w + 1), d = c + 1;
+      idx.insert(idx.end(), {a, c, b, b, c, d});
+    }
+}
+
+TEST(Lod, FailureModesAreRepairedAndReported) {
+  std::vector<glm::vec3> p;
+  std::vector<uint32_t> idx;
+  grid(6, 6, p, idx);
+  const size_t gridTriangles = idx.size() / 3;
+  p.push_back({3, 1, 3});                          // a fin on the edge (3,3)-(4,3): non-manifold
+  idx.insert(idx.end(), {24, 25, uint32_t(p.size() - 1)});
+  idx.insert(idx.end(), {idx[0], idx[1], idx[2]}); // a duplicate face
+  idx.insert(idx.end(), {0, 0, 1});                // zero-area (index-degenerate)
+  p.push_back({-5, -5, -5});                       // isolated
+  Reporter rep;
+  rep.quiet = true;
+  LodResult r = bakeLod(p, idx, {}, rep);
+  auto c = codes(rep);
+  EXPECT_TRUE(c.count("non_manifold"));
+  EXPECT_TRUE(c.count("duplicate_triangles"));
+  EXPECT_TRUE(c.count("degenerate_triangles"));
+  EXPECT_TRUE(c.count("isolated_vertices"));
+  EXPECT_EQ(r.indices.size() / 3, gridTriangles + 1); // the grid and the fin
+  EXPECT_EQ(r.order.back(), p.size() - 1) << "the isolated vertex goes last";
+  walk(r, p, LodOptions{}.maxNormalDeviationDeg);
+  // Open boundary: a boundary vertex slides only along it, and the boundary's constraint planes
+  // make the grid's corners the last vertices to go (new index = removal order, last first).
+  for (uint32_t corner : {0, 6, 42, 48}) {
+    auto at = std::find(r.order.begin(), r.order.end(), corner) - r.order.begin();
+    EXPECT_LT(at, r.floorVertices + 4) << "corner " << corner << " went early";
+  }
+}
+
+TEST(Lod, TinyAndHugeMeshes) {
+  Reporter rep;
+  rep.quiet = true;
+  std::vector<glm::vec3> tri = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  LodResult one = bakeLod(tri, {0, 1, 2}, {}, rep);
+  EXPECT_EQ(one.floorVertices, 3u); // nothing to collapse
+  EXPECT_EQ(one.triangleCount[3], 1u);
+  EXPECT_THROW(bakeLod(tri, {0, 1, 1}, {}, rep), Error); // no triangle with an area
+  EXPECT_THROW(bakeLod(tri, {0, 1, 5}, {}, rep), Error); // index past the vertices
+  std::vector<glm::vec3> p;
+  std::vector<uint32_t> idx;
+  grid(300, 300, p, idx); // 90,601 vertices: past 16-bit indices
+  LodResult big = bakeLod(p, idx, {}, rep);
+  EXPECT_EQ(big.order.size(), p.size());
+  size_t floor = walk(big, p, LodOptions{}.maxNormalDeviationDeg);
+  EXPECT_LE(floor, idx.size() / 3 / 20);
+}
+
+} // namespace
+
+namespace {
+// What a renderer does with a pack: every sub-mesh cut at every vertex count from its own
+// counts and the shared collapse map.
+TEST(Lod, PackedArraysCutEverySubMeshCleanly) {
+  Character c = test::sampleHumanoid();
+  Reporter rep;
+  rep.quiet = true;
+  pack::Lod lod = applyLod(c, {}, rep);
+  AnimBakeResult res = bakeAnimation(c, {}, rep);
+  res.pack.lod = lod;
+  pack::Reader reader(pack::packBytes(res.pack), "mem");
+  pack::AnimationPack p = pack::loadAnimationPack(reader);
+  ASSERT_TRUE(p.lod.has_value());
+  const auto &l = *p.lod;
+  const uint32_t n = uint32_t(p.mesh.vertexCount());
+  size_t checked = 0, bad = 0;
+  for (uint32_t step = 0; step <= 200; ++step) { // 201 cuts from the floor to the full mesh
+    const uint32_t v = l.floorVertices + uint32_t(uint64_t(n - l.floorVertices) * step / 200);
+    for (size_t s = 0; s < p.mesh.subMeshes.size(); ++s) {
+      const auto &sub = p.mesh.subMeshes[s];
+      for (uint32_t t = 0; t < l.triangleCount(s, v); ++t) {
+        uint32_t idx[3];
+        for (int k = 0; k < 3; ++k) {
+          uint32_t i = p.mesh.indices[sub.firstIndex + 3 * t + uint32_t(k)];
+          while (i >= v)
+            i = l.collapse[i];
+          idx[k] = i;
+        }
+        bad += idx[0] == idx[1] || idx[1] == idx[2] || idx[0] == idx[2];
+        ++checked;
+      }
+    }
+  }
+  EXPECT_EQ(bad, 0u) << "of " << checked << " triangles cut";
+  EXPECT_GT(checked, 0u);
+  // A damaged LOD chunk is refused: a collapse pointing up.
+  auto bytes = pack::encode(l);
+  pack::Lod broken = l;
+  broken.collapse.back() = n - 1;
+  EXPECT_THROW(pack::decodeLod(pack::encode(broken), "test"), Error);
+  EXPECT_NO_THROW(pack::decodeLod(bytes, "test"));
+}
+} // namespace
