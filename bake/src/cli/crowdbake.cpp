@@ -84,12 +84,13 @@ options:
 example:
   crowdbake anim humanoid.glb -o humanoid.crowdpack --fps 30 --report report.json
 )"},
-    {"lod", R"(usage: crowdbake lod IN.glb|IN.gltf -o OUT.crowdpack [anim options] [--floor F]
+    {"lod", R"(usage: crowdbake lod IN.glb|IN.gltf -o OUT.crowdpack [anim options] [--floor F] [--poses N]
 
 Bakes what crowdbake anim bakes, with the mesh ordered for continuous LOD: the full edge-collapse
 sequence down to a floor, so a renderer can draw any vertex count v by taking each sub-mesh's
 first triangles (their count for v is stored) and following indices through the collapse map
-until they are below v. Collapses run on a welded half-edge mesh (OpenMesh) by quadric cost;
+until they are below v. Collapses run on a welded half-edge mesh (OpenMesh) by quadric cost
+summed over the bind pose and poses sampled from every clip (skinning-aware);
 a UV or normal seam vertex collapses only along its seam, a boundary vertex only along its
 boundary; no cut has a degenerate triangle or one turned more than 75 degrees from its
 full-detail normal. No new vertices. Non-manifold, duplicate and zero-area triangles are
@@ -98,6 +99,8 @@ repaired and reported.
 options:
   --floor F            stop at this share of the triangles (default 0.02), or where no legal
                        collapse is left
+  --poses N            animation poses in the collapse cost, spread over all clips (default
+                       16); 0: the bind pose alone (pose-agnostic)
   (and every option of crowdbake anim)
 
 example:
@@ -276,6 +279,10 @@ int cmdAnim(const Args &a, const std::string &command) {
   lodOpt.floorFraction = number(a, "floor", 0.02);
   if (!(lodOpt.floorFraction >= 0 && lodOpt.floorFraction <= 1))
     throw UsageError("--floor must be in [0, 1]");
+  double poses = number(a, "poses", 16);
+  if (!(poses >= 0 && poses <= 1024 && poses == std::floor(poses)))
+    throw UsageError("--poses must be an integer in [0, 1024]");
+  lodOpt.poses = uint32_t(poses);
   using Clock = std::chrono::steady_clock;
   auto t0 = Clock::now();
   crowd::Reporter reporter;
@@ -336,7 +343,8 @@ int cmdAnim(const Args &a, const std::string &command) {
       {"max-width", std::to_string(opt.maxWidth)},
       {"precision", opt.precision}};
   if (lod)
-    settings.push_back({"lod-floor", std::to_string(lodOpt.floorFraction)});
+    settings.insert(settings.end(), {{"lod-floor", std::to_string(lodOpt.floorFraction)},
+                                     {"lod-poses", std::to_string(lodOpt.poses)}});
   result.pack.provenance = crowd::makeProvenance(character.sourceFiles, settings);
   std::vector<uint8_t> bytes = crowd::pack::packBytes(result.pack);
   crowd::pack::writeFileAtomic(a.get("output"), bytes);
@@ -793,7 +801,7 @@ int main(int argc, char **argv) {
     if (command == "anim" || command == "lod")
       return cmdAnim(parse(argc, argv,
                            {"output", "clip", "mesh", "fps", "max-width", "precision", "threads",
-                            "report", "floor"},
+                            "report", "floor", "poses"},
                            {"quiet", "lod"}),
                      command);
     if (command == "impostor")

@@ -11,6 +11,7 @@
 #include <OpenMesh/Core/System/omstream.hh>
 
 #include "crowd/bake/character.h"
+#include "crowd/bake/evaluate.h"
 #include "crowd/formats/error.h"
 
 namespace crowd {
@@ -51,7 +52,11 @@ struct Candidate {
 } // namespace
 
 LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uint32_t> &indices,
-                  const LodOptions &o, Reporter &reporter, const std::vector<uint32_t> &group) {
+                  const LodOptions &o, Reporter &reporter, const std::vector<uint32_t> &group,
+                  const std::vector<std::vector<glm::vec3>> &poses) {
+  for (const auto &pose : poses)
+    if (pose.size() != positions.size())
+      throw Error("lod: a pose has another vertex count than the mesh");
   if (indices.size() % 3 != 0)
     throw Error("lod: the index count is not a multiple of 3");
   for (uint32_t i : indices)
@@ -107,7 +112,8 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
     if (!f.is_valid()) { // a complex edge or vertex: the face gets vertices of its own
       ++split;
       for (size_t k = 0; k < 3; ++k) {
-        vh[k] = mesh.add_vertex(mesh.point(vh[k]));
+        const Mesh::Point at = mesh.point(vh[k]); // a copy: add_vertex may move the points
+        vh[k] = mesh.add_vertex(at);
         source.push_back(source[rv[k]]);
         rv[k] = uint32_t(source.size() - 1);
       }
@@ -141,7 +147,20 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
 
   const size_t V = source.size(), F = corner.size();
   std::vector<glm::dvec3> originalNormal(F);
-  std::vector<Quadric> quadric(mesh.n_vertices(), Quadric{});
+  // One quadric per vertex per pose (the bind pose first): a collapse costs what it moves the
+  // surface in every pose, each measured where the vertex is in that pose.
+  const size_t P = 1 + poses.size();
+  std::vector<uint32_t> inputOf(mesh.n_vertices()); // an input vertex at each OpenMesh vertex
+  for (const auto &c : corner)
+    for (const auto &[vh, rv] : c)
+      inputOf[size_t(vh)] = source[rv];
+  auto posed = [&](Mesh::VertexHandle v, size_t p) {
+    return p == 0 ? toGlm(mesh.point(v)) : glm::dvec3(poses[p - 1][inputOf[size_t(v.idx())]]);
+  };
+  std::vector<Quadric> quadric(mesh.n_vertices() * P, Quadric{});
+  auto Q = [&](Mesh::VertexHandle v, size_t p) -> Quadric & {
+    return quadric[size_t(v.idx()) * P + p];
+  };
   auto faceNormal = [&](Mesh::FaceHandle f, Mesh::VertexHandle moved, glm::dvec3 to) {
     glm::dvec3 p[3];
     int k = 0;
@@ -150,13 +169,20 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
     return glm::cross(p[1] - p[0], p[2] - p[0]);
   };
   for (auto f : mesh.faces()) {
-    glm::dvec3 n = faceNormal(f, Mesh::VertexHandle(), {});
-    double area = glm::length(n) * 0.5;
-    n = glm::normalize(n);
-    originalNormal[size_t(f.idx())] = n;
-    glm::dvec3 a = toGlm(mesh.point(*mesh.cfv_iter(f)));
-    for (auto v : mesh.fv_range(f))
-      addPlane(quadric[size_t(v.idx())], n, -glm::dot(n, a), area);
+    originalNormal[size_t(f.idx())] = glm::normalize(faceNormal(f, Mesh::VertexHandle(), {}));
+    for (size_t p = 0; p < P; ++p) {
+      glm::dvec3 c[3];
+      int k = 0;
+      for (auto v : mesh.fv_range(f))
+        c[k++] = posed(v, p);
+      glm::dvec3 n = glm::cross(c[1] - c[0], c[2] - c[0]);
+      double area = glm::length(n) * 0.5;
+      if (area == 0)
+        continue;
+      n /= 2 * area;
+      for (auto v : mesh.fv_range(f))
+        addPlane(Q(v, p), n, -glm::dot(n, c[0]), area);
+    }
   }
   auto renderOf = [&](Mesh::FaceHandle f, Mesh::VertexHandle v) -> uint32_t & {
     for (auto &c : corner[size_t(f.idx())])
@@ -184,14 +210,17 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
     if (!mesh.face_handle(h).is_valid())
       h = mesh.opposite_halfedge_handle(h);
     auto a = mesh.from_vertex_handle(h), b = mesh.to_vertex_handle(h);
-    glm::dvec3 pa = toGlm(mesh.point(a)), pb = toGlm(mesh.point(b));
-    glm::dvec3 m = glm::cross(pb - pa, originalNormal[size_t(mesh.face_handle(h).idx())]);
-    if (glm::length(m) == 0)
-      continue;
-    m = glm::normalize(m);
-    double w = 100.0 * glm::dot(pb - pa, pb - pa);
-    for (auto v : {a, b})
-      addPlane(quadric[size_t(v.idx())], m, -glm::dot(m, pa), w);
+    auto third = mesh.to_vertex_handle(mesh.next_halfedge_handle(h));
+    for (size_t p = 0; p < P; ++p) {
+      glm::dvec3 pa = posed(a, p), pb = posed(b, p);
+      glm::dvec3 m = glm::cross(pb - pa, glm::cross(pb - pa, posed(third, p) - pa));
+      if (glm::length(m) == 0)
+        continue;
+      m = glm::normalize(m);
+      double w = 100.0 * glm::dot(pb - pa, pb - pa);
+      for (auto v : {a, b})
+        addPlane(Q(v, p), m, -glm::dot(m, pa), w);
+    }
   }
   const double cosLimit = std::cos(o.maxNormalDeviationDeg * 3.14159265358979323846 / 180);
   auto legal = [&](Mesh::HalfedgeHandle h) {
@@ -231,9 +260,10 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
   std::priority_queue<Candidate> queue;
   auto push = [&](Mesh::HalfedgeHandle h) {
     auto from = mesh.from_vertex_handle(h), to = mesh.to_vertex_handle(h);
-    queue.push({evaluate(quadric[size_t(from.idx())], quadric[size_t(to.idx())],
-                         toGlm(mesh.point(to))),
-                h.idx(), stamp[size_t(from.idx())], stamp[size_t(to.idx())]});
+    double cost = 0;
+    for (size_t p = 0; p < P; ++p)
+      cost += evaluate(Q(from, p), Q(to, p), posed(to, p));
+    queue.push({cost / double(P), h.idx(), stamp[size_t(from.idx())], stamp[size_t(to.idx())]});
   };
 
   // Removal record, in render vertices: who goes, into whom, at what cost; and for each face,
@@ -290,8 +320,9 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
         target[a] = b;
         cost[a] = float(c.cost);
       }
-      for (int k = 0; k < 10; ++k)
-        quadric[size_t(to.idx())][size_t(k)] += quadric[size_t(from.idx())][size_t(k)];
+      for (size_t p = 0; p < P; ++p)
+        for (size_t k = 0; k < 10; ++k)
+          Q(to, p)[k] += Q(from, p)[k];
       mesh.collapse(h);
       progress = true;
       ++stamp[size_t(to.idx())];
@@ -375,7 +406,17 @@ pack::Lod applyLod(Character &c, const LodOptions &o, Reporter &reporter, LodRes
     for (uint32_t i = in.parts[p].firstIndex; i < in.parts[p].firstIndex + in.parts[p].indexCount;
          ++i)
       group[in.indices[i]] = p;
-  LodResult r = bakeLod(in.positions, in.indices, o, reporter, group);
+  // Poses spread evenly over every clip (round robin, mid-interval times).
+  std::vector<std::vector<glm::vec3>> poses;
+  if (!c.clips.empty())
+    for (uint32_t i = 0; i < o.poses; ++i) {
+      const AnimationClip &clip = c.clips[i % c.clips.size()];
+      uint32_t perClip = uint32_t((o.poses + c.clips.size() - 1) / c.clips.size());
+      double t = clip.start + (clip.end - clip.start) * (double(i / c.clips.size()) + 0.5) / perClip;
+      auto skinned = skinPositions(c, jointMatrices(c, &clip, t));
+      poses.emplace_back(skinned.begin(), skinned.end());
+    }
+  LodResult r = bakeLod(in.positions, in.indices, o, reporter, group, poses);
   SkinnedMesh out;
   for (uint32_t v : r.order) {
     out.positions.push_back(in.positions[v]);

@@ -18,6 +18,7 @@ namespace crowd {
 struct LodOptions {
   double floorFraction = 0.02; // stop at this share of the triangles (or no legal collapse)
   double maxNormalDeviationDeg = 75;
+  uint32_t poses = 16; // applyLod: poses sampled evenly over all clips (0: the bind pose only)
 };
 
 // Cut at v vertices: take the first triangleCount[v] triangles and follow each index through
@@ -43,8 +44,11 @@ pack::Lod applyLod(Character &character, const LodOptions &options, Reporter &re
 
 // Seams are where input vertices share a position but not their other attributes (UV, normal):
 // such copies weld into one topological vertex, unless `group` (per vertex, optional) differs.
+// `poses` (optional): the vertices skinned into other poses; collapse costs then sum the quadric
+// error over the bind pose and every pose, so the order suits the animation, not just the rest.
 LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uint32_t> &indices,
                   const LodOptions &options, Reporter &reporter,
-                  const std::vector<uint32_t> &group = {});
+                  const std::vector<uint32_t> &group = {},
+                  const std::vector<std::vector<glm::vec3>> &poses = {});
 
 } // namespace crowd
