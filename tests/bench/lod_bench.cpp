@@ -110,20 +110,8 @@ int main(int argc, char **argv) {
     std::string asset = std::filesystem::path(argv[f]).stem().string();
     const auto &m = c.mesh;
     const size_t T = m.indices.size() / 3;
-    std::vector<uint32_t> group(m.positions.size(), 0);
-    for (uint32_t p = 0; p < m.parts.size(); ++p)
-      for (uint32_t i = m.parts[p].firstIndex; i < m.parts[p].firstIndex + m.parts[p].indexCount;
-           ++i)
-        group[m.indices[i]] = p;
-    // The poses applyLod samples (16 over all clips), then the two runs of ours, timed.
-    std::vector<std::vector<glm::vec3>> poses;
-    for (uint32_t i = 0; i < 16 && !c.clips.empty(); ++i) {
-      const auto &clip = c.clips[i % c.clips.size()];
-      uint32_t perClip = uint32_t((16 + c.clips.size() - 1) / c.clips.size());
-      double t = clip.start + (clip.end - clip.start) * (double(i / c.clips.size()) + 0.5) / perClip;
-      auto s = crowd::skinPositions(c, crowd::jointMatrices(c, &clip, t));
-      poses.emplace_back(s.begin(), s.end());
-    }
+    const auto group = crowd::subMeshGroups(m);
+    const auto poses = crowd::samplePoses(c, crowd::LodOptions{}.poses); // as crowdbake lod does
     using Clock = std::chrono::steady_clock;
     auto t0 = Clock::now();
     crowd::LodResult ours = crowd::bakeLod(m.positions, m.indices, {}, rep, group, poses);

@@ -393,30 +393,34 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
   return r;
 }
 
-} // namespace crowd
+std::vector<uint32_t> subMeshGroups(const SkinnedMesh &m) {
+  std::vector<uint32_t> group(m.positions.size(), 0);
+  for (uint32_t p = 0; p < m.parts.size(); ++p)
+    for (uint32_t i = m.parts[p].firstIndex; i < m.parts[p].firstIndex + m.parts[p].indexCount; ++i)
+      group[m.indices[i]] = p;
+  return group;
+}
 
-namespace crowd {
+std::vector<std::vector<glm::vec3>> samplePoses(const Character &c, uint32_t count) {
+  std::vector<std::vector<glm::vec3>> poses;
+  if (c.clips.empty())
+    return poses;
+  const uint32_t perClip = uint32_t((count + c.clips.size() - 1) / c.clips.size());
+  for (uint32_t i = 0; i < count; ++i) { // round robin over the clips, mid-interval times
+    const AnimationClip &clip = c.clips[i % c.clips.size()];
+    double t = clip.start + (clip.end - clip.start) * (double(i / c.clips.size()) + 0.5) / perClip;
+    auto skinned = skinPositions(c, jointMatrices(c, &clip, t));
+    poses.emplace_back(skinned.begin(), skinned.end());
+  }
+  return poses;
+}
 
 pack::Lod applyLod(Character &c, const LodOptions &o, Reporter &reporter, LodResult *details) {
   SkinnedMesh &in = c.mesh;
   // Sub-meshes weld separately: where two touch (a sleeve on an arm), welding them would make
   // edges with four faces; apart, each keeps its own border.
-  std::vector<uint32_t> group(in.positions.size(), 0);
-  for (uint32_t p = 0; p < in.parts.size(); ++p)
-    for (uint32_t i = in.parts[p].firstIndex; i < in.parts[p].firstIndex + in.parts[p].indexCount;
-         ++i)
-      group[in.indices[i]] = p;
-  // Poses spread evenly over every clip (round robin, mid-interval times).
-  std::vector<std::vector<glm::vec3>> poses;
-  if (!c.clips.empty())
-    for (uint32_t i = 0; i < o.poses; ++i) {
-      const AnimationClip &clip = c.clips[i % c.clips.size()];
-      uint32_t perClip = uint32_t((o.poses + c.clips.size() - 1) / c.clips.size());
-      double t = clip.start + (clip.end - clip.start) * (double(i / c.clips.size()) + 0.5) / perClip;
-      auto skinned = skinPositions(c, jointMatrices(c, &clip, t));
-      poses.emplace_back(skinned.begin(), skinned.end());
-    }
-  LodResult r = bakeLod(in.positions, in.indices, o, reporter, group, poses);
+  LodResult r =
+      bakeLod(in.positions, in.indices, o, reporter, subMeshGroups(in), samplePoses(c, o.poses));
   SkinnedMesh out;
   for (uint32_t v : r.order) {
     out.positions.push_back(in.positions[v]);

@@ -36,9 +36,16 @@ struct LodResult {
   uint32_t inputTriangles = 0;         // before repairs (dropped faces are reported)
 };
 
+struct Character;
+struct SkinnedMesh;
+// Per vertex, the sub-mesh using it (applyLod welds sub-meshes separately).
+std::vector<uint32_t> subMeshGroups(const SkinnedMesh &mesh);
+// `count` poses of the mesh, round robin over every clip at mid-interval times (none without
+// clips): the poses applyLod's collapse costs sum over.
+std::vector<std::vector<glm::vec3>> samplePoses(const Character &character, uint32_t count);
+
 // The same arrays, applied to a character: its mesh reordered (vertices, and triangles within
 // each sub-mesh) and the pack's LOD chunk for it.
-struct Character;
 pack::Lod applyLod(Character &character, const LodOptions &options, Reporter &reporter,
                    LodResult *details = nullptr);
 
