@@ -60,6 +60,7 @@ struct CrowdRenderer::Character {
   // Hybrid: whether an instance plays the impostor's clip, and whether it is an impostor now
   // (the switch has hysteresis, so it depends on the last frame).
   std::vector<uint8_t> eligible, far;
+  std::vector<glm::vec3> centres; // world position of each instance's impostor sphere centre
   std::vector<uint32_t> geometryIds, impostorIds;
 
   ~Character() {
@@ -160,6 +161,12 @@ CrowdRenderer::CrowdRenderer(const std::vector<pack::AnimationPack> &packs,
       c->instanceData.insert(c->instanceData.end(), d, d + 16);
       ++c->instanceCount;
       c->eligible.push_back(c->impostor && p.clips[clipOf[inst.clip]].name == c->impostor->clip);
+      if (c->impostor) { // instances do not move: their sphere centres are computed once
+        const auto &sc = c->impostor->sphere;
+        c->centres.push_back({d[0] * sc[0] + d[1] * sc[1] + d[2] * sc[2] + d[3],
+                              d[4] * sc[0] + d[5] * sc[1] + d[6] * sc[2] + d[7],
+                              d[8] * sc[0] + d[9] * sc[1] + d[10] * sc[2] + d[11]});
+      }
     }
     std::vector<float> clips;
     for (const auto &cl : p.clips)
@@ -274,12 +281,7 @@ DrawStats CrowdRenderer::draw(const FrameView &view, float seconds, DrawPath pat
         hybrid ? oneToOneDistance(*c->impostor, view.fovY, view.viewportHeight) : 0.0;
     for (uint32_t i = 0; i < c->instanceCount; ++i) {
       if (hybrid && c->eligible[i]) {
-        const float *d = &c->instanceData[size_t(i) * 16];
-        const auto &s = c->impostor->sphere;
-        glm::vec3 centre(d[0] * s[0] + d[1] * s[1] + d[2] * s[2] + d[3],
-                         d[4] * s[0] + d[5] * s[1] + d[6] * s[2] + d[7],
-                         d[8] * s[0] + d[9] * s[1] + d[10] * s[2] + d[11]);
-        double distance = glm::length(view.eye - centre);
+        double distance = glm::length(view.eye - c->centres[i]);
         c->far[i] = c->far[i] ? distance > 0.9 * switchAt : distance > 1.1 * switchAt;
       } else {
         c->far[i] = 0;

@@ -391,12 +391,7 @@ int cmdAnim(const Args &a, const std::string &command) {
     if (lodChunk) {
       const auto &l = *lodChunk;
       const uint32_t n = uint32_t(l.collapse.size());
-      auto triangles = [&](uint32_t v) {
-        uint64_t t = 0;
-        for (size_t sm = 0; sm < character.mesh.parts.size(); ++sm)
-          t += l.triangleCount(sm, v);
-        return t;
-      };
+      auto triangles = [&](uint32_t v) { return l.totalTriangles(v); };
       ordered_json lj;
       lj["input_triangles"] = inputTriangles;
       lj["triangles"] = triangles(n);
@@ -627,9 +622,7 @@ int cmdInspect(const Args &a) {
                             {"bytes", p.diffuse->rgba.size()}};
   if (p.lod) {
     const uint32_t n = uint32_t(m.vertexCount());
-    uint64_t floorTriangles = 0;
-    for (size_t s = 0; s < m.subMeshes.size(); ++s)
-      floorTriangles += p.lod->triangleCount(s, p.lod->floorVertices);
+    const uint64_t floorTriangles = p.lod->totalTriangles(p.lod->floorVertices);
     j["lod"] = {{"vertices", n},
                 {"floor_vertices", p.lod->floorVertices},
                 {"floor_triangles", floorTriangles},

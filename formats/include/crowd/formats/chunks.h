@@ -115,7 +115,14 @@ struct Lod {
   // Per sub-mesh, vertexCount + 1 counts (v = 0..vertexCount), non-decreasing in v.
   std::vector<uint32_t> triangleCounts;
   uint32_t triangleCount(size_t subMesh, uint32_t v) const {
-    return triangleCounts[subMesh * collapse.size() + subMesh + v];
+    return triangleCounts[subMesh * (collapse.size() + 1) + v];
+  }
+  // Over every sub-mesh.
+  uint64_t totalTriangles(uint32_t v) const {
+    uint64_t t = 0;
+    for (size_t s = 0; s < triangleCounts.size() / (collapse.size() + 1); ++s)
+      t += triangleCount(s, v);
+    return t;
   }
 };
 
