@@ -1,11 +1,12 @@
 #version 450 core
 // Skinned instancing: joint transforms come from the animation texture (two frames, blended
 // exactly as runtime/src/texture_skinning.cpp does on the CPU), ids and weights from the
-// skin-weight texture, per-instance data from one buffer indexed by gl_InstanceID.
+// skin-weight texture, per-instance data from one buffer indexed by the instance's id (an instanced attribute).
 
 layout(location = 0) in vec3 a_position;
 layout(location = 1) in vec3 a_normal;
 layout(location = 2) in vec2 a_uv;
+layout(location = 3) in uint a_instance; // per instance: which one (culled and sorted by level)
 
 layout(binding = 0) uniform sampler2D u_animation; // RGBA32F or RGBA16F texels
 layout(binding = 1) uniform sampler2D u_skin;      // RGBA32F: ids, weights
@@ -17,8 +18,6 @@ struct Instance {
 layout(std430, binding = 0) readonly buffer Clips { vec4 clips[]; }; // fps, frames, first, loop
 layout(std430, binding = 1) readonly buffer Instances { Instance instances[]; };
 layout(std430, binding = 2) readonly buffer Palettes { vec4 colours[]; };
-// The instances drawn as geometry this frame (the others are culled or impostors).
-layout(std430, binding = 3) readonly buffer Drawn { uint drawn[]; };
 
 uniform mat4 u_viewProjection;
 uniform float u_time;
@@ -70,8 +69,8 @@ void main() {
     rows = u_rows;
     params = u_params;
   } else {
-    rows = instances[drawn[gl_InstanceID]].rows;
-    params = instances[drawn[gl_InstanceID]].params;
+    rows = instances[a_instance].rows;
+    params = instances[a_instance].params;
   }
   vec4 clip = clips[int(params.x)];
   float last = clip.y - 1.0;

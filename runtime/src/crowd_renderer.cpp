@@ -1,6 +1,7 @@
 #include "crowd/runtime/crowd_renderer.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 
 #include <epoxy/gl.h>
@@ -52,20 +53,19 @@ unsigned buildProgram(const char *vertex, const char *fragment, const char *name
 struct CrowdRenderer::Character {
   const pack::AnimationPack *pack = nullptr;
   const pack::Impostor *impostor = nullptr;
-  // Mesh, normals, indices, clips, instances, palettes, UVs, geometry ids, impostor ids, views.
-  unsigned vao = 0, buffers[10] = {}, textures[5] = {};
+  // Mesh, normals, indices of every LOD level, clips, instances, palettes, UVs, geometry ids
+  // (sorted by level), impostor ids, views, draw commands.
+  unsigned vao = 0, buffers[11] = {}, textures[5] = {};
   std::vector<float> instanceData; // per instance: 3 rows + params, 16 floats
   uint32_t instanceCount = 0;
   uint32_t mipLevels = 0;
-  // Hybrid: whether an instance plays the impostor's clip, and whether it is an impostor now
-  // (the switch has hysteresis, so it depends on the last frame).
-  std::vector<uint8_t> eligible, far;
-  std::vector<glm::vec3> centres; // world position of each instance's impostor sphere centre
-  std::vector<uint32_t> geometryIds, impostorIds;
+  // Per LOD level, per sub-mesh and one past the last: where its triangles start in buffers[2].
+  std::vector<uint32_t> levelStarts;
+  std::vector<uint32_t> commands; // glMultiDrawElementsIndirect's, 5 words each, by sub-mesh
 
   ~Character() {
     glDeleteVertexArrays(1, &vao);
-    glDeleteBuffers(10, buffers);
+    glDeleteBuffers(11, buffers);
     glDeleteTextures(5, textures);
   }
 };
@@ -121,6 +121,7 @@ CrowdRenderer::CrowdRenderer(const std::vector<pack::AnimationPack> &packs,
     Character *c = characters_.back().get();
     c->pack = &p;
     c->impostor = pi < impostors.size() ? impostors[pi] : nullptr;
+    selection_.addCharacter(p, c->impostor);
     // Clip of each scene clip name in this pack ("" = the first clip).
     std::vector<uint32_t> clipOf;
     for (const auto &name : scene.clipNames) {
@@ -160,13 +161,8 @@ CrowdRenderer::CrowdRenderer(const std::vector<pack::AnimationPack> &packs,
                            float(inst.palette)};
       c->instanceData.insert(c->instanceData.end(), d, d + 16);
       ++c->instanceCount;
-      c->eligible.push_back(c->impostor && p.clips[clipOf[inst.clip]].name == c->impostor->clip);
-      if (c->impostor) { // instances do not move: their sphere centres are computed once
-        const auto &sc = c->impostor->sphere;
-        c->centres.push_back({d[0] * sc[0] + d[1] * sc[1] + d[2] * sc[2] + d[3],
-                              d[4] * sc[0] + d[5] * sc[1] + d[6] * sc[2] + d[7],
-                              d[8] * sc[0] + d[9] * sc[1] + d[10] * sc[2] + d[11]});
-      }
+      selection_.addInstance(glm::vec3(inst.position), float(inst.yaw),
+                             c->impostor && p.clips[clipOf[inst.clip]].name == c->impostor->clip);
     }
     std::vector<float> clips;
     for (const auto &cl : p.clips)
@@ -185,15 +181,22 @@ CrowdRenderer::CrowdRenderer(const std::vector<pack::AnimationPack> &packs,
         colours.insert(colours.end(), {col.r, col.g, col.b, 1.0f});
       }
 
-    c->far.assign(c->instanceCount, 0);
+    // Index data of every LOD level, built once (see lod_select.h).
+    std::vector<uint32_t> indices, starts;
+    for (uint32_t v : selection_.ladders.back().vertices) {
+      auto level = lodIndices(p, v, starts);
+      for (uint32_t st : starts)
+        c->levelStarts.push_back(uint32_t(indices.size()) + st);
+      indices.insert(indices.end(), level.begin(), level.end());
+    }
     glCreateVertexArrays(1, &c->vao);
-    glCreateBuffers(10, c->buffers);
+    glCreateBuffers(11, c->buffers);
     auto upload = [](unsigned b, const auto &v) {
       glNamedBufferStorage(b, GLsizeiptr(v.size() * sizeof(v[0])), v.data(), 0);
     };
     upload(c->buffers[0], p.mesh.positions);
     upload(c->buffers[1], p.mesh.normals);
-    upload(c->buffers[2], p.mesh.indices);
+    upload(c->buffers[2], indices);
     upload(c->buffers[3], clips);
     if (c->instanceData.empty())
       c->instanceData.assign(16, 0.0f);
@@ -203,6 +206,15 @@ CrowdRenderer::CrowdRenderer(const std::vector<pack::AnimationPack> &packs,
     for (unsigned b : {c->buffers[7], c->buffers[8]})
       glNamedBufferStorage(b, GLsizeiptr(std::max(c->instanceCount, 1u) * 4), nullptr,
                            GL_DYNAMIC_STORAGE_BIT);
+    glNamedBufferStorage(c->buffers[10],
+                         GLsizeiptr(c->levelStarts.size() * 5 * sizeof(uint32_t)), nullptr,
+                         GL_DYNAMIC_STORAGE_BIT);
+    // Attribute 3: the instance's id, one per instance; a command's baseInstance picks its run.
+    glVertexArrayVertexBuffer(c->vao, 3, c->buffers[7], 0, 4);
+    glVertexArrayBindingDivisor(c->vao, 3, 1);
+    glEnableVertexArrayAttrib(c->vao, 3);
+    glVertexArrayAttribIFormat(c->vao, 3, 1, GL_UNSIGNED_INT, 0);
+    glVertexArrayAttribBinding(c->vao, 3, 3);
     glVertexArrayVertexBuffer(c->vao, 0, c->buffers[0], 0, 12);
     glVertexArrayVertexBuffer(c->vao, 1, c->buffers[1], 0, 12);
     for (unsigned a = 0; a < 2; ++a) {
@@ -258,9 +270,15 @@ CrowdRenderer::~CrowdRenderer() {
   glDeleteProgram(impostorProgram_);
 }
 
-DrawStats CrowdRenderer::draw(const FrameView &view, float seconds, DrawPath path) {
+DrawStats CrowdRenderer::draw(const FrameView &view, float seconds, const DrawOptions &options) {
   DrawStats stats;
-  const bool naive = path == DrawPath::Naive;
+  const bool naive = options.path == DrawPath::Naive;
+
+  const auto chosen = selection_.select(view, options);
+  stats.visible = chosen.visible;
+  stats.impostors = chosen.impostors;
+  stats.cullSelectMs = chosen.milliseconds;
+
   glUseProgram(program_);
   auto loc = [&](const char *name) { return glGetUniformLocation(program_, name); };
   glUniformMatrix4fv(loc("u_viewProjection"), 1, GL_FALSE, glm::value_ptr(view.viewProjection));
@@ -268,38 +286,39 @@ DrawStats CrowdRenderer::draw(const FrameView &view, float seconds, DrawPath pat
   glUniform3fv(loc("u_lightDirection"), 1, glm::value_ptr(light_));
   glUniform1i(loc("u_naive"), naive);
   const int subMeshLoc = loc("u_subMesh"), rowsLoc = loc("u_rows"), paramsLoc = loc("u_params");
-  for (const auto &c : characters_) {
+  for (size_t ci = 0; ci < characters_.size(); ++ci) {
+    Character *c = characters_[ci].get();
+    const auto &chosen = selection_.characters[ci];
+    stats.instances += c->instanceCount;
     if (c->instanceCount == 0)
       continue;
     const auto &p = *c->pack;
-    // Split the instances: past the one-texel-per-pixel distance an eligible instance becomes
-    // an impostor, and back to geometry only 10% nearer, so none flickers at the boundary.
-    c->geometryIds.clear();
-    c->impostorIds.clear();
-    const bool hybrid = path == DrawPath::Hybrid && c->impostor;
-    const double switchAt =
-        hybrid ? oneToOneDistance(*c->impostor, view.fovY, view.viewportHeight) : 0.0;
-    for (uint32_t i = 0; i < c->instanceCount; ++i) {
-      if (hybrid && c->eligible[i]) {
-        double distance = glm::length(view.eye - c->centres[i]);
-        c->far[i] = c->far[i] ? distance > 0.9 * switchAt : distance > 1.1 * switchAt;
-      } else {
-        c->far[i] = 0;
+    const size_t subMeshes = p.mesh.subMeshes.size(), levels = chosen.runEnds.size();
+    c->commands.clear();
+    std::vector<GLsizei> perSubMesh(subMeshes, 0); // commands of each sub-mesh, in order
+    for (size_t s = 0; s < subMeshes; ++s)
+      for (size_t l = 0; l < levels; ++l) {
+        const uint32_t first = l ? chosen.runEnds[l - 1] : 0, count = chosen.runEnds[l] - first;
+        const uint32_t *starts = &c->levelStarts[l * (subMeshes + 1)];
+        const uint32_t indices = starts[s + 1] - starts[s];
+        if (count && indices) {
+          c->commands.insert(c->commands.end(), {indices, count, starts[s], 0u, first});
+          ++perSubMesh[s];
+          stats.triangles += uint64_t(indices / 3) * count;
+        }
       }
-      (c->far[i] ? c->impostorIds : c->geometryIds).push_back(i);
-    }
-    glNamedBufferSubData(c->buffers[7], 0, GLsizeiptr(c->geometryIds.size() * 4),
-                         c->geometryIds.data());
-    glNamedBufferSubData(c->buffers[8], 0, GLsizeiptr(c->impostorIds.size() * 4),
-                         c->impostorIds.data());
-    const auto drawnCount = GLsizei(c->geometryIds.size());
+    glNamedBufferSubData(c->buffers[7], 0, GLsizeiptr(chosen.ids.size() * 4), chosen.ids.data());
+    glNamedBufferSubData(c->buffers[8], 0, GLsizeiptr(chosen.impostorIds.size() * 4),
+                         chosen.impostorIds.data());
+    glNamedBufferSubData(c->buffers[10], 0, GLsizeiptr(c->commands.size() * 4),
+                         c->commands.data());
 
     glUseProgram(program_);
     glUniform1i(loc("u_encoding"), int(p.animation.encoding));
     glUniform1i(loc("u_jointCount"), int(p.animation.jointCount));
     glUniform1i(loc("u_framesPerRow"), int(p.animation.framesPerRow));
     glUniform1i(loc("u_skinWidth"), int(p.skin.width));
-    glUniform1i(loc("u_subMeshCount"), int(p.mesh.subMeshes.size()));
+    glUniform1i(loc("u_subMeshCount"), int(subMeshes));
     glBindVertexArray(c->vao);
     glBindTextureUnit(0, c->textures[0]);
     glBindTextureUnit(1, c->textures[1]);
@@ -308,28 +327,31 @@ DrawStats CrowdRenderer::draw(const FrameView &view, float seconds, DrawPath pat
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, c->buffers[3]);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, c->buffers[4]);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, c->buffers[5]);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, c->buffers[7]);
-    for (size_t s = 0; s < p.mesh.subMeshes.size() && drawnCount > 0; ++s) {
-      const auto &sub = p.mesh.subMeshes[s];
+    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, c->buffers[10]);
+    size_t command = 0;
+    for (size_t s = 0; s < subMeshes; ++s) {
       glUniform1i(subMeshLoc, int(s));
-      const void *offset = reinterpret_cast<const void *>(uintptr_t(sub.firstIndex) * 4);
-      if (naive) {
+      if (naive) { // full detail: the last level
+        const uint32_t *starts = &c->levelStarts[(levels - 1) * (subMeshes + 1)];
+        const void *offset = reinterpret_cast<const void *>(uintptr_t(starts[s]) * 4);
+        const auto count = GLsizei(starts[s + 1] - starts[s]);
         for (uint32_t i = 0; i < c->instanceCount; ++i) {
           glUniform4fv(rowsLoc, 3, &c->instanceData[size_t(i) * 16]);
           glUniform4fv(paramsLoc, 1, &c->instanceData[size_t(i) * 16 + 12]);
-          glDrawElements(GL_TRIANGLES, GLsizei(sub.indexCount), GL_UNSIGNED_INT, offset);
+          glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT, offset);
           ++stats.drawCalls;
+          stats.triangles += uint64_t(count / 3);
         }
-      } else {
-        glDrawElementsInstanced(GL_TRIANGLES, GLsizei(sub.indexCount), GL_UNSIGNED_INT, offset,
-                                drawnCount);
+        continue;
+      }
+      if (perSubMesh[s]) {
+        glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT,
+                                    reinterpret_cast<const void *>(command * 20), perSubMesh[s], 0);
         ++stats.drawCalls;
       }
-      stats.triangles += uint64_t(sub.indexCount / 3) * uint64_t(drawnCount);
+      command += size_t(perSubMesh[s]);
     }
-    stats.instances += c->instanceCount;
-
-    if (!c->impostorIds.empty()) {
+    if (!chosen.impostorIds.empty()) {
       const pack::Impostor &m = *c->impostor;
       glUseProgram(impostorProgram_);
       auto iloc = [&](const char *name) { return glGetUniformLocation(impostorProgram_, name); };
@@ -343,7 +365,8 @@ DrawStats CrowdRenderer::draw(const FrameView &view, float seconds, DrawPath pat
       glUniform1i(iloc("u_mirrored"), m.mirrored);
       glUniform1f(iloc("u_frameStep"), m.frameStep > 0 ? m.frameStep : 1.0f);
       glUniform1f(iloc("u_texelSize"), 2.0f * m.sphere[3] / float(m.texels));
-      glUniform1f(iloc("u_oneToOne"), float(switchAt));
+      glUniform1f(iloc("u_oneToOne"),
+                  float(oneToOneDistance(m, view.fovY, view.viewportHeight)));
       glUniform1i(iloc("u_maxLevel"), int(c->mipLevels) - 1);
       glUniform1i(iloc("u_hasTexture"), p.diffuse ? 1 : 0);
       glUniform1i(iloc("u_hasUvs"), !m.uvAtlases.empty());
@@ -353,10 +376,9 @@ DrawStats CrowdRenderer::draw(const FrameView &view, float seconds, DrawPath pat
       glBindTextureUnit(1, c->textures[4]);
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, c->buffers[8]);
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, c->buffers[9]);
-      glDrawArraysInstanced(GL_TRIANGLES, 0, 6, GLsizei(c->impostorIds.size()));
+      glDrawArraysInstanced(GL_TRIANGLES, 0, 6, GLsizei(chosen.impostorIds.size()));
       ++stats.drawCalls;
-      stats.impostors += uint32_t(c->impostorIds.size());
-      stats.triangles += 2 * uint64_t(c->impostorIds.size());
+      stats.triangles += 2 * uint64_t(chosen.impostorIds.size());
     }
   }
   return stats;

@@ -310,6 +310,8 @@ Scene parseScene(const std::string &text, const std::string &path, size_t instan
       c.fail({"light", "direction"}, "must not be zero");
     s.lightDirection = glm::vec3(glm::normalize(d));
   }
+  if (j.contains("budget"))
+    s.budget = uint64_t(c.number(j["budget"], {"budget"}, 0, 1e12));
   return s;
 }
 

@@ -37,6 +37,19 @@ TEST(Scene, DefaultsAndPathsRelativeToTheScene) {
             std::string::npos);
 }
 
+TEST(Scene, TriangleBudget) {
+  EXPECT_EQ(parseScene(kMinimal, "s.json").budget, 0u); // none: full detail
+  EXPECT_EQ(parseScene(R"({"packs": [{"path": "a"}], "instances": {}, "budget": 2000000})", "s.json")
+                .budget,
+            2000000u);
+  EXPECT_NE(errorOf(R"({"packs": [{"path": "a"}], "instances": {},
+                        "budget": -5})")
+                .find("s.json:2:"),
+            std::string::npos);
+  EXPECT_NE(errorOf(R"({"packs": [{"path": "a"}], "instances": {}, "budget": "lots"})").find("budget"),
+            std::string::npos);
+}
+
 TEST(Scene, GridRandomAndListPlacements) {
   auto grid = parseScene(R"({"packs": [{"path": "a"}], "instances": {"count": 9,
       "placement": {"type": "grid", "spacing": 2}}})",

@@ -26,12 +26,15 @@ namespace {
 
 const char *kHelp = R"(usage: crowdplay SCENE.json [options]
 
-Draws the scene's crowd from baked packs with skinned instancing (one instanced draw per
-sub-mesh per character type). Where a scene pack names an impostor pack, instances playing the
-impostor's clip draw as impostors once one impostor texel is no bigger than a pixel (all of a
-type in one more instanced draw). Without --headless a window opens: drag with the left mouse button
-to orbit, scroll to zoom, W/A/S/D to move, Esc to quit; the title shows frame time, instances,
-triangles and draw calls.
+Draws the scene's crowd from baked packs with skinned instancing (one instanced multi-draw per
+sub-mesh per character type). Instances outside the view are culled by a sphere that holds the
+character at every frame. Under a triangle budget (--budget, or "budget" in the scene), each
+visible instance of a pack with LOD (crowdbake lod) gets a level of detail: the budget is
+shared by weights from projected area and distance. Where a scene pack names an impostor pack,
+instances playing the impostor's clip draw as impostors once one impostor texel is no bigger
+than a pixel (all of a type in one more instanced draw). Without --headless a window opens: drag
+with the left mouse button to orbit, scroll to zoom, W/A/S/D to move, Esc to quit; the title
+shows frame time, visible instances, triangles against the budget and draw calls.
 
 options:
   --headless           render offscreen (run under xvfb-run -a where there is no display)
@@ -39,11 +42,13 @@ options:
   --size WxH           image size (default 1280x720)
   --instances K        override the scene's instance count (its placement rule stays)
   --screenshot FILE    write the last frame as PNG
-  --stats FILE         write per-frame frame_ms, gpu_ms, draw_calls, instances, impostors,
-                       triangles (an impostor counts two) and
-                       their means under "summary"
+  --stats FILE         write per-frame frame_ms, gpu_ms, cull_select_ms, draw_calls,
+                       instances, visible, impostors, triangles (an impostor counts two) and
+                       their means under "summary" (with the budget)
+  --budget N           triangles a frame (0: none, full detail; default: the scene's)
+  --no-cull            draw instances outside the view too (the reference for culling)
   --naive              one draw per instance per sub-mesh, instance data in uniforms (no
-                       impostors)
+                       culling, LOD or impostors)
   --geometry           instanced geometry only: no impostors (the baseline of the hybrid)
   --time SECONDS       scene time of the first frame (default 0)
   --step SECONDS       headless time step between frames (default 1/30)
@@ -59,7 +64,8 @@ struct UsageError : std::runtime_error {
 struct Options {
   std::string scene, screenshot, stats;
   bool headless = false;
-  crowd::runtime::DrawPath path = crowd::runtime::DrawPath::Hybrid;
+  crowd::runtime::DrawOptions draw;
+  long budget = -1; // -1: the scene's
   int frames = 60, width = 1280, height = 720;
   size_t instances = 0;
   double startTime = 0, step = 1.0 / 30.0;
@@ -88,9 +94,13 @@ Options parse(int argc, char **argv) {
     if (a == "--headless")
       o.headless = true;
     else if (a == "--naive")
-      o.path = crowd::runtime::DrawPath::Naive;
+      o.draw.path = crowd::runtime::DrawPath::Naive;
     else if (a == "--geometry")
-      o.path = crowd::runtime::DrawPath::Instanced;
+      o.draw.path = crowd::runtime::DrawPath::Instanced;
+    else if (a == "--no-cull")
+      o.draw.cull = false;
+    else if (a == "--budget")
+      o.budget = integer(value(i), "--budget", 0, 1000000000000L);
     else if (a == "--frames")
       o.frames = int(integer(value(i), "--frames", 1, 1000000));
     else if (a == "--instances")
@@ -148,6 +158,14 @@ const char *pathName(crowd::runtime::DrawPath p) {
   return p == crowd::runtime::DrawPath::Naive       ? "naive"
          : p == crowd::runtime::DrawPath::Instanced ? "instanced"
                                                     : "hybrid";
+}
+
+std::string budgetText(uint64_t budget) {
+  if (!budget)
+    return "no budget";
+  char text[64];
+  std::snprintf(text, sizeof text, "budget %.2f M", double(budget) / 1e6);
+  return text;
 }
 
 void writePng(const std::string &path, int w, int h, const std::vector<uint8_t> &rgba) {
@@ -212,51 +230,49 @@ int headless(const Options &o, crowd::runtime::CrowdRenderer &renderer,
   glViewport(0, 0, o.width, o.height);
   glEnable(GL_DEPTH_TEST);
   nlohmann::ordered_json frames = nlohmann::ordered_json::array();
-  double sums[6] = {};
+  const char *keys[8] = {"frame_ms",  "gpu_ms",  "cull_select_ms", "draw_calls",
+                         "instances", "visible", "impostors",      "triangles"};
+  double sums[8] = {};
   for (int f = 0; f < o.frames; ++f) {
     double t = o.startTime + f * o.step;
     auto t0 = std::chrono::steady_clock::now();
     glClearColor(0.55f, 0.62f, 0.70f, 1);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     glBeginQuery(GL_TIME_ELAPSED, query);
-    auto stats = renderer.draw(frameView(scene.camera, t, o.width, o.height), float(t), o.path);
+    auto stats = renderer.draw(frameView(scene.camera, t, o.width, o.height), float(t), o.draw);
     glEndQuery(GL_TIME_ELAPSED);
     glFinish();
     double frameMs =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     GLuint64 ns = 0;
     glGetQueryObjectui64v(query, GL_QUERY_RESULT, &ns);
-    double gpuMs = double(ns) / 1e6;
-    frames.push_back({{"frame", f},
-                      {"time_s", t},
-                      {"frame_ms", frameMs},
-                      {"gpu_ms", gpuMs},
-                      {"draw_calls", stats.drawCalls},
-                      {"instances", stats.instances},
-                      {"impostors", stats.impostors},
-                      {"triangles", stats.triangles}});
-    double v[6] = {frameMs,
-                   gpuMs,
+    double v[8] = {frameMs,
+                   double(ns) / 1e6,
+                   stats.cullSelectMs,
                    double(stats.drawCalls),
                    double(stats.instances),
+                   double(stats.visible),
                    double(stats.impostors),
                    double(stats.triangles)};
-    for (int k = 0; k < 6; ++k)
+    nlohmann::ordered_json row = {{"frame", f}, {"time_s", t}};
+    for (int k = 0; k < 8; ++k) {
+      row[keys[k]] = k < 3 ? nlohmann::ordered_json(v[k]) : nlohmann::ordered_json(uint64_t(v[k]));
       sums[k] += v[k];
+    }
+    frames.push_back(row);
   }
   if (!o.screenshot.empty()) {
     std::vector<uint8_t> rgba(size_t(o.width) * size_t(o.height) * 4);
     glReadPixels(0, 0, o.width, o.height, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
     writePng(o.screenshot, o.width, o.height, rgba);
   }
-  const char *keys[6] = {"frame_ms",  "gpu_ms",    "draw_calls",
-                         "instances", "impostors", "triangles"};
   nlohmann::ordered_json summary;
   summary["frames"] = o.frames;
-  for (int k = 0; k < 6; ++k)
+  for (int k = 0; k < 8; ++k)
     summary[keys[k]] = sums[k] / o.frames;
+  summary["budget"] = o.draw.budget;
   summary["renderer"] = reinterpret_cast<const char *>(glGetString(GL_RENDERER));
-  summary["path"] = pathName(o.path);
+  summary["path"] = pathName(o.draw.path);
   summary["size"] = std::to_string(o.width) + "x" + std::to_string(o.height);
   if (!o.stats.empty()) {
     std::ofstream f(o.stats);
@@ -264,10 +280,11 @@ int headless(const Options &o, crowd::runtime::CrowdRenderer &renderer,
     if (!f)
       throw crowd::Error(o.stats + ": cannot write stats");
   }
-  std::printf("%d frames, %s: %.2f ms/frame (gpu %.2f ms), %.0f draw calls, %.0f instances "
-              "(%.0f impostors), %.0f triangles\n",
-              o.frames, pathName(o.path), sums[0] / o.frames, sums[1] / o.frames,
-              sums[2] / o.frames, sums[3] / o.frames, sums[4] / o.frames, sums[5] / o.frames);
+  std::printf("%d frames, %s: %.2f ms/frame (gpu %.2f ms, cull + select %.3f ms), %.0f draw "
+              "calls, %.0f instances, %.0f visible (%.0f impostors), %.0f triangles (%s)\n",
+              o.frames, pathName(o.draw.path), sums[0] / o.frames, sums[1] / o.frames,
+              sums[2] / o.frames, sums[3] / o.frames, sums[4] / o.frames, sums[5] / o.frames,
+              sums[6] / o.frames, sums[7] / o.frames, budgetText(o.draw.budget).c_str());
   return 0;
 }
 
@@ -334,7 +351,7 @@ int interactive(GLFWwindow *win, const Options &o, crowd::runtime::CrowdRenderer
     glViewport(0, 0, w, h);
     glClearColor(0.55f, 0.62f, 0.70f, 1);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    auto stats = renderer.draw(frameView(scene.camera, t, w, h), float(t), o.path);
+    auto stats = renderer.draw(frameView(scene.camera, t, w, h), float(t), o.draw);
     glfwSwapBuffers(win);
     glfwPollEvents();
     auto t1 = std::chrono::steady_clock::now();
@@ -342,10 +359,11 @@ int interactive(GLFWwindow *win, const Options &o, crowd::runtime::CrowdRenderer
     if (t1 - lastTitle > std::chrono::milliseconds(500)) {
       char title[256];
       std::snprintf(title, sizeof title,
-                    "crowdplay  %.1f ms  %u instances (%u impostors)  %.2f M triangles  %u draw "
-                    "calls",
-                    frameMs, stats.instances, stats.impostors, double(stats.triangles) / 1e6,
-                    stats.drawCalls);
+                    "crowdplay  %.1f ms  %u of %u visible (%u impostors)  %.2f M triangles (%s)  "
+                    "%u draw calls  cull + select %.2f ms",
+                    frameMs, stats.visible, stats.instances, stats.impostors,
+                    double(stats.triangles) / 1e6, budgetText(o.draw.budget).c_str(),
+                    stats.drawCalls, stats.cullSelectMs);
       glfwSetWindowTitle(win, title);
       lastTitle = t1;
     }
@@ -364,6 +382,7 @@ int main(int argc, char **argv) {
   try {
     Options o = parse(argc, argv);
     crowd::runtime::Scene scene = crowd::runtime::loadScene(o.scene, o.instances);
+    o.draw.budget = o.budget >= 0 ? uint64_t(o.budget) : scene.budget;
     std::vector<crowd::pack::AnimationPack> packs;
     for (const auto &path : scene.packPaths) {
       if (!std::filesystem::exists(path))

@@ -1,8 +1,10 @@
-// GPU side of crowdplay (OpenGL 4.5 core): uploads packs (mesh, animation and skin-weight
-// textures, clip table) and a scene's instances, and draws them with skinned instancing — one
-// instanced draw per sub-mesh per character type — or, for comparison, naively (one draw per
-// instance per sub-mesh, instance data in uniforms). Characters with an impostor pack draw
-// hybrid: instances of the impostor's clip past the one-texel-per-pixel distance (with
+// GPU side of crowdplay (OpenGL 4.5 core): uploads packs (mesh, LOD levels, animation and
+// skin-weight textures, clip table) and a scene's instances, and draws them with skinned
+// instancing — one multi-draw per sub-mesh per character type, a command per LOD level in use —
+// or, for comparison, naively (one draw per instance per sub-mesh, instance data in uniforms,
+// no culling, full detail). Instances outside the view frustum are skipped; under a triangle
+// budget each visible one gets a level of detail (lod_select.h). Characters with an impostor
+// pack draw hybrid: instances of the impostor's clip past the one-texel-per-pixel distance (with
 // hysteresis) as impostors, all of one type in one instanced draw. Needs a current GL 4.5 context.
 #pragma once
 #include <cstdint>
@@ -14,26 +16,19 @@
 
 #include "crowd/formats/chunks.h"
 #include "crowd/formats/impostor.h"
+#include "crowd/runtime/lod_select.h"
 #include "crowd/runtime/scene.h"
 
 namespace crowd::runtime {
 
 struct DrawStats {
-  uint32_t drawCalls = 0;
-  uint32_t instances = 0;
-  uint32_t impostors = 0; // of the instances, those drawn as impostors
-  uint64_t triangles = 0; // two per impostor
+  uint32_t drawCalls = 0;   // a multi-draw counts one
+  uint32_t instances = 0;   // in the scene
+  uint32_t visible = 0;     // of the instances, those inside the frustum (drawn)
+  uint32_t impostors = 0;   // of the visible, those drawn as impostors
+  uint64_t triangles = 0;   // two per impostor
+  double cullSelectMs = 0;  // CPU time of culling, the impostor split and LOD selection
 };
-
-// What the renderer needs of the camera for one frame.
-struct FrameView {
-  glm::mat4 viewProjection{1};
-  glm::vec3 eye{0};
-  double fovY = 0.87; // radians
-  int viewportHeight = 720;
-};
-
-enum class DrawPath { Instanced, Naive, Hybrid };
 
 class CrowdRenderer {
 public:
@@ -46,13 +41,14 @@ public:
   CrowdRenderer(const CrowdRenderer &) = delete;
   CrowdRenderer &operator=(const CrowdRenderer &) = delete;
 
-  // Draws every instance at scene time `seconds` (all instances advance with one uniform).
+  // Draws the crowd at scene time `seconds` (all instances advance with one uniform).
   // Hybrid falls back to instanced geometry for characters without an impostor.
-  DrawStats draw(const FrameView &view, float seconds, DrawPath path);
+  DrawStats draw(const FrameView &view, float seconds, const DrawOptions &options);
 
 private:
   struct Character;
   std::vector<std::unique_ptr<Character>> characters_;
+  CrowdSelection selection_; // its characters are characters_, in order
   unsigned program_ = 0, impostorProgram_ = 0;
   glm::vec3 light_;
 };

@@ -1,6 +1,6 @@
 // Scene files for crowdplay (JSON): the packs to load, instance count and placement, per-instance
 // clip, time offset and speed, colour palettes per sub-mesh region, camera (with an optional
-// keyframed path) and light. Errors name the file, line and column.
+// keyframed path), light and triangle budget. Errors name the file, line and column.
 #pragma once
 #include <array>
 #include <cstdint>
@@ -49,6 +49,8 @@ struct Scene {
   std::vector<std::vector<std::pair<std::string, glm::vec3>>> palettes;
   Camera camera;
   glm::vec3 lightDirection = glm::normalize(glm::vec3(0.4f, 1.0f, 0.6f));
+  // Triangles the player may draw a frame (LOD chooses each instance's detail to fit); 0: none.
+  uint64_t budget = 0;
 };
 
 // Parses and validates SCENE.json. `instanceOverride` > 0 replaces the scene's count (the
