@@ -7,8 +7,6 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
-#include "crowd/bake/anim_bake.h"
-#include "crowd/bake/lod_bake.h"
 #include "crowd/runtime/lod_select.h"
 #include "sample_character.h"
 
@@ -17,19 +15,7 @@ using namespace crowd::runtime;
 
 namespace {
 
-// The sample humanoid baked with LOD, through the pack reader as the player gets it.
-const pack::AnimationPack &lodPack() {
-  static pack::AnimationPack p = [] {
-    Character c = test::sampleHumanoid();
-    Reporter rep;
-    rep.quiet = true;
-    pack::Lod lod = applyLod(c, {}, rep);
-    AnimBakeResult res = bakeAnimation(c, {}, rep);
-    res.pack.lod = lod;
-    return pack::loadAnimationPack(pack::Reader(pack::packBytes(res.pack), "mem"));
-  }();
-  return p;
-}
+const pack::AnimationPack &lodPack() { return test::sampleHumanoidLodPack(); }
 
 glm::mat4 viewProjection(glm::vec3 eye, glm::vec3 target) {
   return glm::perspective(glm::radians(50.0f), 16.0f / 9.0f, 0.1f, 100.0f) *

@@ -171,14 +171,7 @@ namespace {
 // What a renderer does with a pack: every sub-mesh cut at every vertex count from its own
 // counts and the shared collapse map.
 TEST(Lod, PackedArraysCutEverySubMeshCleanly) {
-  Character c = test::sampleHumanoid();
-  Reporter rep;
-  rep.quiet = true;
-  pack::Lod lod = applyLod(c, {}, rep);
-  AnimBakeResult res = bakeAnimation(c, {}, rep);
-  res.pack.lod = lod;
-  pack::Reader reader(pack::packBytes(res.pack), "mem");
-  pack::AnimationPack p = pack::loadAnimationPack(reader);
+  const pack::AnimationPack &p = test::sampleHumanoidLodPack();
   ASSERT_TRUE(p.lod.has_value());
   const auto &l = *p.lod;
   const uint32_t n = uint32_t(p.mesh.vertexCount());
