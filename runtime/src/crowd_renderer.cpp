@@ -62,6 +62,7 @@ struct CrowdRenderer::Character {
   // Per LOD level, per sub-mesh and one past the last: where its triangles start in buffers[2].
   std::vector<uint32_t> levelStarts;
   std::vector<uint32_t> commands; // glMultiDrawElementsIndirect's, 5 words each, by sub-mesh
+  std::vector<GLsizei> perSubMesh; // how many of them each sub-mesh has
 
   ~Character() {
     glDeleteVertexArrays(1, &vao);
@@ -295,7 +296,7 @@ DrawStats CrowdRenderer::draw(const FrameView &view, float seconds, const DrawOp
     const auto &p = *c->pack;
     const size_t subMeshes = p.mesh.subMeshes.size(), levels = chosen.runEnds.size();
     c->commands.clear();
-    std::vector<GLsizei> perSubMesh(subMeshes, 0); // commands of each sub-mesh, in order
+    c->perSubMesh.assign(subMeshes, 0);
     for (size_t s = 0; s < subMeshes; ++s)
       for (size_t l = 0; l < levels; ++l) {
         const uint32_t first = l ? chosen.runEnds[l - 1] : 0, count = chosen.runEnds[l] - first;
@@ -303,7 +304,7 @@ DrawStats CrowdRenderer::draw(const FrameView &view, float seconds, const DrawOp
         const uint32_t indices = starts[s + 1] - starts[s];
         if (count && indices) {
           c->commands.insert(c->commands.end(), {indices, count, starts[s], 0u, first});
-          ++perSubMesh[s];
+          ++c->perSubMesh[s];
           stats.triangles += uint64_t(indices / 3) * count;
         }
       }
@@ -344,12 +345,13 @@ DrawStats CrowdRenderer::draw(const FrameView &view, float seconds, const DrawOp
         }
         continue;
       }
-      if (perSubMesh[s]) {
+      if (c->perSubMesh[s]) {
         glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT,
-                                    reinterpret_cast<const void *>(command * 20), perSubMesh[s], 0);
+                                    reinterpret_cast<const void *>(command * 20),
+                                    c->perSubMesh[s], 0);
         ++stats.drawCalls;
       }
-      command += size_t(perSubMesh[s]);
+      command += size_t(c->perSubMesh[s]);
     }
     if (!chosen.impostorIds.empty()) {
       const pack::Impostor &m = *c->impostor;
