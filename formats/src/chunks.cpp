@@ -408,6 +408,10 @@ AnimationPack loadAnimationPack(const Reader &reader) {
         throw Error(ctx(kLod) + ", field 'triangle counts': sub-mesh '" +
                     p.mesh.subMeshes[s].name + "' does not end at its triangle count");
   }
+  if (const ChunkEntry *outfits = reader.find(kOutfits)) {
+    p.outfits = decodeOutfits(reader.payload(*outfits), ctx(kOutfits));
+    checkOutfits(*p.outfits, p.mesh, ctx(kOutfits));
+  }
   if (p.animation.jointCount != p.skeleton.jointCount())
     throw Error(ctx(kAnimationTexture) +
                 ", field 'joint count': " + std::to_string(p.animation.jointCount) +
@@ -442,6 +446,8 @@ std::vector<uint8_t> packBytes(const AnimationPack &p) {
     w.add(kDiffuseTexture, kChunkVersion, encode(*p.diffuse));
   if (p.lod)
     w.add(kLod, kChunkVersion, encode(*p.lod));
+  if (p.outfits)
+    w.add(kOutfits, kChunkVersion, encode(*p.outfits));
   return w.bytes();
 }
 

@@ -8,15 +8,32 @@
 
 namespace crowd::test {
 
-const Character &sampleHumanoid() {
-  static const Character c = [] {
-    std::string dir = tempDir("samples");
-    samples::writeSamples(dir);
-    Reporter r;
-    r.quiet = true;
-    return importGltf(dir + "/humanoid.glb", {}, r);
+namespace {
+const std::string &samplesDir() {
+  static const std::string dir = [] {
+    std::string d = tempDir("samples");
+    samples::writeSamples(d);
+    return d;
   }();
+  return dir;
+}
+
+Character importSample(const std::string &file) {
+  Reporter r;
+  r.quiet = true;
+  return importGltf(samplesDir() + "/" + file, {}, r);
+}
+} // namespace
+
+const Character &sampleHumanoid() {
+  static const Character c = importSample("humanoid.glb");
   return c;
+}
+
+std::vector<OutfitInput> sampleOutfits() {
+  return {{"dress", importSample("outfit_dress.glb")},
+          {"jumper_skirt", importSample("outfit_jumper_skirt.glb")},
+          {"shirt_trousers", importSample("outfit_shirt_trousers.glb")}};
 }
 
 const pack::AnimationPack &sampleHumanoidLodPack() {

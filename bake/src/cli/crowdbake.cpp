@@ -24,14 +24,13 @@
 #include "crowd/formats/error.h"
 #include "crowd/formats/impostor.h"
 #include "crowd/samples/samples.h"
+#include "args.h"
+#include "commands.h"
 
 using nlohmann::ordered_json;
+using namespace crowd::cli;
 
 namespace {
-
-struct UsageError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
 
 const char *kTopHelp = R"(crowdbake: bake glTF characters into crowdpack files for real-time crowds
 
@@ -41,6 +40,8 @@ commands:
   samples   write the bundled sample characters (humanoid and three outfits) as .glb
   anim      bake animation textures, skin weights and mesh from a glTF character
   lod       anim, plus continuous LOD: the mesh ordered for edge-collapse cuts at any vertex count
+  outfits   body template + pre-fitted outfits: per outfit, which body sub-meshes are visible,
+            hidden or partial over every frame, and outfit-specific copies of partial ones
   impostor  bake per-frame atlases of views (normals, region ids) for far-away characters
   inspect   list a pack's chunks, joints, clips, textures and sizes
   verify    check every offset, size, checksum and cross-reference of a pack
@@ -158,74 +159,6 @@ example:
 )"},
 };
 
-struct Args {
-  std::vector<std::string> positional;
-  std::map<std::string, std::string> options;
-  std::set<std::string> flags;
-  bool has(const std::string &k) const { return options.count(k) || flags.count(k); }
-  std::string get(const std::string &k, const std::string &def = "") const {
-    auto it = options.find(k);
-    return it == options.end() ? def : it->second;
-  }
-};
-
-Args parse(int argc, char **argv, const std::set<std::string> &valued,
-           const std::set<std::string> &flags) {
-  Args a;
-  for (int i = 2; i < argc; ++i) {
-    std::string s = argv[i];
-    if (s == "-o")
-      s = "--output";
-    if (s.rfind("--", 0) == 0) {
-      std::string key = s.substr(2), value;
-      bool inlineValue = false;
-      if (auto eq = key.find('='); eq != std::string::npos) {
-        value = key.substr(eq + 1);
-        key = key.substr(0, eq);
-        inlineValue = true;
-      }
-      if (valued.count(key)) {
-        if (!inlineValue) {
-          if (i + 1 >= argc)
-            throw UsageError("option --" + key + " needs a value");
-          value = argv[++i];
-        }
-        a.options[key] = value;
-      } else if (flags.count(key) && !inlineValue) {
-        a.flags.insert(key);
-      } else {
-        throw UsageError("unknown option " + s);
-      }
-    } else {
-      a.positional.push_back(s);
-    }
-  }
-  return a;
-}
-
-double number(const Args &a, const std::string &key, double def) {
-  if (!a.options.count(key))
-    return def;
-  const std::string &s = a.options.at(key);
-  try {
-    size_t used = 0;
-    double v = std::stod(s, &used);
-    if (used != s.size())
-      throw std::invalid_argument(s);
-    return v;
-  } catch (const std::exception &) {
-    throw UsageError("--" + key + " expects a number, got '" + s + "'");
-  }
-}
-
-void oneInput(const Args &a, const char *command) {
-  if (a.positional.size() != 1)
-    throw UsageError(std::string(command) + " takes exactly one input (see crowdbake " + command +
-                     " --help)");
-}
-
-bool progressWanted(const Args &a) { return !a.has("quiet") && isatty(2); }
-
 int cmdSamples(const Args &a) {
   if (!a.positional.empty() || !a.options.count("out"))
     throw UsageError("samples needs --out DIR");
@@ -257,17 +190,6 @@ ordered_json accuracyJson(const crowd::PrecisionAccuracy &pa, double diagonal) {
     j["clips"].push_back(cj);
   }
   return j;
-}
-
-void writeJson(const std::string &path, const ordered_json &j) {
-  std::string tmp = path + ".tmp";
-  {
-    std::ofstream f(tmp);
-    f << j.dump(2) << "\n";
-    if (!f)
-      throw crowd::Error(path + ": cannot write report");
-  }
-  std::filesystem::rename(tmp, path);
 }
 
 int cmdAnim(const Args &a, const std::string &command) {
@@ -429,16 +351,9 @@ int cmdImpostor(const Args &a) {
   auto t0 = std::chrono::steady_clock::now();
   crowd::ImpostorOptions opt;
   opt.clip = a.get("clip");
-  auto whole = [&](const char *key, double def, double lo, double hi) {
-    double v = number(a, key, def);
-    if (v < lo || v > hi || v != std::floor(v))
-      throw UsageError(std::string("--") + key + " must be an integer in [" +
-                       std::to_string(int64_t(lo)) + ", " + std::to_string(int64_t(hi)) + "]");
-    return uint32_t(v);
-  };
-  opt.frames = whole("frames", 16, 1, 4096);
-  opt.texels = whole("texels", 128, 4, 4096);
-  opt.threads = int(whole("threads", 0, 0, 1024));
+  opt.frames = whole(a, "frames", 16, 1, 4096);
+  opt.texels = whole(a, "texels", 128, 4, 4096);
+  opt.threads = int(whole(a, "threads", 0, 0, 1024));
   opt.mirror = a.has("mirror");
   std::string views = a.get("views", "32x8");
   auto x = views.find('x');
@@ -629,6 +544,15 @@ int cmdInspect(const Args &a) {
                 {"bytes", (p.lod->collapse.size() + p.lod->error.size() +
                            p.lod->triangleCounts.size()) * 4}};
   }
+  if (p.outfits) {
+    j["outfits"]["body_sub_meshes"] = p.outfits->bodySubMeshes;
+    for (const auto &outfit : p.outfits->outfits) {
+      ordered_json oj{{"name", outfit.name}, {"sub_meshes", outfit.subMeshes}};
+      for (size_t s = 0; s < outfit.coverage.size(); ++s)
+        oj["coverage"][m.subMeshes[s].name] = name(outfit.coverage[s]);
+      j["outfits"]["outfits"].push_back(oj);
+    }
+  }
   if (a.has("json")) {
     std::cout << j.dump(2) << "\n";
     return 0;
@@ -672,6 +596,16 @@ int cmdInspect(const Args &a) {
       << m.indices.size() / 3 << " triangles down to " << j["lod"]["floor_vertices"]
       << " vertices, " << j["lod"]["floor_triangles"] << " triangles; " << j["lod"]["bytes"]
       << " bytes\n";
+  if (p.outfits) {
+    o << "outfits: " << p.outfits->outfits.size() << ", over the first "
+      << p.outfits->bodySubMeshes << " sub-meshes (the body)\n";
+    for (const auto &outfit : p.outfits->outfits) {
+      o << "  " << outfit.name << ": draws";
+      for (uint32_t s : outfit.subMeshes)
+        o << " " << m.subMeshes[s].name;
+      o << "\n";
+    }
+  }
   std::cout << o.str();
   return 0;
 }
@@ -782,11 +716,11 @@ int main(int argc, char **argv) {
       std::cout << kTopHelp;
       return 0;
     }
-    if (!kHelp.count(command))
+    if (!kHelp.count(command) && command != "outfits")
       throw UsageError("unknown command '" + command + "' (see crowdbake --help)");
     for (int i = 2; i < argc; ++i)
       if (std::string(argv[i]) == "--help" || std::string(argv[i]) == "-h") {
-        std::cout << kHelp.at(command);
+        std::cout << (command == "outfits" ? kOutfitsHelp : kHelp.at(command));
         return 0;
       }
     if (command == "samples")
@@ -801,6 +735,12 @@ int main(int argc, char **argv) {
       return cmdImpostor(parse(
           argc, argv, {"output", "clip", "mesh", "frames", "views", "texels", "threads", "report"},
           {"quiet", "mirror"}));
+    if (command == "outfits")
+      return cmdOutfits(parse(argc, argv,
+                              {"output", "outfit", "frame-step", "rays", "points", "ring",
+                               "min-saving", "check", "regions", "fps", "precision", "max-width", "threads",
+                               "report"},
+                              {"quiet", "no-ground"}));
     if (command == "inspect")
       return cmdInspect(parse(argc, argv, {}, {"json"}));
     if (command == "verify")

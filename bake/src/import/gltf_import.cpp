@@ -399,6 +399,7 @@ private:
     if (meshNodes_.empty())
       fail("no mesh to bake (no node uses a mesh with the chosen skin)");
 
+    out_.skinned = skin_ >= 0;
     // Joints in parent-before-child order so the pack's skeleton can require parent < index.
     std::vector<int> jointNodes = skinJoints_;
     std::vector<glm::dmat4> ibms = skinIbm_;
@@ -436,6 +437,7 @@ private:
   void readMeshes() {
     std::vector<std::string> partOrder;
     std::vector<std::vector<uint32_t>> partTriangles;
+    std::vector<SkinnedMesh::Part> partLooks; // material look of each part
     auto &mesh = out_.mesh;
     size_t moreThan4 = 0, renormalised = 0, morphTargets = 0, missingNormals = 0;
     for (const auto &mn : meshNodes_) {
@@ -575,14 +577,27 @@ private:
         if (it == partOrder.end()) {
           partOrder.push_back(partName);
           partTriangles.emplace_back();
+          SkinnedMesh::Part look;
+          if (prim.material >= 0 && size_t(prim.material) < model_.materials.size()) {
+            const auto &mat = model_.materials[size_t(prim.material)];
+            const auto &f = mat.pbrMetallicRoughness.baseColorFactor;
+            if (f.size() == 4)
+              look.colour = glm::vec4(float(f[0]), float(f[1]), float(f[2]), float(f[3]));
+            look.seeThrough = mat.alphaMode == "MASK" || mat.alphaMode == "BLEND";
+          }
+          look.textured = baseColorImage(prim.material) >= 0 && !uv.empty();
+          partLooks.push_back(look);
         }
         for (uint32_t i : idx)
           partTriangles[part].push_back(base + i);
       }
     }
     for (size_t p = 0; p < partOrder.size(); ++p) {
-      mesh.parts.push_back(
-          {partOrder[p], uint32_t(mesh.indices.size()), uint32_t(partTriangles[p].size())});
+      SkinnedMesh::Part part = partLooks[p];
+      part.name = partOrder[p];
+      part.firstIndex = uint32_t(mesh.indices.size());
+      part.indexCount = uint32_t(partTriangles[p].size());
+      mesh.parts.push_back(part);
       mesh.indices.insert(mesh.indices.end(), partTriangles[p].begin(), partTriangles[p].end());
     }
     if (mesh.indices.empty())

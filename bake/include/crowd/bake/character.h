@@ -50,8 +50,11 @@ struct SkinnedMesh {
   std::vector<glm::vec4> weights; // sum to 1
   std::vector<uint32_t> indices;
   struct Part {
-    std::string name;
+    std::string name; // the material's
     uint32_t firstIndex = 0, indexCount = 0;
+    glm::vec4 colour{1.0f};  // the material's base colour factor
+    bool textured = false;   // its base colour comes from the character's diffuse texture
+    bool seeThrough = false; // alpha mode MASK or BLEND: surfaces behind it may show
   };
   std::vector<Part> parts;
   size_t vertexCount() const { return positions.size(); }
@@ -71,6 +74,7 @@ struct Character {
   SkinnedMesh mesh;
   std::vector<AnimationClip> clips;
   std::optional<DiffuseTexture> diffuse; // the base-colour texture the mesh uses, if any
+  bool skinned = true; // false: the file has no skin (its meshes ride their nodes rigidly)
 
   size_t jointCount() const { return jointNodes.size(); }
   std::string jointName(size_t j) const { return nodes[size_t(jointNodes[j])].name; }

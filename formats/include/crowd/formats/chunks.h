@@ -20,6 +20,7 @@ inline constexpr uint32_t kSkinTexture = fourcc("SKIN");
 inline constexpr uint32_t kMesh = fourcc("MESH");
 inline constexpr uint32_t kDiffuseTexture = fourcc("TEXR");
 inline constexpr uint32_t kLod = fourcc("LODS");
+inline constexpr uint32_t kOutfits = fourcc("OUTF");
 
 struct InputFile {
   std::string path;  // as given on the command line
@@ -126,6 +127,28 @@ struct Lod {
   }
 };
 
+// How an outfit leaves one sub-mesh of the body template.
+enum class Coverage : uint8_t {
+  Visible = 0, // drawn whole (no face hidden, or too few to be worth a copy)
+  Hidden = 1,  // every face hidden in every frame: not drawn
+  Partial = 2, // drawn through an outfit-specific copy holding only its visible faces
+};
+const char *name(Coverage c);
+
+// The outfits of a clothed character (crowdbake outfits). Sub-meshes [0, bodySubMeshes) are the
+// body template; the rest are outfit-specific copies of partial body sub-meshes and garments.
+struct Outfits {
+  struct Outfit {
+    std::string name;
+    std::vector<Coverage> coverage;  // per body sub-mesh
+    std::vector<uint32_t> subMeshes; // the sub-meshes drawn for this outfit, increasing
+  };
+  uint32_t bodySubMeshes = 0;
+  std::vector<float> colours;    // per sub-mesh: base colour RGBA (the material's)
+  std::vector<uint8_t> textured; // per sub-mesh: 1 when the diffuse texture applies
+  std::vector<Outfit> outfits;
+};
+
 std::vector<uint8_t> encode(const Provenance &);
 std::vector<uint8_t> encode(const Skeleton &);
 std::vector<uint8_t> encode(const std::vector<Clip> &);
@@ -134,6 +157,7 @@ std::vector<uint8_t> encode(const SkinTexture &);
 std::vector<uint8_t> encode(const Mesh &);
 std::vector<uint8_t> encode(const Texture &);
 std::vector<uint8_t> encode(const Lod &);
+std::vector<uint8_t> encode(const Outfits &);
 
 // Decoders validate everything local to the chunk; `context` prefixes error messages.
 Provenance decodeProvenance(std::span<const uint8_t>, const std::string &context);
@@ -144,6 +168,9 @@ SkinTexture decodeSkinTexture(std::span<const uint8_t>, const std::string &conte
 Mesh decodeMesh(std::span<const uint8_t>, const std::string &context);
 Texture decodeTexture(std::span<const uint8_t>, const std::string &context);
 Lod decodeLod(std::span<const uint8_t>, const std::string &context);
+Outfits decodeOutfits(std::span<const uint8_t>, const std::string &context);
+// Cross-checks an outfit table against the mesh it draws (sub-mesh counts and indices).
+void checkOutfits(const Outfits &, const Mesh &, const std::string &context);
 
 // Every chunk of an animation pack, decoded and cross-checked (joint ids < joint count,
 // clip frames inside the texture, one skin entry per mesh vertex, ...).
@@ -156,6 +183,7 @@ struct AnimationPack {
   Mesh mesh;
   std::optional<Texture> diffuse; // optional chunk: only when the mesh has UVs and a texture
   std::optional<Lod> lod;         // optional chunk: crowdbake lod, or anim --lod
+  std::optional<Outfits> outfits; // optional chunk: crowdbake outfits
 };
 AnimationPack loadAnimationPack(const Reader &reader);
 void writePack(const AnimationPack &pack, const std::string &path);

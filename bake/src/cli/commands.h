@@ -1,0 +1,10 @@
+// crowdbake sub-commands that live in their own files.
+#pragma once
+#include "args.h"
+
+namespace crowd::cli {
+
+extern const char *const kOutfitsHelp;
+int cmdOutfits(const Args &a);
+
+} // namespace crowd::cli

@@ -1,0 +1,122 @@
+// The outfit bake's hole-free proof: naive and tagged renders of every outfit compared pixel by
+// pixel with the deterministic rasterizer (see outfit_bake.h).
+#include <algorithm>
+#include <cmath>
+
+#include "crowd/bake/evaluate.h"
+#include "crowd/bake/outfit_bake.h"
+#include "crowd/bake/parallel.h"
+#include "crowd/bake/raster.h"
+
+namespace crowd {
+
+namespace {
+
+// Triangles to draw, ordered by the source triangle each shows, so that the rasterizer's depth
+// ties (won by the lower index) fall the same way in both renders.
+struct DrawList {
+  std::vector<uint32_t> indices, ids;
+};
+
+DrawList drawList(const OutfitBakeResult &b, const std::vector<uint32_t> &triangles) {
+  std::vector<std::pair<uint32_t, uint32_t>> order; // (source id, triangle)
+  for (uint32_t t : triangles)
+    order.emplace_back(b.sourceTriangle[t], t);
+  std::sort(order.begin(), order.end());
+  DrawList d;
+  for (auto [id, t] : order) {
+    d.ids.push_back(id);
+    for (int k = 0; k < 3; ++k)
+      d.indices.push_back(b.merged.mesh.indices[3 * t + k]);
+  }
+  return d;
+}
+
+} // namespace
+
+HoleCheck checkHoles(const OutfitBakeResult &b, const HoleCheckOptions &o) {
+  const auto &mesh = b.anim.pack.mesh;
+  const auto &table = *b.anim.pack.outfits;
+  const glm::dvec3 centre(mesh.boundingSphere[0], mesh.boundingSphere[1], mesh.boundingSphere[2]);
+  const double radius = mesh.boundingSphere[3];
+  // The impostor camera set, then player-like views: eye height and 4 m away, 8 directions.
+  std::vector<raster::Camera> cameras;
+  for (uint32_t e = 0; e < o.elevations; ++e)
+    for (uint32_t a = 0; a < o.azimuths; ++a) {
+      double az = 2 * M_PI * a / o.azimuths, el = 0.5 * M_PI * (e + 0.5) / o.elevations;
+      glm::dvec3 dir(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
+      cameras.push_back(raster::orthographic(centre + dir * (2 * radius), centre, {0, 1, 0},
+                                             radius, radius, 0.5 * radius, 3.5 * radius));
+    }
+  for (double height : {1.7, 4.0})
+    for (int a = 0; a < 8; ++a) {
+      double az = 2 * M_PI * (a + 0.5) / 8;
+      glm::dvec3 eye(centre.x + 4 * std::sin(az), height, centre.z + 4 * std::cos(az));
+      cameras.push_back(raster::perspective(eye, centre, {0, 1, 0}, glm::radians(50.0), 1.0, 0.1,
+                                            100.0));
+    }
+
+  HoleCheck check;
+  check.views = uint32_t(cameras.size());
+  const auto frames = outfitFrames(b.merged, 30, o.frameStep);
+  check.frames = uint32_t(frames.size());
+  std::vector<std::vector<glm::vec3>> posed;
+  for (const auto &[clip, time] : frames) {
+    auto p = skinPositions(b.merged, jointMatrices(b.merged, clip, time));
+    posed.emplace_back(p.begin(), p.end());
+  }
+  const int n = int(o.texels);
+  for (const auto &outfit : table.outfits) {
+    HoleCheck::PerOutfit r;
+    r.name = outfit.name;
+    std::vector<uint32_t> drawn, naive;
+    for (uint32_t t = 0; t < b.bodyTriangles; ++t)
+      naive.push_back(t);
+    for (uint32_t s : outfit.subMeshes) {
+      const auto &sub = mesh.subMeshes[s];
+      for (uint32_t t = sub.firstIndex / 3; t < (sub.firstIndex + sub.indexCount) / 3; ++t) {
+        drawn.push_back(t);
+        if (b.sourceTriangle[t] >= b.bodyTriangles)
+          naive.push_back(t);
+      }
+    }
+    const DrawList full = drawList(b, naive), tagged = drawList(b, drawn);
+    std::vector<uint8_t> kept(b.bodyTriangles, 0);
+    for (uint32_t id : tagged.ids)
+      if (id < b.bodyTriangles)
+        kept[id] = 1;
+    std::vector<uint8_t> everSeen(b.bodyTriangles, 0);
+    for (const auto &p : posed) {
+      std::vector<uint64_t> differing(cameras.size(), 0);
+      std::vector<std::vector<uint32_t>> seenIds(cameras.size());
+      parallelFor(cameras.size(), o.threads, [&](size_t j) {
+        const auto a = raster::rasterize(p, full.indices, cameras[j], n, n, {false, 1});
+        const auto c = raster::rasterize(p, tagged.indices, cameras[j], n, n, {false, 1});
+        for (size_t i = 0; i < a.triangle.size(); ++i) {
+          const int64_t x = a.triangle[i] < 0 ? -1 : int64_t(full.ids[size_t(a.triangle[i])]);
+          const int64_t y = c.triangle[i] < 0 ? -1 : int64_t(tagged.ids[size_t(c.triangle[i])]);
+          differing[j] += x != y;
+          if (x >= 0 && x < b.bodyTriangles)
+            seenIds[j].push_back(uint32_t(x));
+        }
+      });
+      for (size_t j = 0; j < cameras.size(); ++j) {
+        r.differingPixels += differing[j];
+        for (uint32_t id : seenIds[j])
+          everSeen[id] = 1;
+      }
+    }
+    r.images = posed.size() * cameras.size();
+    for (uint32_t t = 0; t < b.bodyTriangles; ++t) {
+      r.removed += !kept[t];
+      r.neverSeen += !everSeen[t];
+      r.removedUnseen += !kept[t] && !everSeen[t];
+      if (!kept[t] && everSeen[t])
+        r.leaked.push_back(t);
+    }
+    check.outfits.push_back(r);
+  }
+  return check;
+}
+
+} // namespace crowd

@@ -1,0 +1,197 @@
+// Which body faces a worn outfit hides in every frame, by ray casting against a CGAL AABB tree of
+// the skinned body and garments (see outfit_bake.h).
+#include <algorithm>
+#include <cmath>
+#include <tuple>
+
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
+#include <CGAL/Simple_cartesian.h>
+
+#include "crowd/bake/evaluate.h"
+#include "crowd/bake/outfit_bake.h"
+#include "crowd/bake/parallel.h"
+#include "crowd/formats/error.h"
+
+namespace crowd {
+
+namespace {
+
+using K = CGAL::Simple_cartesian<double>;
+using Triangle = K::Triangle_3;
+using Tree = CGAL::AABB_tree<CGAL::AABB_traits<K, CGAL::AABB_triangle_primitive<
+                                                     K, std::vector<Triangle>::const_iterator>>>;
+
+// Directions over the hemisphere around +Z in rings: `azimuths` of them on the lowest ring, 1
+// degree above the horizon, fewer (by the cosine) on higher rings, ending at the pole. Ring
+// elevations grow quadratically, so grazing directions are dense: a gap between body and
+// garment (a sleeve's opening, a collar) is often seen only at a few degrees. The pole, the
+// likeliest to escape, comes first.
+std::vector<glm::dvec3> hemisphere(uint32_t azimuths) {
+  const uint32_t rings = std::max(2u, azimuths / 3);
+  std::vector<glm::dvec3> d{{0, 0, 1}};
+  for (uint32_t k = rings; k-- > 0;) {
+    const double s = double(k) / double(rings);
+    const double el = glm::radians(1.0 + 89.0 * s * s);
+    const auto n = std::max(1u, uint32_t(std::lround(azimuths * std::cos(el))));
+    for (uint32_t a = 0; a < n; ++a) {
+      const double phi = 2 * M_PI * (a + 0.5 * (k % 2)) / n;
+      d.emplace_back(std::cos(el) * std::cos(phi), std::cos(el) * std::sin(phi), std::sin(el));
+    }
+  }
+  return d;
+}
+
+} // namespace
+
+std::vector<std::pair<const AnimationClip *, double>> outfitFrames(const Character &c, double fps,
+                                                                   uint32_t step) {
+  std::vector<std::pair<const AnimationClip *, double>> out;
+  for (const auto &clip : c.clips) {
+    const double duration = clip.end - clip.start;
+    const auto intervals = uint32_t(duration > 0 ? std::max(1.0, std::round(duration * fps)) : 0);
+    for (uint32_t i = 0; i <= intervals; ++i)
+      if (i % step == 0 || i == intervals)
+        out.emplace_back(&clip, clip.start + (intervals ? duration * i / intervals : 0.0));
+  }
+  if (out.empty())
+    out.emplace_back(nullptr, 0.0); // no clip: the rest pose
+  return out;
+}
+
+std::vector<uint8_t> hiddenBodyFaces(const Character &merged, uint32_t bodyTriangles,
+                                     const std::vector<size_t> &garmentParts,
+                                     const VisibilityOptions &o) {
+  if (o.rays == 0 || o.rays > 4096 || (o.points != 1 && o.points != 4) || o.frameStep == 0 ||
+      !(o.fps > 0))
+    throw Error("visibility: rays must be in 1..4096, points 1 or 4, frame step >= 1, fps > 0");
+  const auto &mesh = merged.mesh;
+  const auto &idx = mesh.indices;
+  // Occluders: the body and the worn, opaque garments.
+  std::vector<uint32_t> occluders;
+  for (uint32_t t = 0; t < bodyTriangles; ++t)
+    occluders.push_back(t);
+  for (size_t p : garmentParts) {
+    const auto &part = mesh.parts[p];
+    if (part.seeThrough)
+      continue;
+    for (uint32_t t = part.firstIndex / 3; t < (part.firstIndex + part.indexCount) / 3; ++t)
+      occluders.push_back(t);
+  }
+  // Outward side of each body face: the side its vertex normals point to.
+  std::vector<double> side(bodyTriangles, 1.0);
+  for (uint32_t t = 0; t < bodyTriangles; ++t) {
+    glm::dvec3 a(mesh.positions[idx[3 * t]]), b(mesh.positions[idx[3 * t + 1]]),
+        c(mesh.positions[idx[3 * t + 2]]);
+    glm::dvec3 n(mesh.normals[idx[3 * t]] + mesh.normals[idx[3 * t + 1]] +
+                 mesh.normals[idx[3 * t + 2]]);
+    if (glm::dot(glm::cross(b - a, c - a), n) < 0)
+      side[t] = -1.0;
+  }
+  const auto directions = hemisphere(o.rays);
+  const double nudge = 1e-4 * restDiagonal(merged);
+  const glm::dvec3 weights[4] = {
+      {1.0 / 3, 1.0 / 3, 1.0 / 3}, {4.0 / 6, 1.0 / 6, 1.0 / 6}, {1.0 / 6, 4.0 / 6, 1.0 / 6},
+      {1.0 / 6, 1.0 / 6, 4.0 / 6}};
+
+  std::vector<uint8_t> hidden(bodyTriangles, 1);
+  std::vector<uint32_t> candidates(bodyTriangles);
+  for (uint32_t t = 0; t < bodyTriangles; ++t)
+    candidates[t] = t;
+  const auto frames = outfitFrames(merged, o.fps, o.frameStep);
+  // The ground: a plane under the body's lowest point over every tested frame, as wide as the
+  // ground rays can reach (100 body diagonals).
+  double ground = INFINITY;
+  if (o.ground)
+    for (const auto &[clip, time] : frames) {
+      const auto p = skinPositions(merged, jointMatrices(merged, clip, time));
+      for (uint32_t i = 0; i < bodyTriangles * 3; ++i)
+        ground = std::min(ground, p[idx[i]].y);
+    }
+  const double reach = 100 * restDiagonal(merged);
+  std::vector<Triangle> soup;
+  for (const auto &[clip, time] : frames) {
+    if (candidates.empty())
+      break;
+    const auto p = skinPositions(merged, jointMatrices(merged, clip, time));
+    auto point = [&](uint32_t v) { return K::Point_3(p[v].x, p[v].y, p[v].z); };
+    soup.clear();
+    for (uint32_t t : occluders) {
+      Triangle tri(point(idx[3 * t]), point(idx[3 * t + 1]), point(idx[3 * t + 2]));
+      if (!tri.is_degenerate())
+        soup.push_back(tri);
+    }
+    Tree tree(soup.begin(), soup.end());
+    tree.build();
+    std::vector<uint8_t> seen(candidates.size(), 0);
+    parallelFor(candidates.size(), o.threads, [&](size_t i) {
+      const uint32_t t = candidates[i];
+      const glm::dvec3 a = p[idx[3 * t]], b = p[idx[3 * t + 1]], c = p[idx[3 * t + 2]];
+      glm::dvec3 n = glm::cross(b - a, c - a) * side[t];
+      const double len = glm::length(n);
+      if (!(len > 1e-14)) { // degenerate in this pose: nothing to decide, keep it (conservative)
+        seen[i] = 1;
+        return;
+      }
+      n /= len;
+      const glm::dvec3 u = glm::normalize(
+          std::abs(n.x) < 0.9 ? glm::cross(n, glm::dvec3(1, 0, 0)) : glm::cross(n, glm::dvec3(0, 1, 0)));
+      const glm::dvec3 v = glm::cross(n, u);
+      for (uint32_t k = 0; k < o.points && !seen[i]; ++k) {
+        const glm::dvec3 q = a * weights[k].x + b * weights[k].y + c * weights[k].z + n * nudge;
+        for (const auto &d : directions) {
+          const glm::dvec3 w = u * d.x + v * d.y + n * d.z;
+          // The ground, analytically (in the tree, its huge triangles would slow every query).
+          if (w.y < 0 && q.y >= ground && q.y - ground < -w.y * reach)
+            continue;
+          if (!tree.do_intersect(K::Ray_3(K::Point_3(q.x, q.y, q.z), K::Vector_3(w.x, w.y, w.z)))) {
+            seen[i] = 1;
+            break;
+          }
+        }
+      }
+    });
+    std::vector<uint32_t> left;
+    for (size_t i = 0; i < candidates.size(); ++i) {
+      if (seen[i])
+        hidden[candidates[i]] = 0;
+      else
+        left.push_back(candidates[i]);
+    }
+    candidates.swap(left);
+  }
+
+  // Safety ring: faces sharing a vertex position with a visible face stay visible.
+  if (o.ring > 0) {
+    std::vector<uint32_t> weld(mesh.vertexCount());
+    {
+      std::vector<uint32_t> order(mesh.vertexCount());
+      for (uint32_t v = 0; v < order.size(); ++v)
+        order[v] = v;
+      auto key = [&](uint32_t v) {
+        const auto &q = mesh.positions[v];
+        return std::make_tuple(q.x, q.y, q.z);
+      };
+      std::sort(order.begin(), order.end(), [&](uint32_t x, uint32_t y) {
+        return key(x) != key(y) ? key(x) < key(y) : x < y;
+      });
+      for (size_t i = 0; i < order.size(); ++i)
+        weld[order[i]] = i && key(order[i]) == key(order[i - 1]) ? weld[order[i - 1]] : order[i];
+    }
+    for (uint32_t step = 0; step < o.ring; ++step) {
+      std::vector<uint8_t> touched(mesh.vertexCount(), 0);
+      for (uint32_t t = 0; t < bodyTriangles; ++t)
+        if (!hidden[t])
+          for (int k = 0; k < 3; ++k)
+            touched[weld[idx[3 * t + k]]] = 1;
+      for (uint32_t t = 0; t < bodyTriangles; ++t)
+        for (int k = 0; k < 3; ++k)
+          if (touched[weld[idx[3 * t + k]]])
+            hidden[t] = 0;
+    }
+  }
+  return hidden;
+}
+
+} // namespace crowd

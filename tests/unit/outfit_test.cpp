@@ -1,0 +1,175 @@
+// Outfit bake: coverage of the sample outfits, the hole-free proof, the pack's outfit table, and
+// the failure modes (another skeleton, no skin, covers nothing, see-through, intersecting).
+#include <gtest/gtest.h>
+
+#include "crowd/bake/outfit_bake.h"
+#include "crowd/formats/error.h"
+#include "sample_character.h"
+
+namespace crowd {
+namespace {
+
+// Fast settings: every 8th frame (and each clip's last), joint regions, a 2-face safety ring.
+// The sampled directions miss escape cones narrower than their spacing: at ring 1 in this
+// setting one thigh face of shirt_trousers, seen through the gap between the trousers' hip
+// band and leg, leaked 4 pixels; the CLI defaults (every frame, ring 1) pass the check.
+OutfitOptions fast() {
+  OutfitOptions o;
+  o.visibility.frameStep = 8;
+  o.visibility.ring = 2;
+  o.regions = "joint";
+  return o;
+}
+
+HoleCheckOptions fastCheck() {
+  HoleCheckOptions h;
+  h.frameStep = 8;
+  return h;
+}
+
+const SubMeshCoverage &coverage(const OutfitFigures &f, const std::string &subMesh) {
+  for (const auto &s : f.subMeshes)
+    if (s.subMesh == subMesh)
+      return s;
+  throw Error("no sub-mesh " + subMesh);
+}
+
+OutfitBakeResult bake(const std::vector<OutfitInput> &outfits, Reporter &rep,
+                      OutfitOptions o = fast()) {
+  rep.quiet = true;
+  return bakeOutfits(test::sampleHumanoid(), outfits, o, rep);
+}
+
+TEST(Outfits, SampleOutfitsHideTheTorsoAndOpenNoHole) {
+  Reporter rep;
+  const auto r = bake(test::sampleOutfits(), rep);
+  ASSERT_EQ(r.outfits.size(), 3u);
+  for (const auto &o : r.outfits) {
+    EXPECT_EQ(coverage(o, "torso/spine").coverage, "hidden") << o.name;
+    EXPECT_EQ(coverage(o, "head/head").coverage, "visible") << o.name;
+    EXPECT_EQ(coverage(o, "feet/foot_l").coverage, "visible") << o.name;
+    EXPECT_GT(o.removedFaces, 1000u) << o.name;
+  }
+  // Trousers cover the shins; the dress and the skirt leave them bare.
+  EXPECT_GT(coverage(r.outfits[2], "legs/shin_l").hidden, 0u);
+  EXPECT_EQ(coverage(r.outfits[0], "legs/shin_l").hidden, 0u);
+  EXPECT_LT(r.taggedFaces, r.prefittedFaces);
+  EXPECT_GT(r.taggedFaces, r.naiveFaces);
+
+  const HoleCheck h = checkHoles(r, fastCheck());
+  EXPECT_EQ(h.views, 32u * 8u + 16u);
+  for (const auto &o : h.outfits) {
+    EXPECT_EQ(o.differingPixels, 0u) << o.name;
+    EXPECT_TRUE(o.leaked.empty()) << o.name;
+    EXPECT_EQ(o.removedUnseen, o.removed) << o.name;
+    EXPECT_GT(o.recall(), 0.5) << o.name;
+  }
+}
+
+TEST(Outfits, ThePackCarriesTheOutfitTableAndTheReaderChecksIt) {
+  Reporter rep;
+  auto outfits = test::sampleOutfits();
+  outfits.resize(1);
+  const auto r = bake(outfits, rep);
+  const auto bytes = pack::packBytes(r.anim.pack);
+  const auto back = pack::loadAnimationPack(pack::Reader(bytes, "mem"));
+  ASSERT_TRUE(back.outfits);
+  const auto &t = *back.outfits;
+  EXPECT_EQ(t.bodySubMeshes, uint32_t(r.outfits[0].subMeshes.size()));
+  ASSERT_EQ(t.outfits.size(), 1u);
+  EXPECT_EQ(t.outfits[0].name, "dress");
+  // The body's sub-meshes are textured; the garment is drawn in its material's colour.
+  EXPECT_EQ(t.textured[0], 1);
+  EXPECT_EQ(t.textured.back(), 0);
+  EXPECT_NEAR(t.colours[t.colours.size() - 4], 0.55f, 1e-6);
+
+  auto bad = *back.outfits;
+  bad.outfits[0].subMeshes.push_back(uint32_t(back.mesh.subMeshes.size()));
+  EXPECT_THROW(pack::checkOutfits(bad, back.mesh, "test"), Error);
+  bad = *back.outfits;
+  bad.outfits[0].coverage[0] = pack::Coverage::Hidden; // but still drawn
+  EXPECT_THROW(pack::checkOutfits(bad, back.mesh, "test"), Error);
+}
+
+TEST(Outfits, AnOutfitOnAnotherSkeletonFailsNamingTheJoint) {
+  Reporter rep;
+  auto outfits = test::sampleOutfits();
+  outfits.resize(1);
+  auto &c = outfits[0].character;
+  c.nodes[size_t(c.jointNodes[2])].name = "Spine_01";
+  try {
+    bake(outfits, rep);
+    FAIL() << "no error";
+  } catch (const Error &e) {
+    EXPECT_NE(std::string(e.what()).find("joint 'Spine_01'"), std::string::npos) << e.what();
+  }
+  outfits = test::sampleOutfits();
+  outfits.resize(1);
+  outfits[0].character.inverseBind[2][3][1] += 0.1; // bound in another pose
+  EXPECT_THROW(bake(outfits, rep), Error);
+}
+
+TEST(Outfits, AnOutfitWithoutSkinFails) {
+  Reporter rep;
+  auto outfits = test::sampleOutfits();
+  outfits.resize(1);
+  outfits[0].character.skinned = false;
+  try {
+    bake(outfits, rep);
+    FAIL() << "no error";
+  } catch (const Error &e) {
+    EXPECT_NE(std::string(e.what()).find("has no skin"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Outfits, AnOutfitThatCoversNothingHidesNothingAndSaysSo) {
+  Reporter rep;
+  auto outfits = test::sampleOutfits();
+  outfits.resize(1);
+  for (auto &p : outfits[0].character.mesh.positions)
+    p.x += 3; // beside the body: skinned with it, covering nothing
+  const auto r = bake(outfits, rep);
+  // Only what the body hides by itself (feet soles on the ground, arm caps inside the torso).
+  EXPECT_EQ(r.outfits[0].hiddenFaces, r.bareHiddenFaces);
+  EXPECT_EQ(coverage(r.outfits[0], "torso/spine").coverage, "visible");
+  bool warned = false;
+  for (const auto &w : rep.warnings())
+    warned = warned || w.code == "outfit_hides_nothing";
+  EXPECT_TRUE(warned);
+}
+
+TEST(Outfits, SeeThroughGarmentsNeverHideTheBody) {
+  Reporter rep;
+  auto outfits = test::sampleOutfits();
+  outfits.resize(1);
+  for (auto &p : outfits[0].character.mesh.parts)
+    p.seeThrough = true; // alpha mode BLEND or MASK
+  const auto r = bake(outfits, rep);
+  EXPECT_EQ(r.outfits[0].hiddenFaces, r.bareHiddenFaces);
+  bool warned = false;
+  for (const auto &w : rep.warnings())
+    warned = warned || w.code == "see_through_garment";
+  EXPECT_TRUE(warned);
+}
+
+// The dress pulled in until it cuts through the torso: the body pokes out in places, and those
+// faces must stay; the proof still finds no hole. (The dress is also a thin garment: one layer,
+// no thickness.)
+TEST(Outfits, AGarmentThatIntersectsTheBodyOpensNoHole) {
+  Reporter rep;
+  auto outfits = test::sampleOutfits();
+  outfits.resize(1);
+  for (auto &p : outfits[0].character.mesh.positions)
+    p.x *= 0.8f, p.z *= 0.8f;
+  const auto r = bake(outfits, rep);
+  Reporter unshrunk;
+  auto normal = test::sampleOutfits();
+  normal.resize(1);
+  EXPECT_LT(r.outfits[0].removedFaces, bake(normal, unshrunk).outfits[0].removedFaces);
+  EXPECT_GT(r.outfits[0].removedFaces, 0u);
+  const HoleCheck h = checkHoles(r, fastCheck());
+  EXPECT_EQ(h.outfits[0].differingPixels, 0u);
+}
+
+} // namespace
+} // namespace crowd
