@@ -1,7 +1,7 @@
 #version 450 core
 // Per-pixel diffuse lighting of the region colour, modulated by the diffuse texture if any.
 in vec3 v_normal;
-in vec3 v_colour;
+in vec4 v_colour; // A: how much the diffuse texture applies
 in vec2 v_uv;
 layout(binding = 2) uniform sampler2D u_diffuse;
 uniform bool u_hasTexture;
@@ -12,6 +12,6 @@ void main() {
   vec3 n = normalize(v_normal);
   if (!gl_FrontFacing) n = -n;
   float diffuse = max(dot(n, u_lightDirection), 0.0);
-  vec3 albedo = v_colour * (u_hasTexture ? texture(u_diffuse, v_uv).rgb : vec3(1.0));
+  vec3 albedo = v_colour.rgb * (u_hasTexture ? mix(vec3(1.0), texture(u_diffuse, v_uv).rgb, v_colour.a) : vec3(1.0));
   o_colour = vec4(albedo * (0.25 + 0.75 * diffuse), 1.0);
 }

@@ -33,7 +33,7 @@ uniform vec4 u_rows[3];
 uniform vec4 u_params;
 
 out vec3 v_normal;
-out vec3 v_colour;
+out vec4 v_colour; // A: how much the diffuse texture applies
 out vec2 v_uv;
 
 ivec2 texelOf(int frame, int joint, int texel) {
@@ -96,6 +96,6 @@ void main() {
   vec3 world = vec3(dot(rows[0], vec4(skinned, 1)), dot(rows[1], vec4(skinned, 1)), dot(rows[2], vec4(skinned, 1)));
   v_normal = vec3(dot(rows[0].xyz, normal), dot(rows[1].xyz, normal), dot(rows[2].xyz, normal));
   v_uv = a_uv;
-  v_colour = colours[int(params.w) * u_subMeshCount + u_subMesh].rgb;
+  v_colour = colours[int(params.w) * u_subMeshCount + u_subMesh];
   gl_Position = u_viewProjection * vec4(world, 1.0);
 }

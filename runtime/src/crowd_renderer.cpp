@@ -1,6 +1,8 @@
 #include "crowd/runtime/crowd_renderer.h"
 
 #include <algorithm>
+#include <array>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 
@@ -9,6 +11,7 @@
 
 #include "crowd/formats/error.h"
 #include "crowd/runtime/impostor_runtime.h"
+#include "crowd/runtime/render_queues.h"
 #include "crowd_shaders.h" // generated at build time from shaders/
 
 namespace crowd::runtime {
@@ -61,8 +64,10 @@ struct CrowdRenderer::Character {
   uint32_t mipLevels = 0;
   // Per LOD level, per sub-mesh and one past the last: where its triangles start in buffers[2].
   std::vector<uint32_t> levelStarts;
-  std::vector<uint32_t> commands; // glMultiDrawElementsIndirect's, 5 words each, by sub-mesh
+  std::vector<uint32_t> commands;  // glMultiDrawElementsIndirect's, 5 words each, by sub-mesh
   std::vector<GLsizei> perSubMesh; // how many of them each sub-mesh has
+  std::vector<uint32_t> outfitOf;  // per instance: its outfit in the pack's table (0 if none)
+  RenderQueues queues[2];          // tagged, whole body (render_queues.h)
 
   ~Character() {
     glDeleteVertexArrays(1, &vao);
@@ -72,6 +77,30 @@ struct CrowdRenderer::Character {
 };
 
 namespace {
+
+// A sub-mesh's colour under a palette: the palette's entry for its name, or for the name's
+// first part ("skin" for "skin/spine" or "skin@dress"); else the baked material colour of a
+// clothed pack, or the palette's "default". A = 1 where the diffuse texture applies.
+std::array<float, 4> regionColour(const pack::AnimationPack &p, size_t s,
+                                  const std::vector<std::pair<std::string, glm::vec3>> &palette) {
+  const std::string &name = p.mesh.subMeshes[s].name;
+  const std::string stem = name.substr(0, name.find_first_of("/@"));
+  glm::vec3 col(0.8f);
+  float textured = 1;
+  if (p.outfits) {
+    col = glm::make_vec3(&p.outfits->colours[s * 4]);
+    textured = p.outfits->textured[s];
+  } else {
+    for (const auto &[region, value] : palette)
+      if (region == "default")
+        col = value;
+  }
+  for (const std::string &key : {stem, name})
+    for (const auto &[region, value] : palette)
+      if (region == key)
+        col = value;
+  return {col.r, col.g, col.b, textured};
+}
 
 // The impostor's atlases as two texture arrays (a layer per frame) with the mode-filtered mip
 // chain, and its view table.
@@ -139,6 +168,27 @@ CrowdRenderer::CrowdRenderer(const std::vector<pack::AnimationPack> &packs,
       }
       clipOf.push_back(found);
     }
+    // Outfit of each scene outfit name in this pack ("" = the first, or none).
+    std::vector<uint32_t> outfitOf;
+    for (const auto &name : scene.outfitNames) {
+      if (name.empty()) {
+        outfitOf.push_back(0);
+        continue;
+      }
+      if (!p.outfits)
+        throw Error(scene.path + ": outfit '" + name + "' asked of pack '" + scene.packNames[pi] +
+                    "', which has no outfits (bake one with crowdbake outfits)");
+      const auto &list = p.outfits->outfits;
+      auto it = std::find_if(list.begin(), list.end(), [&](auto &o) { return o.name == name; });
+      if (it == list.end()) {
+        std::string names;
+        for (const auto &o : list)
+          names += (names.empty() ? "" : ", ") + o.name;
+        throw Error(scene.path + ": outfit '" + name + "' is not in pack '" + scene.packNames[pi] +
+                    "' (outfits: " + names + ")");
+      }
+      outfitOf.push_back(uint32_t(it - list.begin()));
+    }
     for (const auto &inst : scene.instances) {
       if (inst.pack != pi)
         continue;
@@ -161,6 +211,7 @@ CrowdRenderer::CrowdRenderer(const std::vector<pack::AnimationPack> &packs,
                            float(inst.speed),
                            float(inst.palette)};
       c->instanceData.insert(c->instanceData.end(), d, d + 16);
+      c->outfitOf.push_back(outfitOf[inst.outfit]);
       ++c->instanceCount;
       selection_.addInstance(glm::vec3(inst.position), float(inst.yaw),
                              c->impostor && p.clips[clipOf[inst.clip]].name == c->impostor->clip);
@@ -169,17 +220,15 @@ CrowdRenderer::CrowdRenderer(const std::vector<pack::AnimationPack> &packs,
     for (const auto &cl : p.clips)
       clips.insert(clips.end(),
                    {cl.fps, float(cl.frameCount), float(cl.firstFrame), cl.loop ? 1.0f : 0.0f});
+    for (bool wholeBody : {false, true})
+      c->queues[wholeBody] =
+          RenderQueues(outfitSubMeshes(p, wholeBody), uint32_t(p.mesh.subMeshes.size()));
+    // Per palette, per sub-mesh: RGB, and in A how much the diffuse texture applies.
     std::vector<float> colours;
     for (const auto &palette : scene.palettes)
-      for (const auto &sub : p.mesh.subMeshes) {
-        glm::vec3 col(0.8f);
-        for (const auto &[region, value] : palette)
-          if (region == "default")
-            col = value;
-        for (const auto &[region, value] : palette)
-          if (region == sub.name)
-            col = value;
-        colours.insert(colours.end(), {col.r, col.g, col.b, 1.0f});
+      for (size_t s = 0; s < p.mesh.subMeshes.size(); ++s) {
+        const auto rgba = regionColour(p, s, palette);
+        colours.insert(colours.end(), rgba.begin(), rgba.end());
       }
 
     // Index data of every LOD level, built once (see lod_select.h).
@@ -204,12 +253,14 @@ CrowdRenderer::CrowdRenderer(const std::vector<pack::AnimationPack> &packs,
     upload(c->buffers[4], c->instanceData);
     upload(c->buffers[5], colours);
     // Which instances draw as geometry, and which as impostors: rewritten every frame.
-    for (unsigned b : {c->buffers[7], c->buffers[8]})
-      glNamedBufferStorage(b, GLsizeiptr(std::max(c->instanceCount, 1u) * 4), nullptr,
-                           GL_DYNAMIC_STORAGE_BIT);
-    glNamedBufferStorage(c->buffers[10],
-                         GLsizeiptr(c->levelStarts.size() * 5 * sizeof(uint32_t)), nullptr,
+    const size_t queued =
+        std::max(c->queues[0].capacity(c->instanceCount), c->queues[1].capacity(c->instanceCount));
+    glNamedBufferStorage(c->buffers[7], GLsizeiptr(std::max<size_t>(queued, 1) * 4), nullptr,
                          GL_DYNAMIC_STORAGE_BIT);
+    glNamedBufferStorage(c->buffers[8], GLsizeiptr(std::max(c->instanceCount, 1u) * 4), nullptr,
+                         GL_DYNAMIC_STORAGE_BIT);
+    glNamedBufferStorage(c->buffers[10], GLsizeiptr(c->levelStarts.size() * 5 * sizeof(uint32_t)),
+                         nullptr, GL_DYNAMIC_STORAGE_BIT);
     // Attribute 3: the instance's id, one per instance; a command's baseInstance picks its run.
     glVertexArrayVertexBuffer(c->vao, 3, c->buffers[7], 0, 4);
     glVertexArrayBindingDivisor(c->vao, 3, 1);
@@ -295,24 +346,27 @@ DrawStats CrowdRenderer::draw(const FrameView &view, float seconds, const DrawOp
       continue;
     const auto &p = *c->pack;
     const size_t subMeshes = p.mesh.subMeshes.size(), levels = chosen.runEnds.size();
+    RenderQueues &queues = c->queues[options.wholeBody];
+    const auto t0 = std::chrono::steady_clock::now();
+    queues.build(chosen.ids, chosen.runEnds, c->outfitOf);
+    stats.cullSelectMs +=
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     c->commands.clear();
     c->perSubMesh.assign(subMeshes, 0);
-    for (size_t s = 0; s < subMeshes; ++s)
-      for (size_t l = 0; l < levels; ++l) {
-        const uint32_t first = l ? chosen.runEnds[l - 1] : 0, count = chosen.runEnds[l] - first;
-        const uint32_t *starts = &c->levelStarts[l * (subMeshes + 1)];
-        const uint32_t indices = starts[s + 1] - starts[s];
-        if (count && indices) {
-          c->commands.insert(c->commands.end(), {indices, count, starts[s], 0u, first});
-          ++c->perSubMesh[s];
-          stats.triangles += uint64_t(indices / 3) * count;
-        }
+    for (const auto &q : queues.queues) { // by sub-mesh, then level
+      const uint32_t *starts = &c->levelStarts[q.level * (subMeshes + 1)];
+      const uint32_t indices = starts[q.subMesh + 1] - starts[q.subMesh];
+      if (indices) {
+        c->commands.insert(c->commands.end(), {indices, q.count, starts[q.subMesh], 0u, q.first});
+        ++c->perSubMesh[q.subMesh];
+        stats.triangles += uint64_t(indices / 3) * q.count;
       }
-    glNamedBufferSubData(c->buffers[7], 0, GLsizeiptr(chosen.ids.size() * 4), chosen.ids.data());
+    }
+    glNamedBufferSubData(c->buffers[7], 0, GLsizeiptr(queues.queueIds.size() * 4),
+                         queues.queueIds.data());
     glNamedBufferSubData(c->buffers[8], 0, GLsizeiptr(chosen.impostorIds.size() * 4),
                          chosen.impostorIds.data());
-    glNamedBufferSubData(c->buffers[10], 0, GLsizeiptr(c->commands.size() * 4),
-                         c->commands.data());
+    glNamedBufferSubData(c->buffers[10], 0, GLsizeiptr(c->commands.size() * 4), c->commands.data());
 
     glUseProgram(program_);
     glUniform1i(loc("u_encoding"), int(p.animation.encoding));
@@ -337,6 +391,9 @@ DrawStats CrowdRenderer::draw(const FrameView &view, float seconds, const DrawOp
         const void *offset = reinterpret_cast<const void *>(uintptr_t(starts[s]) * 4);
         const auto count = GLsizei(starts[s + 1] - starts[s]);
         for (uint32_t i = 0; i < c->instanceCount; ++i) {
+          const auto &draws = queues.draws(c->outfitOf[i]);
+          if (!std::binary_search(draws.begin(), draws.end(), uint32_t(s)))
+            continue;
           glUniform4fv(rowsLoc, 3, &c->instanceData[size_t(i) * 16]);
           glUniform4fv(paramsLoc, 1, &c->instanceData[size_t(i) * 16 + 12]);
           glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT, offset);
@@ -347,8 +404,8 @@ DrawStats CrowdRenderer::draw(const FrameView &view, float seconds, const DrawOp
       }
       if (c->perSubMesh[s]) {
         glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT,
-                                    reinterpret_cast<const void *>(command * 20),
-                                    c->perSubMesh[s], 0);
+                                    reinterpret_cast<const void *>(command * 20), c->perSubMesh[s],
+                                    0);
         ++stats.drawCalls;
       }
       command += size_t(c->perSubMesh[s]);
@@ -367,8 +424,7 @@ DrawStats CrowdRenderer::draw(const FrameView &view, float seconds, const DrawOp
       glUniform1i(iloc("u_mirrored"), m.mirrored);
       glUniform1f(iloc("u_frameStep"), m.frameStep > 0 ? m.frameStep : 1.0f);
       glUniform1f(iloc("u_texelSize"), 2.0f * m.sphere[3] / float(m.texels));
-      glUniform1f(iloc("u_oneToOne"),
-                  float(oneToOneDistance(m, view.fovY, view.viewportHeight)));
+      glUniform1f(iloc("u_oneToOne"), float(oneToOneDistance(m, view.fovY, view.viewportHeight)));
       glUniform1i(iloc("u_maxLevel"), int(c->mipLevels) - 1);
       glUniform1i(iloc("u_hasTexture"), p.diffuse ? 1 : 0);
       glUniform1i(iloc("u_hasUvs"), !m.uvAtlases.empty());

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <random>
 #include <sstream>
 
@@ -85,6 +86,29 @@ public:
     return number(j, keys, lo, hi);
   }
 
+  // A name, a list of names (picked uniformly) or {name: weight, ...}.
+  void choices(const json &j, const std::vector<std::string> &keys, const std::string &what,
+               std::vector<std::string> &names, std::vector<double> &weights) const {
+    names.clear();
+    weights.clear();
+    if (j.is_string()) {
+      names = {j.get<std::string>()};
+    } else if (j.is_array() && !j.empty() &&
+               std::all_of(j.begin(), j.end(), [](auto &x) { return x.is_string(); })) {
+      names = j.get<std::vector<std::string>>();
+    } else if (j.is_object() && !j.empty()) {
+      for (auto it = j.begin(); it != j.end(); ++it) {
+        names.push_back(it.key());
+        weights.push_back(number(it.value(), keys, 0, 1e9));
+      }
+      if (std::all_of(weights.begin(), weights.end(), [](double w) { return w == 0; }))
+        fail(keys, "the weights are all zero");
+    } else {
+      fail(keys, "expected a " + what + " name, a list of names or {name: weight, ...}");
+    }
+    weights.resize(names.size(), 1.0);
+  }
+
   void onlyKeys(const json &j, const std::vector<std::string> &keys,
                 const std::vector<std::string> &allowed) const {
     if (!j.is_object())
@@ -101,6 +125,13 @@ private:
   const std::string &text_;
   const std::string &path_;
 };
+
+// Equal weights pick uniformly, as scenes did before weights were allowed (same instances).
+size_t pick(const std::vector<double> &weights, std::mt19937_64 &rng) {
+  if (std::adjacent_find(weights.begin(), weights.end(), std::not_equal_to<>()) == weights.end())
+    return std::uniform_int_distribution<size_t>(0, weights.size() - 1)(rng);
+  return std::discrete_distribution<size_t>(weights.begin(), weights.end())(rng);
+}
 
 } // namespace
 
@@ -163,12 +194,14 @@ Scene parseScene(const std::string &text, const std::string &path, size_t instan
     c.fail({"instances"}, "missing");
   const json &in = j["instances"];
   c.onlyKeys(in, {"instances"},
-             {"count", "pack", "placement", "clip", "time_offset", "speed", "seed"});
+             {"count", "pack", "placement", "clip", "outfit", "outfit_order", "time_offset",
+              "speed", "seed"});
   std::mt19937_64 rng(
       uint64_t(c.number(in.value("seed", json(1)), {"instances", "seed"}, 0, 1e15)));
   size_t count = size_t(c.number(in.value("count", json(1)), {"instances", "count"}, 1, 1e6));
   if (instanceOverride)
     count = instanceOverride;
+  std::vector<double> outfitWeights = {1};
   uint32_t pack = 0;
   if (in.contains("pack")) {
     auto it = std::find(s.packNames.begin(), s.packNames.end(), in["pack"].get<std::string>());
@@ -177,16 +210,15 @@ Scene parseScene(const std::string &text, const std::string &path, size_t instan
     pack = uint32_t(it - s.packNames.begin());
   }
   std::vector<std::string> clips = {""};
-  if (in.contains("clip")) {
-    const json &cl = in["clip"];
-    if (cl.is_string())
-      clips = {cl.get<std::string>()};
-    else if (cl.is_array() && !cl.empty() &&
-             std::all_of(cl.begin(), cl.end(), [](auto &x) { return x.is_string(); }))
-      clips = cl.get<std::vector<std::string>>();
-    else
-      c.fail({"instances", "clip"}, "expected a clip name or a list of names");
-  }
+  std::vector<double> clipWeights = {1};
+  if (in.contains("clip"))
+    c.choices(in["clip"], {"instances", "clip"}, "clip", clips, clipWeights);
+  if (in.contains("outfit"))
+    c.choices(in["outfit"], {"instances", "outfit"}, "outfit", s.outfitNames, outfitWeights);
+  // random: drawn by weight; cycle: instance i wears the (i mod n)-th name.
+  const json order = in.value("outfit_order", json("random"));
+  if (order != "random" && order != "cycle")
+    c.fail({"instances", "outfit_order"}, "expected \"random\" or \"cycle\"");
   s.clipNames = clips;
 
   json placement = in.value("placement", json{{"type", "grid"}});
@@ -256,18 +288,21 @@ Scene parseScene(const std::string &text, const std::string &path, size_t instan
     s.palettes.push_back({{"default", glm::vec3(0.8f)}});
   }
 
-  std::uniform_int_distribution<size_t> pickClip(0, clips.size() - 1),
-      pickPalette(0, s.palettes.size() - 1);
+  std::uniform_int_distribution<size_t> pickPalette(0, s.palettes.size() - 1);
   for (size_t i = 0; i < count; ++i) {
     Instance inst;
     inst.pack = pack;
     inst.position = {positions[i].x, 0, positions[i].y};
     inst.yaw = positions[i].z;
-    inst.clip = uint32_t(pickClip(rng));
+    inst.clip = uint32_t(pick(clipWeights, rng));
     inst.timeOffset = c.sample(in.value("time_offset", json{{"min", 0}, {"max", 10}}),
                                {"instances", "time_offset"}, rng, -1e6, 1e6);
     inst.speed = c.sample(in.value("speed", json(1.0)), {"instances", "speed"}, rng, 0, 100);
     inst.palette = uint32_t(pickPalette(rng));
+    if (order == "cycle")
+      inst.outfit = uint32_t(i % s.outfitNames.size());
+    else if (in.contains("outfit")) // drawn only then: scenes without outfits keep their instances
+      inst.outfit = uint32_t(pick(outfitWeights, rng));
     s.instances.push_back(inst);
   }
 

@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <set>
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
@@ -260,13 +262,12 @@ TEST(Player, CullingChangesNoPixel) {
   std::string common = " --headless --frames 2 --size 320x180 --instances 400";
   std::string a = work() + "/culled.png", b = work() + "/unculled.png";
   std::string stats = work() + "/cull_stats.json";
-  ASSERT_EQ(run(std::string(CROWDPLAY) + " " + scene + common + " --screenshot " + a +
-                " --stats " + stats)
+  ASSERT_EQ(run(std::string(CROWDPLAY) + " " + scene + common + " --screenshot " + a + " --stats " +
+                stats)
                 .code,
             0);
   ASSERT_EQ(
-      run(std::string(CROWDPLAY) + " " + scene + common + " --no-cull --screenshot " + b).code,
-      0);
+      run(std::string(CROWDPLAY) + " " + scene + common + " --no-cull --screenshot " + b).code, 0);
   auto s = summaryOf(stats)["summary"];
   std::printf("culling: %g of %g instances visible\n", s["visible"].get<double>(),
               s["instances"].get<double>());
@@ -280,10 +281,9 @@ TEST(Player, CullingChangesNoPixel) {
 
 TEST(Player, BudgetedLodStaysWithinTheBudget) {
   std::string pack = work() + "/humanoid_lod.crowdpack";
-  ASSERT_EQ(run(std::string(CROWDBAKE) + " lod " + work() + "/humanoid.glb -o " + pack +
-                " --quiet")
-                .code,
-            0);
+  ASSERT_EQ(
+      run(std::string(CROWDBAKE) + " lod " + work() + "/humanoid.glb -o " + pack + " --quiet").code,
+      0);
   auto s = smallCrowd();
   s["packs"][0]["path"] = pack;
   std::string scene = writeScene("budget", s);
@@ -350,8 +350,8 @@ nlohmann::json hybridScene(const std::vector<nlohmann::json> &path) {
 nlohmann::json cameraKey(double time, double distance, double azimuthDeg) {
   const glm::dvec3 c = hybrid().centre;
   double az = glm::radians(azimuthDeg), el = glm::radians(10.0);
-  glm::dvec3 eye =
-      c + distance * glm::dvec3(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
+  glm::dvec3 eye = c + distance * glm::dvec3(std::cos(el) * std::sin(az), std::sin(el),
+                                             std::cos(el) * std::cos(az));
   return {{"time", time}, {"position", {eye.x, eye.y, eye.z}}, {"target", {c.x, c.y, c.z}}};
 }
 
@@ -386,9 +386,9 @@ TEST(Player, TheImpostorSwitchHasHysteresis) {
   // The camera backs away from 0.8x to 1.2x the switch distance and comes back: at 1.0x the
   // character is geometry on the way out and an impostor on the way back.
   double d = hybrid().switchAt;
-  std::string scene = writeScene(
-      "hysteresis", hybridScene({cameraKey(0, 0.8 * d, 20), cameraKey(1, 1.2 * d, 20),
-                                 cameraKey(2, 0.8 * d, 20)}));
+  std::string scene =
+      writeScene("hysteresis", hybridScene({cameraKey(0, 0.8 * d, 20), cameraKey(1, 1.2 * d, 20),
+                                            cameraKey(2, 0.8 * d, 20)}));
   std::string stats = work() + "/hysteresis_stats.json";
   auto r = run(std::string(CROWDPLAY) + " " + scene +
                " --headless --frames 21 --step 0.1 --size 320x240 --stats " + stats);
@@ -407,6 +407,73 @@ TEST(Player, TheImpostorSwitchHasHysteresis) {
   auto geometryOnly = nlohmann::json::parse(std::ifstream(stats)); // kept: the loop reads into it
   for (const auto &f : geometryOnly["frames"])
     EXPECT_EQ(f["impostors"], 0);
+}
+
+// The seed's Table 1 pair, a dress and a jumper with a skirt, side by side: the tagged draw
+// (each outfit's visible sub-meshes, one instanced draw per sub-mesh queue) against the naive
+// one (the whole body under the garments) at several times of the walk.
+TEST(Player, ClothedCharactersDrawWhatTheirOutfitLeavesVisible) {
+  const std::string pack = work() + "/clothed.crowdpack";
+  // Fast bake settings (every 8th frame, a 2-face ring): the hole check at these settings is in
+  // tests/unit/outfit_test.cpp.
+  auto bake = run(std::string(CROWDBAKE) + " outfits " + work() + "/humanoid.glb --outfit " +
+                  work() + "/outfit_dress.glb --outfit " + work() +
+                  "/outfit_jumper_skirt.glb --regions joint --frame-step 8 --ring 2 -o " + pack +
+                  " --quiet");
+  ASSERT_EQ(bake.code, 0) << bake.err;
+  const auto p = pack::loadAnimationPack(pack::Reader::open(pack));
+  ASSERT_TRUE(p.outfits);
+  // One draw per sub-mesh that either outfit draws: a queue each.
+  std::set<uint32_t> tagged, naive;
+  for (const auto &o : p.outfits->outfits)
+    for (uint32_t s : o.subMeshes) {
+      tagged.insert(s);
+      if (p.mesh.subMeshes[s].name.find('@') == std::string::npos) // not an outfit's copy
+        naive.insert(s);
+    }
+  for (uint32_t s = 0; s < p.outfits->bodySubMeshes; ++s)
+    naive.insert(s);
+
+  auto scene = oneCharacter();
+  scene["packs"][0] = {{"name", "clothed"}, {"path", "clothed.crowdpack"}};
+  scene["instances"]["placement"]["positions"] = {{-0.45, 0, 20}, {0.45, 0, -20}};
+  scene["instances"]["outfit"] = {"dress", "jumper_skirt"};
+  scene["instances"]["outfit_order"] = "cycle";
+  scene["camera"] = {{"position", {0.4, 1.2, 3.4}}, {"target", {0, 0.85, 0}}, {"fov", 45}};
+  const std::string file = writeScene("clothed", scene);
+  size_t differing = 0, covered = 0;
+  for (double t : {0.0, 0.45, 0.9, 1.35}) {
+    std::map<bool, Image> img;
+    std::map<bool, nlohmann::json> stats;
+    for (bool wholeBody : {false, true}) {
+      const std::string name = work() + "/clothed_" + std::to_string(wholeBody);
+      auto r = run(std::string(CROWDPLAY) + " " + file + " --headless --frames 1 --size 480x360" +
+                   " --time " + std::to_string(t) + (wholeBody ? " --whole-body" : "") +
+                   " --screenshot " + name + ".png --stats " + name + ".json");
+      ASSERT_EQ(r.code, 0) << r.err;
+      img[wholeBody] = readPng(name + ".png");
+      stats[wholeBody] = summaryOf(name + ".json")["summary"];
+    }
+    EXPECT_EQ(stats[false]["draw_calls"], tagged.size());
+    EXPECT_EQ(stats[true]["draw_calls"], naive.size());
+    EXPECT_LT(stats[false]["triangles"].get<double>(),
+              0.85 * stats[true]["triangles"].get<double>());
+    if (stats[false].contains("vertices")) {
+      EXPECT_LT(stats[false]["vertices"].get<double>(), stats[true]["vertices"].get<double>());
+    }
+    for (size_t i = 0; i < img[false].rgb.size() / 3; ++i) {
+      covered += !isBackground(img[true], i);
+      for (size_t k = 0; k < 3; ++k)
+        if (img[false].rgb[i * 3 + k] != img[true].rgb[i * 3 + k]) {
+          ++differing;
+          break;
+        }
+    }
+  }
+  std::printf("clothed pair: %zu of %zu covered pixels differ between tagged and whole body\n",
+              differing, covered);
+  EXPECT_GT(covered, 4u * 20000u);
+  EXPECT_LE(differing, covered / 1000);
 }
 
 void expectOneLineError(const CliRun &r, const std::string &needle) {
@@ -430,6 +497,11 @@ TEST(Player, BadInputIsOneClearLine) {
   clip["instances"]["clip"] = "moonwalk";
   expectOneLineError(run(play + writeScene("clip", clip) + " --headless"),
                      "clip 'moonwalk' is not in pack 'humanoid' (clips: walk, run, idle)");
+
+  auto outfit = oneCharacter();
+  outfit["instances"]["outfit"] = "dress";
+  expectOneLineError(run(play + writeScene("outfit", outfit) + " --headless"),
+                     "outfit 'dress' asked of pack 'humanoid', which has no outfits");
 
   std::ofstream(work() + "/syntax.json")
       << "{\n  \"packs\": [\n    {\"path\": \"humanoid.crowdpack\",}\n  ]\n}\n";

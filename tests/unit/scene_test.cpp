@@ -27,27 +27,30 @@ TEST(Scene, DefaultsAndPathsRelativeToTheScene) {
   EXPECT_EQ(s.packPaths, std::vector<std::string>{"scenes/a.crowdpack"});
   EXPECT_EQ(s.packNames, std::vector<std::string>{"a"});
   ASSERT_EQ(s.instances.size(), 5u);
-  EXPECT_EQ(s.clipNames, std::vector<std::string>{""}); // the pack's first clip
+  EXPECT_EQ(s.clipNames, std::vector<std::string>{""});     // the pack's first clip
   EXPECT_EQ(s.impostorPaths, std::vector<std::string>{""}); // no impostors
-  auto h = parseScene(R"({"packs": [{"path": "a", "impostor": "../b.crowdpack"}], "instances": {}})",
-                      "scenes/s.json");
+  auto h =
+      parseScene(R"({"packs": [{"path": "a", "impostor": "../b.crowdpack"}], "instances": {}})",
+                 "scenes/s.json");
   EXPECT_EQ(h.impostorPaths, std::vector<std::string>{"b.crowdpack"});
-  EXPECT_NE(errorOf(R"({"packs": [{"path": "a", "impostor": 3}], "instances": {}})")
-                .find("s.json:1:"),
-            std::string::npos);
+  EXPECT_NE(
+      errorOf(R"({"packs": [{"path": "a", "impostor": 3}], "instances": {}})").find("s.json:1:"),
+      std::string::npos);
 }
 
 TEST(Scene, TriangleBudget) {
   EXPECT_EQ(parseScene(kMinimal, "s.json").budget, 0u); // none: full detail
-  EXPECT_EQ(parseScene(R"({"packs": [{"path": "a"}], "instances": {}, "budget": 2000000})", "s.json")
-                .budget,
-            2000000u);
+  EXPECT_EQ(
+      parseScene(R"({"packs": [{"path": "a"}], "instances": {}, "budget": 2000000})", "s.json")
+          .budget,
+      2000000u);
   EXPECT_NE(errorOf(R"({"packs": [{"path": "a"}], "instances": {},
                         "budget": -5})")
                 .find("s.json:2:"),
             std::string::npos);
-  EXPECT_NE(errorOf(R"({"packs": [{"path": "a"}], "instances": {}, "budget": "lots"})").find("budget"),
-            std::string::npos);
+  EXPECT_NE(
+      errorOf(R"({"packs": [{"path": "a"}], "instances": {}, "budget": "lots"})").find("budget"),
+      std::string::npos);
 }
 
 TEST(Scene, GridRandomAndListPlacements) {
@@ -94,6 +97,52 @@ TEST(Scene, DistributionsStayInRange) {
   }
   EXPECT_EQ(clips.size(), 2u);
   EXPECT_EQ(palettes.size(), 2u);
+}
+
+TEST(Scene, OutfitsFixedWeightedOrInTurn) {
+  auto fixed = parseScene(
+      R"({"packs": [{"path": "a"}], "instances": {"count": 4, "outfit": "dress"}})", "s.json");
+  EXPECT_EQ(fixed.outfitNames, std::vector<std::string>{"dress"});
+  for (const auto &i : fixed.instances)
+    EXPECT_EQ(i.outfit, 0u);
+  EXPECT_EQ(parseScene(kMinimal, "s.json").outfitNames, std::vector<std::string>{""});
+
+  auto weighted = parseScene(R"({"packs": [{"path": "a"}], "instances": {"count": 2000,
+      "outfit": {"dress": 3, "jumper_skirt": 1, "none": 0}}})",
+                             "s.json");
+  EXPECT_EQ(weighted.outfitNames, (std::vector<std::string>{"dress", "jumper_skirt", "none"}));
+  size_t counts[3] = {};
+  for (const auto &i : weighted.instances)
+    ++counts[i.outfit];
+  EXPECT_EQ(counts[2], 0u);
+  EXPECT_NEAR(double(counts[0]) / 2000.0, 0.75, 0.05);
+
+  auto cycle = parseScene(R"({"packs": [{"path": "a"}], "instances": {"count": 5,
+      "outfit": ["a", "b"], "outfit_order": "cycle"}})",
+                          "s.json");
+  std::vector<uint32_t> order;
+  for (const auto &i : cycle.instances)
+    order.push_back(i.outfit);
+  EXPECT_EQ(order, (std::vector<uint32_t>{0, 1, 0, 1, 0}));
+
+  // Outfits leave the other draws alone: the same instances as without them.
+  auto plain = parseScene(R"({"packs": [{"path": "a"}], "instances": {"count": 9,
+      "clip": ["x", "y"], "placement": {"type": "random"}}})",
+                          "s.json");
+  auto dressed = parseScene(R"({"packs": [{"path": "a"}], "instances": {"count": 9,
+      "clip": ["x", "y"], "placement": {"type": "random"}, "outfit": ["a", "b"],
+      "outfit_order": "cycle"}})",
+                            "s.json");
+  for (size_t k = 0; k < 9; ++k) {
+    EXPECT_EQ(plain.instances[k].clip, dressed.instances[k].clip);
+    EXPECT_EQ(plain.instances[k].position, dressed.instances[k].position);
+  }
+
+  for (const char *bad : {R"("outfit": 3)", R"("outfit": {"a": 0})", R"("outfit": [])",
+                          R"("outfit_order": "sorted")"}) {
+    std::string text = std::string(R"({"packs": [{"path": "a"}], "instances": {)") + bad + "}}";
+    EXPECT_NE(errorOf(text).find("s.json:1:"), std::string::npos) << bad;
+  }
 }
 
 TEST(Scene, CameraPathInterpolatesAndLoops) {

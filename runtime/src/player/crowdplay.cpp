@@ -32,9 +32,12 @@ character at every frame. Under a triangle budget (--budget, or "budget" in the 
 visible instance of a pack with LOD (crowdbake lod) gets a level of detail: the budget is
 shared by weights from projected area and distance. Where a scene pack names an impostor pack,
 instances playing the impostor's clip draw as impostors once one impostor texel is no bigger
-than a pixel (all of a type in one more instanced draw). Without --headless a window opens: drag
-with the left mouse button to orbit, scroll to zoom, W/A/S/D to move, Esc to quit; the title
-shows frame time, visible instances, triangles against the budget and draw calls.
+than a pixel (all of a type in one more instanced draw). In a clothed pack (crowdbake outfits)
+each instance wears the outfit the scene gives it ("outfit": a name, a list, or {name: weight})
+and draws only the body parts it leaves visible: each frame, a render queue per sub-mesh holds
+the visible instances that draw it, one instanced draw each. Without --headless a window
+opens: drag with the left mouse button to orbit, scroll to zoom, W/A/S/D to move, Esc to quit;
+the title shows frame time, visible instances, triangles against the budget and draw calls.
 
 options:
   --headless           render offscreen (run under xvfb-run -a where there is no display)
@@ -44,12 +47,15 @@ options:
   --screenshot FILE    write the last frame as PNG
   --stats FILE         write per-frame frame_ms, gpu_ms, cull_select_ms, draw_calls,
                        instances, visible, impostors, triangles (an impostor counts two) and
-                       their means under "summary" (with the budget)
+                       their means under "summary" (with the budget); vertices: vertex
+                       shader invocations, where the driver counts them
   --budget N           triangles a frame (0: none, full detail; default: the scene's)
   --no-cull            draw instances outside the view too (the reference for culling)
   --naive              one draw per instance per sub-mesh, instance data in uniforms (no
                        culling, LOD or impostors)
   --geometry           instanced geometry only: no impostors (the baseline of the hybrid)
+  --whole-body         clothed packs: draw the whole body under the garments (the naive
+                       method, for comparison) instead of each outfit's visible sub-meshes
   --time SECONDS       scene time of the first frame (default 0)
   --step SECONDS       headless time step between frames (default 1/30)
 
@@ -99,6 +105,8 @@ Options parse(int argc, char **argv) {
       o.draw.path = crowd::runtime::DrawPath::Instanced;
     else if (a == "--no-cull")
       o.draw.cull = false;
+    else if (a == "--whole-body")
+      o.draw.wholeBody = true;
     else if (a == "--budget")
       o.budget = integer(value(i), "--budget", 0, 1000000000000L);
     else if (a == "--frames")
@@ -226,36 +234,48 @@ int headless(const Options &o, crowd::runtime::CrowdRenderer &renderer,
     throw crowd::Error("cannot create a " + std::to_string(o.width) + "x" +
                        std::to_string(o.height) + " offscreen target");
   glCreateQueries(GL_TIME_ELAPSED, 1, &query);
+  // Vertex shader invocations, as the driver counts them (ARB_pipeline_statistics_query).
+  unsigned vertexQuery = 0;
+  if (epoxy_has_gl_extension("GL_ARB_pipeline_statistics_query"))
+    glGenQueries(1, &vertexQuery); // Mesa 22 refuses this target in glCreateQueries
   glBindFramebuffer(GL_FRAMEBUFFER, fbo);
   glViewport(0, 0, o.width, o.height);
   glEnable(GL_DEPTH_TEST);
   nlohmann::ordered_json frames = nlohmann::ordered_json::array();
-  const char *keys[8] = {"frame_ms",  "gpu_ms",  "cull_select_ms", "draw_calls",
-                         "instances", "visible", "impostors",      "triangles"};
-  double sums[8] = {};
+  const char *keys[9] = {"frame_ms", "gpu_ms",    "cull_select_ms", "draw_calls", "instances",
+                         "visible",  "impostors", "triangles",      "vertices"};
+  const int columns = vertexQuery ? 9 : 8;
+  double sums[9] = {};
   for (int f = 0; f < o.frames; ++f) {
     double t = o.startTime + f * o.step;
     auto t0 = std::chrono::steady_clock::now();
     glClearColor(0.55f, 0.62f, 0.70f, 1);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     glBeginQuery(GL_TIME_ELAPSED, query);
+    if (vertexQuery)
+      glBeginQuery(GL_VERTEX_SHADER_INVOCATIONS_ARB, vertexQuery);
     auto stats = renderer.draw(frameView(scene.camera, t, o.width, o.height), float(t), o.draw);
+    if (vertexQuery)
+      glEndQuery(GL_VERTEX_SHADER_INVOCATIONS_ARB);
     glEndQuery(GL_TIME_ELAPSED);
     glFinish();
     double frameMs =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    GLuint64 ns = 0;
+    GLuint64 ns = 0, vertices = 0;
     glGetQueryObjectui64v(query, GL_QUERY_RESULT, &ns);
-    double v[8] = {frameMs,
+    if (vertexQuery)
+      glGetQueryObjectui64v(vertexQuery, GL_QUERY_RESULT, &vertices);
+    double v[9] = {frameMs,
                    double(ns) / 1e6,
                    stats.cullSelectMs,
                    double(stats.drawCalls),
                    double(stats.instances),
                    double(stats.visible),
                    double(stats.impostors),
-                   double(stats.triangles)};
+                   double(stats.triangles),
+                   double(vertices)};
     nlohmann::ordered_json row = {{"frame", f}, {"time_s", t}};
-    for (int k = 0; k < 8; ++k) {
+    for (int k = 0; k < columns; ++k) {
       row[keys[k]] = k < 3 ? nlohmann::ordered_json(v[k]) : nlohmann::ordered_json(uint64_t(v[k]));
       sums[k] += v[k];
     }
@@ -268,8 +288,9 @@ int headless(const Options &o, crowd::runtime::CrowdRenderer &renderer,
   }
   nlohmann::ordered_json summary;
   summary["frames"] = o.frames;
-  for (int k = 0; k < 8; ++k)
+  for (int k = 0; k < columns; ++k)
     summary[keys[k]] = sums[k] / o.frames;
+  summary["whole_body"] = o.draw.wholeBody;
   summary["budget"] = o.draw.budget;
   summary["renderer"] = reinterpret_cast<const char *>(glGetString(GL_RENDERER));
   summary["path"] = pathName(o.draw.path);

@@ -5,7 +5,9 @@
 // no culling, full detail). Instances outside the view frustum are skipped; under a triangle
 // budget each visible one gets a level of detail (lod_select.h). Characters with an impostor
 // pack draw hybrid: instances of the impostor's clip past the one-texel-per-pixel distance (with
-// hysteresis) as impostors, all of one type in one instanced draw. Needs a current GL 4.5 context.
+// hysteresis) as impostors, all of one type in one instanced draw. Instances of a clothed pack
+// (crowdbake outfits) draw their outfit's sub-meshes only, through per-sub-mesh render queues of
+// the visible instances (render_queues.h). Needs a current GL 4.5 context.
 #pragma once
 #include <cstdint>
 #include <memory>
@@ -27,13 +29,13 @@ struct DrawStats {
   uint32_t visible = 0;     // of the instances, those inside the frustum (drawn)
   uint32_t impostors = 0;   // of the visible, those drawn as impostors
   uint64_t triangles = 0;   // two per impostor
-  double cullSelectMs = 0;  // CPU time of culling, the impostor split and LOD selection
+  double cullSelectMs = 0;  // CPU time of culling, the impostor split, LOD selection and queues
 };
 
 class CrowdRenderer {
 public:
-  // Resolves every instance's clip and palette against its pack; throws crowd::Error naming the
-  // scene, pack and clip when a clip is unknown.
+  // Resolves every instance's clip, outfit and palette against its pack; throws crowd::Error
+  // naming the scene, pack and clip or outfit when one is unknown.
   // `impostors[k]` (null for none) belongs to packs[k]; both must outlive the renderer.
   CrowdRenderer(const std::vector<pack::AnimationPack> &packs,
                 const std::vector<const pack::Impostor *> &impostors, const Scene &scene);

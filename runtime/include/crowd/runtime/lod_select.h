@@ -86,6 +86,7 @@ struct DrawOptions {
   DrawPath path = DrawPath::Hybrid;
   uint64_t budget = 0; // triangles drawn (impostors count two); 0: no budget, full detail
   bool cull = true;    // false: draw off-screen instances too (the reference for culling)
+  bool wholeBody = false; // clothed packs: the whole body under the garments (the naive method)
 };
 
 // The CPU half of a frame for a whole crowd, apart from GL so the benchmark times the very

@@ -1,5 +1,5 @@
 // Scene files for crowdplay (JSON): the packs to load, instance count and placement, per-instance
-// clip, time offset and speed, colour palettes per sub-mesh region, camera (with an optional
+// clip, outfit, time offset and speed, colour palettes per sub-mesh region, camera (with an optional
 // keyframed path), light and triangle budget. Errors name the file, line and column.
 #pragma once
 #include <array>
@@ -33,6 +33,7 @@ struct Instance {
   uint32_t clip = 0;
   double timeOffset = 0, speed = 1;
   uint32_t palette = 0;
+  uint32_t outfit = 0; // indexes Scene::outfitNames
 };
 
 struct Scene {
@@ -44,6 +45,9 @@ struct Scene {
   std::vector<std::string> impostorPaths;
   // Clip names instances choose from (Instance::clip indexes it); resolved by the player.
   std::vector<std::string> clipNames;
+  // Outfit names instances choose from (Instance::outfit indexes it), "" for the pack's first;
+  // resolved by the player against each clothed pack's outfit table.
+  std::vector<std::string> outfitNames = {""};
   std::vector<Instance> instances;
   // palettes[p] maps region (sub-mesh) names to colours; "default" applies to the rest.
   std::vector<std::vector<std::pair<std::string, glm::vec3>>> palettes;
