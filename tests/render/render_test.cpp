@@ -2,7 +2,7 @@
 // baked (against the CPU reference), draw calls do not grow with instances, a small scene matches
 // its golden screenshot within a tolerance, culling changes no pixel, budgeted LOD keeps the
 // budget and the picture, impostors stand in for the geometry at the switch (with hysteresis),
-// and bad input fails with one clear line.
+// clothed characters drawn tagged match the naive draw, and bad input fails with one clear line.
 #include <cstdio>
 #include <filesystem>
 #include <fstream>

@@ -34,6 +34,13 @@ const SubMeshCoverage &coverage(const OutfitFigures &f, const std::string &subMe
   throw Error("no sub-mesh " + subMesh);
 }
 
+bool warned(const Reporter &rep, const std::string &code) {
+  for (const auto &w : rep.warnings())
+    if (w.code == code)
+      return true;
+  return false;
+}
+
 OutfitBakeResult bake(const std::vector<OutfitInput> &outfits, Reporter &rep,
                       OutfitOptions o = fast()) {
   rep.quiet = true;
@@ -132,10 +139,7 @@ TEST(Outfits, AnOutfitThatCoversNothingHidesNothingAndSaysSo) {
   // Only what the body hides by itself (feet soles on the ground, arm caps inside the torso).
   EXPECT_EQ(r.outfits[0].hiddenFaces, r.bareHiddenFaces);
   EXPECT_EQ(coverage(r.outfits[0], "torso/spine").coverage, "visible");
-  bool warned = false;
-  for (const auto &w : rep.warnings())
-    warned = warned || w.code == "outfit_hides_nothing";
-  EXPECT_TRUE(warned);
+  EXPECT_TRUE(warned(rep, "outfit_hides_nothing"));
 }
 
 TEST(Outfits, SeeThroughGarmentsNeverHideTheBody) {
@@ -146,10 +150,7 @@ TEST(Outfits, SeeThroughGarmentsNeverHideTheBody) {
     p.seeThrough = true; // alpha mode BLEND or MASK
   const auto r = bake(outfits, rep);
   EXPECT_EQ(r.outfits[0].hiddenFaces, r.bareHiddenFaces);
-  bool warned = false;
-  for (const auto &w : rep.warnings())
-    warned = warned || w.code == "see_through_garment";
-  EXPECT_TRUE(warned);
+  EXPECT_TRUE(warned(rep, "see_through_garment"));
 }
 
 // The dress pulled in until it cuts through the torso: the body pokes out in places, and those

@@ -86,4 +86,11 @@ void writeJson(const std::string &path, const nlohmann::ordered_json &j) {
   std::filesystem::rename(tmp, path);
 }
 
+nlohmann::ordered_json warningsJson(const Reporter &reporter) {
+  auto list = nlohmann::ordered_json::array();
+  for (const auto &w : reporter.warnings())
+    list.push_back({{"code", w.code}, {"message", w.message}, {"count", w.count}});
+  return list;
+}
+
 } // namespace crowd::cli

@@ -9,6 +9,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "crowd/bake/report.h"
+
 namespace crowd::cli {
 
 // Bad usage: exit code 2 with the message.
@@ -38,5 +40,7 @@ uint32_t whole(const Args &a, const std::string &key, double def, double lo, dou
 void oneInput(const Args &a, const char *command);
 bool progressWanted(const Args &a); // stderr is a terminal and --quiet is not given
 void writeJson(const std::string &path, const nlohmann::ordered_json &j); // atomically
+// The reporter's warnings for a --report file: [{code, message, count}, ...].
+nlohmann::ordered_json warningsJson(const Reporter &reporter);
 
 } // namespace crowd::cli

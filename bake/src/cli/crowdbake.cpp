@@ -333,9 +333,7 @@ int cmdAnim(const Args &a, const std::string &command) {
       }
       r["lod"] = lj;
     }
-    r["warnings"] = ordered_json::array();
-    for (const auto &w : reporter.warnings())
-      r["warnings"].push_back({{"code", w.code}, {"message", w.message}, {"count", w.count}});
+    r["warnings"] = warningsJson(reporter);
     writeJson(a.get("report"), r);
   }
   if (progress)
@@ -421,9 +419,7 @@ int cmdImpostor(const Args &a) {
         {"time_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count()}};
     j["pack_bytes"] = bytes.size();
     j["time_s"] = seconds;
-    j["warnings"] = ordered_json::array();
-    for (const auto &w : reporter.warnings())
-      j["warnings"].push_back({{"code", w.code}, {"message", w.message}, {"count", w.count}});
+    j["warnings"] = warningsJson(reporter);
     writeJson(a.get("report"), j);
   }
   return 0;

@@ -259,9 +259,7 @@ int cmdOutfits(const Args &a) {
                    {"bake", secs(t2 - t1)},
                    {"hole_check", secs(t3 - t2)},
                    {"total", secs(Clock::now() - t0)}};
-    j["warnings"] = ordered_json::array();
-    for (const auto &w : reporter.warnings())
-      j["warnings"].push_back({{"code", w.code}, {"message", w.message}, {"count", w.count}});
+    j["warnings"] = warningsJson(reporter);
     writeJson(a.get("report"), j);
   }
   return 0;
