@@ -201,7 +201,6 @@ Scene parseScene(const std::string &text, const std::string &path, size_t instan
   size_t count = size_t(c.number(in.value("count", json(1)), {"instances", "count"}, 1, 1e6));
   if (instanceOverride)
     count = instanceOverride;
-  std::vector<double> outfitWeights = {1};
   uint32_t pack = 0;
   if (in.contains("pack")) {
     auto it = std::find(s.packNames.begin(), s.packNames.end(), in["pack"].get<std::string>());
@@ -210,7 +209,7 @@ Scene parseScene(const std::string &text, const std::string &path, size_t instan
     pack = uint32_t(it - s.packNames.begin());
   }
   std::vector<std::string> clips = {""};
-  std::vector<double> clipWeights = {1};
+  std::vector<double> clipWeights = {1}, outfitWeights = {1};
   if (in.contains("clip"))
     c.choices(in["clip"], {"instances", "clip"}, "clip", clips, clipWeights);
   if (in.contains("outfit"))
