@@ -5,6 +5,7 @@
 
 #include "crowd/formats/bytes.h"
 #include "crowd/formats/error.h"
+#include "crowd/formats/impostor.h"
 
 namespace crowd::pack {
 
@@ -380,7 +381,7 @@ AnimationPack loadAnimationPack(const Reader &reader) {
   };
   auto get = [&](uint32_t type) { return reader.payload(reader.require(type)); };
   for (const auto &c : reader.chunks())
-    if (c.version != kChunkVersion)
+    if (c.type != kImpostor && c.version != kChunkVersion) // impostors: character_pack.cpp
       throw Error(ctx(c.type) + ": chunk version " + std::to_string(c.version) +
                   " is not supported");
   AnimationPack p;

@@ -1,6 +1,7 @@
 #include "crowd/formats/container.h"
 
 #include <array>
+#include <atomic>
 #include <bit>
 #include <cstdio>
 #include <cstring>
@@ -81,13 +82,16 @@ std::vector<uint8_t> Writer::bytes() const {
 }
 
 void writeFileAtomic(const std::string &path, std::span<const uint8_t> data) {
-  std::string tmp = path + ".tmp-" + std::to_string(::getpid());
+  // Unique per process and per call: threads (and farm workers) may write the same path at once.
+  static std::atomic<uint64_t> serial{0};
+  std::string tmp =
+      path + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(serial.fetch_add(1));
   {
     std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
     if (!f)
       throw Error(path + ": cannot create temporary file " + tmp);
     f.write(reinterpret_cast<const char *>(data.data()), std::streamsize(data.size()));
-    f.flush();
+    f.close();
     if (!f) {
       f.close();
       std::remove(tmp.c_str());
@@ -147,7 +151,7 @@ Reader::Reader(std::vector<uint8_t> bytes, std::string name)
     if (crc32(std::span(bytes_).subspan(e.offset, e.size)) != e.crc)
       throw Error(cctx + ": checksum mismatch (payload corrupted)");
     for (const auto &other : chunks_)
-      if (other.type == e.type)
+      if (other.type == e.type && !repeatable(e.type))
         throw Error(cctx + ": appears twice");
     chunks_.push_back(e);
   }

@@ -10,6 +10,7 @@ namespace crowd::pack {
 std::vector<uint8_t> encode(const Impostor &m) {
   ByteWriter w;
   w.putString(m.clip);
+  w.putString(m.outfit);
   w.put<float>(m.startTime);
   w.put<float>(m.frameStep);
   for (uint32_t v : {m.frames, m.azimuths, m.elevations, m.texels})
@@ -32,10 +33,15 @@ std::vector<uint8_t> encode(const Impostor &m) {
   return w.take();
 }
 
-Impostor decodeImpostor(std::span<const uint8_t> bytes, const std::string &context) {
+Impostor decodeImpostor(std::span<const uint8_t> bytes, uint32_t version,
+                        const std::string &context) {
+  if (version != 1 && version != kImpostorVersion)
+    throw Error(context + ": chunk version " + std::to_string(version) + " is not supported");
   ByteReader r(bytes, context);
   Impostor m;
   m.clip = r.getString("clip");
+  if (version >= 2)
+    m.outfit = r.getString("outfit");
   m.startTime = r.get<float>("start time");
   m.frameStep = r.get<float>("frame step");
   m.frames = r.get<uint32_t>("frames");
@@ -95,21 +101,21 @@ ImpostorPack loadImpostorPack(const Reader &reader) {
   auto ctx = [&](uint32_t type) {
     return "pack '" + reader.name() + "', chunk " + fourccName(type);
   };
-  for (uint32_t type : {kProvenance, kImpostor}) {
-    const ChunkEntry &c = reader.require(type);
-    if (c.version != 1)
-      throw Error(ctx(type) + ": chunk version " + std::to_string(c.version) + " is not supported");
-  }
+  const ChunkEntry &prov = reader.require(kProvenance);
+  if (prov.version != 1)
+    throw Error(ctx(kProvenance) + ": chunk version " + std::to_string(prov.version) +
+                " is not supported");
   ImpostorPack p;
-  p.provenance = decodeProvenance(reader.payload(reader.require(kProvenance)), ctx(kProvenance));
-  p.impostor = decodeImpostor(reader.payload(reader.require(kImpostor)), ctx(kImpostor));
+  p.provenance = decodeProvenance(reader.payload(prov), ctx(kProvenance));
+  const ChunkEntry &impostor = reader.require(kImpostor);
+  p.impostor = decodeImpostor(reader.payload(impostor), impostor.version, ctx(kImpostor));
   return p;
 }
 
 std::vector<uint8_t> packBytes(const ImpostorPack &p) {
   Writer w;
   w.add(kProvenance, 1, encode(p.provenance));
-  w.add(kImpostor, 1, encode(p.impostor));
+  w.add(kImpostor, kImpostorVersion, encode(p.impostor));
   return w.bytes();
 }
 

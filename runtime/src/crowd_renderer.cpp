@@ -139,14 +139,14 @@ uint32_t uploadImpostor(const pack::Impostor &m, unsigned normals, unsigned uvs,
 
 } // namespace
 
-CrowdRenderer::CrowdRenderer(const std::vector<pack::AnimationPack> &packs,
+CrowdRenderer::CrowdRenderer(const std::vector<const pack::AnimationPack *> &packs,
                              const std::vector<const pack::Impostor *> &impostors,
                              const Scene &scene)
     : light_(scene.lightDirection) {
   program_ = buildProgram(kCrowdVert, kCrowdFrag, "crowd");
   impostorProgram_ = buildProgram(kImpostorVert, kImpostorFrag, "impostor");
   for (size_t pi = 0; pi < packs.size(); ++pi) {
-    const auto &p = packs[pi];
+    const auto &p = *packs[pi];
     characters_.push_back(std::make_unique<Character>());
     Character *c = characters_.back().get();
     c->pack = &p;
@@ -213,8 +213,12 @@ CrowdRenderer::CrowdRenderer(const std::vector<pack::AnimationPack> &packs,
       c->instanceData.insert(c->instanceData.end(), d, d + 16);
       c->outfitOf.push_back(outfitOf[inst.outfit]);
       ++c->instanceCount;
-      selection_.addInstance(glm::vec3(inst.position), float(inst.yaw),
-                             c->impostor && p.clips[clipOf[inst.clip]].name == c->impostor->clip);
+      // An outfit's impostor shows only that outfit; a bare-body impostor any.
+      const bool impostorFits =
+          c->impostor && p.clips[clipOf[inst.clip]].name == c->impostor->clip &&
+          (c->impostor->outfit.empty() ||
+           (p.outfits && p.outfits->outfits[outfitOf[inst.outfit]].name == c->impostor->outfit));
+      selection_.addInstance(glm::vec3(inst.position), float(inst.yaw), impostorFits);
     }
     std::vector<float> clips;
     for (const auto &cl : p.clips)

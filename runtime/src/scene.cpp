@@ -10,56 +10,17 @@
 #include <nlohmann/json.hpp>
 
 #include "crowd/formats/error.h"
+#include "crowd/runtime/json_checker.h"
 
 namespace crowd::runtime {
 namespace {
 
 using nlohmann::json;
 
-// Line and column (1-based) of byte `offset` in `text`.
-std::string lineColumn(const std::string &text, size_t offset) {
-  size_t line = 1, col = 1;
-  for (size_t i = 0; i < offset && i < text.size(); ++i) {
-    if (text[i] == '\n') {
-      ++line;
-      col = 1;
-    } else {
-      ++col;
-    }
-  }
-  return std::to_string(line) + ":" + std::to_string(col);
-}
-
-// nlohmann::json keeps no source positions: semantic errors point at the first occurrence of
-// the offending key after its parent's key, which is where a reader would look.
-class Checker {
+// The scene's own value shapes on top of the shared checks.
+class Checker : public JsonChecker {
 public:
-  Checker(const std::string &text, const std::string &path) : text_(text), path_(path) {}
-
-  [[noreturn]] void fail(const std::vector<std::string> &keys, const std::string &what) const {
-    size_t pos = 0;
-    for (const auto &k : keys) {
-      size_t found = text_.find("\"" + k + "\"", pos);
-      if (found == std::string::npos)
-        break;
-      pos = found;
-    }
-    std::string where;
-    for (const auto &k : keys)
-      where += "/" + k;
-    throw Error(path_ + ":" + lineColumn(text_, pos) + ": " + (where.empty() ? "" : where + ": ") +
-                what);
-  }
-
-  double number(const json &j, const std::vector<std::string> &keys, double lo, double hi) const {
-    if (!j.is_number())
-      fail(keys, "expected a number");
-    double v = j.get<double>();
-    if (!(v >= lo && v <= hi))
-      fail(keys, "value " + std::to_string(v) + " is outside [" + std::to_string(lo) + ", " +
-                     std::to_string(hi) + "]");
-    return v;
-  }
+  using JsonChecker::JsonChecker;
 
   glm::dvec3 vec3(const json &j, const std::vector<std::string> &keys) const {
     if (!j.is_array() || j.size() != 3)
@@ -109,21 +70,6 @@ public:
     weights.resize(names.size(), 1.0);
   }
 
-  void onlyKeys(const json &j, const std::vector<std::string> &keys,
-                const std::vector<std::string> &allowed) const {
-    if (!j.is_object())
-      fail(keys, "expected an object");
-    for (auto it = j.begin(); it != j.end(); ++it)
-      if (std::find(allowed.begin(), allowed.end(), it.key()) == allowed.end()) {
-        auto k = keys;
-        k.push_back(it.key());
-        fail(k, "unknown key '" + it.key() + "'");
-      }
-  }
-
-private:
-  const std::string &text_;
-  const std::string &path_;
 };
 
 // Equal weights pick uniformly, as scenes did before weights were allowed (same instances).
@@ -158,16 +104,8 @@ void Camera::at(double t, glm::dvec3 &eye, glm::dvec3 &look) const {
 }
 
 Scene parseScene(const std::string &text, const std::string &path, size_t instanceOverride) {
-  json j;
-  try {
-    j = json::parse(text);
-  } catch (const json::parse_error &e) {
-    std::string what = e.what();
-    if (auto p = what.find("syntax error"); p != std::string::npos)
-      what = what.substr(p);
-    throw Error(path + ":" + lineColumn(text, e.byte ? e.byte - 1 : 0) + ": " + what);
-  }
   Checker c(text, path);
+  json j = c.parse();
   Scene s;
   s.path = path;
   c.onlyKeys(j, {}, {"packs", "instances", "palettes", "camera", "light", "budget", "comment"});

@@ -128,12 +128,23 @@ pack::SkinTexture buildSkin(const SkinnedMesh &m, uint32_t maxWidth) {
 
 } // namespace
 
+void AnimBakeOptions::validate() const {
+  if (!(fps >= 0 && fps <= 1000))
+    throw Error("fps: must be in (0, 1000], or source (0)");
+  if (maxWidth < 2 || maxWidth > 65536)
+    throw Error("max-width: must be in [2, 65536]");
+  if (threads < 0 || threads > 1024)
+    throw Error("threads: must be in [0, 1024]");
+  try {
+    precisionByName(precision);
+  } catch (const Error &e) {
+    throw Error(std::string("precision: ") + e.what());
+  }
+}
+
 AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
                              Reporter &reporter) {
-  if (!(options.fps >= 0 && options.fps <= 1000))
-    throw Error("--fps must be in (0, 1000], or source");
-  if (options.maxWidth < 2 || options.maxWidth > 65536)
-    throw Error("--max-width must be in [2, 65536]");
+  options.validate();
   const Precision &chosen = precisionByName(options.precision);
 
   std::vector<ClipFrames> clips;

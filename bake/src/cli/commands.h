@@ -6,5 +6,6 @@ namespace crowd::cli {
 
 extern const char *const kOutfitsHelp;
 int cmdOutfits(const Args &a);
+int cmdBuild(int argc, char **argv); // parses its own options (CLI11)
 
 } // namespace crowd::cli

@@ -20,6 +20,7 @@
 #include "crowd/bake/lod_bake.h"
 #include "crowd/bake/preview.h"
 #include "crowd/bake/provenance.h"
+#include "crowd/formats/character_pack.h"
 #include "crowd/formats/chunks.h"
 #include "crowd/formats/error.h"
 #include "crowd/formats/impostor.h"
@@ -37,6 +38,7 @@ const char *kTopHelp = R"(crowdbake: bake glTF characters into crowdpack files f
 usage: crowdbake <command> [options]
 
 commands:
+  build     character manifests and libraries into character packs (jobs, content cache)
   samples   write the bundled sample characters (humanoid and three outfits) as .glb
   anim      bake animation textures, skin weights and mesh from a glTF character
   lod       anim, plus continuous LOD: the mesh ordered for edge-collapse cuts at any vertex count
@@ -468,11 +470,12 @@ std::string hex32(uint32_t v) {
 int cmdInspect(const Args &a) {
   oneInput(a, "inspect");
   auto reader = crowd::pack::Reader::open(a.positional[0]);
-  if (reader.find(crowd::pack::kImpostor)) {
+  if (!reader.find(crowd::pack::kSkeleton) && reader.find(crowd::pack::kImpostor)) {
     inspectImpostor(reader, a.has("json"));
     return 0;
   }
-  auto p = crowd::pack::loadAnimationPack(reader);
+  auto character = crowd::pack::loadCharacterPack(reader);
+  const auto &p = character.body;
   using namespace crowd::pack;
   const auto &t = p.animation;
   ordered_json j;
@@ -549,6 +552,16 @@ int cmdInspect(const Args &a) {
       j["outfits"]["outfits"].push_back(oj);
     }
   }
+  for (const auto &m : character.impostors)
+    j["impostors"].push_back({{"clip", m.clip},
+                              {"outfit", m.outfit},
+                              {"frames", m.frames},
+                              {"views", std::to_string(m.azimuths) + "x" + std::to_string(m.elevations)},
+                              {"texels", m.texels},
+                              {"mirrored", m.mirrored},
+                              {"atlas_width", m.atlasWidth},
+                              {"atlas_height", m.atlasHeight},
+                              {"bytes", m.atlases.size() + m.uvAtlases.size() * 2}});
   if (a.has("json")) {
     std::cout << j.dump(2) << "\n";
     return 0;
@@ -602,6 +615,14 @@ int cmdInspect(const Args &a) {
       o << "\n";
     }
   }
+  if (!character.impostors.empty()) {
+    o << "impostors: " << character.impostors.size() << "\n";
+    for (const auto &m : character.impostors)
+      o << "  clip " << m.clip << (m.outfit.empty() ? "" : ", outfit " + m.outfit) << ": "
+        << m.frames << " frames, " << m.azimuths << "x" << m.elevations << " views of " << m.texels
+        << " texels" << (m.mirrored ? ", mirrored" : "") << ", atlas " << m.atlasWidth << "x"
+        << m.atlasHeight << ", " << m.atlases.size() + m.uvAtlases.size() * 2 << " bytes\n";
+  }
   std::cout << o.str();
   return 0;
 }
@@ -609,16 +630,20 @@ int cmdInspect(const Args &a) {
 int cmdVerify(const Args &a) {
   oneInput(a, "verify");
   auto reader = crowd::pack::Reader::open(a.positional[0]);
-  if (reader.find(crowd::pack::kImpostor)) {
+  if (!reader.find(crowd::pack::kSkeleton) && reader.find(crowd::pack::kImpostor)) {
     auto m = crowd::pack::loadImpostorPack(reader).impostor;
     std::cout << "ok: " << a.positional[0] << " (impostor, " << m.frames << " frames x "
               << m.views.size() / m.frames << " views, " << reader.fileSize() << " bytes)\n";
     return 0;
   }
-  auto p = crowd::pack::loadAnimationPack(reader);
+  auto c = crowd::pack::loadCharacterPack(reader);
+  const auto &p = c.body;
   std::cout << "ok: " << a.positional[0] << " (" << reader.chunks().size() << " chunks, "
             << reader.fileSize() << " bytes, " << p.skeleton.jointCount() << " joints, "
-            << p.clips.size() << " clips)\n";
+            << p.clips.size() << " clips"
+            << (p.outfits ? ", " + std::to_string(p.outfits->outfits.size()) + " outfits" : "")
+            << (c.impostors.empty() ? "" : ", " + std::to_string(c.impostors.size()) + " impostors")
+            << ")\n";
   return 0;
 }
 
@@ -642,7 +667,7 @@ int cmdExport(const Args &a) {
   std::filesystem::create_directories(dir, ec);
   if (ec)
     throw crowd::Error(dir + ": cannot create directory: " + ec.message());
-  if (reader.find(crowd::pack::kImpostor)) {
+  if (!reader.find(crowd::pack::kSkeleton) && reader.find(crowd::pack::kImpostor)) {
     // Per frame: the normals as RGB (black where empty) and the region ids as distinct greys,
     // so both can be looked at; the pack keeps them in one RGBA texel.
     auto m = crowd::pack::loadImpostorPack(reader).impostor;
@@ -712,6 +737,8 @@ int main(int argc, char **argv) {
       std::cout << kTopHelp;
       return 0;
     }
+    if (command == "build")
+      return cmdBuild(argc, argv);
     if (!kHelp.count(command) && command != "outfits")
       throw UsageError("unknown command '" + command + "' (see crowdbake --help)");
     for (int i = 2; i < argc; ++i)

@@ -68,15 +68,21 @@ void dilate(Crop &cr) {
 
 } // namespace
 
+void ImpostorOptions::validate() const {
+  if (frames == 0 || frames > 4096)
+    throw Error("frames: must be in 1..4096");
+  if (azimuths == 0 || azimuths > 256 || elevations == 0 || elevations > 64)
+    throw Error("views: must be AxE with A in 1..256 and E in 1..64");
+  if (texels < 4 || texels > 4096)
+    throw Error("texels: must be in 4..4096");
+  if (mirror && (frames % 2 != 0 || azimuths % 2 != 0))
+    throw Error("mirror: needs an even number of frames and of azimuths");
+  if (threads < 0 || threads > 1024)
+    throw Error("threads: must be in [0, 1024]");
+}
+
 ImpostorBakeResult bakeImpostor(const Character &c, const ImpostorOptions &o, Reporter &reporter) {
-  if (o.frames == 0 || o.frames > 4096)
-    throw Error("--frames must be in 1..4096");
-  if (o.azimuths == 0 || o.azimuths > 256 || o.elevations == 0 || o.elevations > 64)
-    throw Error("--views must be AxE with A in 1..256 and E in 1..64");
-  if (o.texels < 4 || o.texels > 4096)
-    throw Error("--texels must be in 4..4096");
-  if (o.mirror && (o.frames % 2 != 0 || o.azimuths % 2 != 0))
-    throw Error("--mirror needs an even number of frames and of azimuths");
+  o.validate();
   const uint64_t views = uint64_t(o.azimuths) * o.elevations;
   const uint64_t naive = uint64_t(o.frames) * views * o.texels * o.texels * 4;
   if (naive > o.maxBytes)

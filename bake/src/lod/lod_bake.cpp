@@ -415,7 +415,17 @@ std::vector<std::vector<glm::vec3>> samplePoses(const Character &c, uint32_t cou
   return poses;
 }
 
+void LodOptions::validate() const {
+  if (!(floorFraction >= 0 && floorFraction <= 1))
+    throw Error("floor: must be in [0, 1]");
+  if (poses > 1024)
+    throw Error("poses: must be an integer in [0, 1024]");
+  if (!(maxNormalDeviationDeg > 0 && maxNormalDeviationDeg <= 180))
+    throw Error("max normal deviation: must be in (0, 180] degrees");
+}
+
 pack::Lod applyLod(Character &c, const LodOptions &o, Reporter &reporter, LodResult *details) {
+  o.validate();
   SkinnedMesh &in = c.mesh;
   // Sub-meshes weld separately: where two touch (a sleeve on an arm), welding them would make
   // edges with four faces; apart, each keeps its own border.
@@ -443,7 +453,8 @@ pack::Lod applyLod(Character &c, const LodOptions &o, Reporter &reporter, LodRes
   lod.error = r.error;
   lod.triangleCounts.assign(in.parts.size() * (size_t(n) + 1), 0);
   for (uint32_t p = 0; p < in.parts.size(); ++p) {
-    SkinnedMesh::Part part{in.parts[p].name, uint32_t(out.indices.size()), 0};
+    SkinnedMesh::Part part = in.parts[p]; // keeps its material
+    part.firstIndex = uint32_t(out.indices.size());
     uint32_t *counts = &lod.triangleCounts[size_t(p) * (n + 1)];
     for (size_t t = 0; t < r.source.size(); ++t) {
       if (partOf[r.source[t]] != p)

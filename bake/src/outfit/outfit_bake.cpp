@@ -122,17 +122,42 @@ Character splitByJoint(const Character &body) {
 
 } // namespace
 
+Character dressCharacter(const Character &body, const OutfitInput &outfit,
+                         const std::string &regions, Reporter &reporter) {
+  Character dressed = regions == "joint" ? splitByJoint(body) : body;
+  appendGarments(dressed, outfit, reporter);
+  return dressed;
+}
+
+void OutfitOptions::validate() const {
+  const auto &v = visibility;
+  if (regions != "material" && regions != "joint")
+    throw Error("regions: must be material or joint, got '" + regions + "'");
+  if (!(minSaving >= 0 && minSaving <= 1))
+    throw Error("min-saving: must be in [0, 1]");
+  if (v.frameStep < 1 || v.frameStep > 100000)
+    throw Error("frame-step: must be in [1, 100000]");
+  if (v.rays < 1 || v.rays > 4096)
+    throw Error("rays: must be in [1, 4096]");
+  if (v.points != 1 && v.points != 4)
+    throw Error("points: must be 1 or 4");
+  if (v.ring > 64)
+    throw Error("ring: must be in [0, 64]");
+  if (!(v.fps > 0 && v.fps <= 1000))
+    throw Error("fps: must be in (0, 1000]");
+  anim.validate();
+  if (lod)
+    lod->validate();
+}
+
 OutfitBakeResult bakeOutfits(const Character &template_, const std::vector<OutfitInput> &outfits,
                              const OutfitOptions &options, Reporter &reporter) {
-  if (options.regions != "material" && options.regions != "joint")
-    throw Error("--regions must be material or joint, got '" + options.regions + "'");
+  options.validate();
   const Character body = options.regions == "joint" ? splitByJoint(template_) : template_;
   if (outfits.empty())
     throw Error("outfits: no outfit given (--outfit FILE)");
   if (!body.skinned)
     throw Error("the body has no skin: outfits need a skinned body template");
-  if (!(options.minSaving >= 0 && options.minSaving <= 1))
-    throw Error("--min-saving must be in [0, 1]");
   OutfitBakeResult r;
   const auto &bodyMesh = body.mesh;
   r.bodyTriangles = uint32_t(bodyMesh.indices.size() / 3);
@@ -240,7 +265,23 @@ OutfitBakeResult bakeOutfits(const Character &template_, const std::vector<Outfi
                          {part.colour.r, part.colour.g, part.colour.b, part.colour.a});
     table.textured.push_back(part.textured && out.diffuse ? 1 : 0);
   }
+  std::optional<pack::Lod> lod;
+  if (options.lod) { // reorders triangles within each sub-mesh: the outfit table stays valid
+    std::vector<uint32_t> partOf(out.mesh.indices.size() / 3);
+    for (uint32_t p = 0; p < out.mesh.parts.size(); ++p)
+      for (uint32_t k = 0; k < out.mesh.parts[p].indexCount / 3; ++k)
+        partOf[out.mesh.parts[p].firstIndex / 3 + k] = p;
+    LodResult details;
+    lod = applyLod(out, *options.lod, reporter, &details);
+    std::vector<uint32_t> source; // applyLod's output order: per part, the kept triangles
+    for (uint32_t p = 0; p < out.mesh.parts.size(); ++p)
+      for (uint32_t t : details.source)
+        if (partOf[t] == p)
+          source.push_back(r.sourceTriangle[t]);
+    r.sourceTriangle = std::move(source);
+  }
   r.anim = bakeAnimation(out, options.anim, reporter);
+  r.anim.pack.lod = std::move(lod);
   r.anim.pack.outfits = std::move(table);
   return r;
 }

@@ -19,6 +19,8 @@
 #include "crowd/formats/chunks.h"
 #include "crowd/formats/error.h"
 #include "crowd/formats/impostor.h"
+#include "crowd/runtime/character_types.h"
+#include "crowd/runtime/preview_scene.h"
 #include "crowd/runtime/crowd_renderer.h"
 #include "crowd/runtime/scene.h"
 
@@ -402,14 +404,19 @@ int main(int argc, char **argv) {
     }
   try {
     Options o = parse(argc, argv);
-    crowd::runtime::Scene scene = crowd::runtime::loadScene(o.scene, o.instances);
+    // A pack without a scene file: the preview scene of its clips and outfits.
+    const bool previewPack = std::filesystem::path(o.scene).extension() == ".crowdpack";
+    crowd::runtime::Scene scene =
+        previewPack ? crowd::runtime::previewScene(
+                          o.scene, crowd::pack::loadCharacterPack(crowd::pack::Reader::open(o.scene)))
+                    : crowd::runtime::loadScene(o.scene, o.instances);
     o.draw.budget = o.budget >= 0 ? uint64_t(o.budget) : scene.budget;
-    std::vector<crowd::pack::AnimationPack> packs;
+    std::vector<crowd::pack::CharacterPack> packs;
     for (const auto &path : scene.packPaths) {
       if (!std::filesystem::exists(path))
         throw crowd::Error(o.scene + ": pack '" + path +
                            "' does not exist (bake it first: ./run demo)");
-      packs.push_back(crowd::pack::loadAnimationPack(crowd::pack::Reader::open(path)));
+      packs.push_back(crowd::pack::loadCharacterPack(crowd::pack::Reader::open(path)));
     }
     std::vector<crowd::pack::ImpostorPack> impostorPacks(scene.impostorPaths.size());
     std::vector<const crowd::pack::Impostor *> impostors(scene.impostorPaths.size(), nullptr);
@@ -426,7 +433,8 @@ int main(int argc, char **argv) {
     Glfw glfw;
     GLFWwindow *win =
         openWindow(o.headless ? 64 : o.width, o.headless ? 64 : o.height, !o.headless);
-    crowd::runtime::CrowdRenderer renderer(packs, impostors, scene);
+    auto types = crowd::runtime::characterTypes(scene, packs, impostors);
+    crowd::runtime::CrowdRenderer renderer(types.packs, types.impostors, scene);
     int rc = o.headless ? headless(o, renderer, scene) : interactive(win, o, renderer, scene);
     return rc;
   } catch (const UsageError &e) {

@@ -31,6 +31,8 @@ struct AnimBakeOptions {
   uint32_t maxWidth = 4096; // animation and skin texture width limit, texels
   std::string precision = "float";
   int threads = 0; // 0: all cores; output bytes never depend on it
+  // Throws crowd::Error naming the first field out of range ("fps: ...").
+  void validate() const;
 };
 
 // Vertex errors of texture skinning against exact evaluation, in model units.

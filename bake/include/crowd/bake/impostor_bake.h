@@ -20,6 +20,7 @@ struct ImpostorOptions {
   bool mirror = false;   // store azimuths 0..A/2 only (needs even frames and azimuths)
   int threads = 0;       // 0: all cores; the bytes never depend on it
   uint64_t maxBytes = uint64_t(4) << 30; // memory guard on the uncropped views
+  void validate() const; // throws crowd::Error naming the first field out of range
 };
 
 struct ImpostorBakeResult {

@@ -19,6 +19,7 @@ struct LodOptions {
   double floorFraction = 0.02; // stop at this share of the triangles (or no legal collapse)
   double maxNormalDeviationDeg = 75;
   uint32_t poses = 16; // applyLod: poses sampled evenly over all clips (0: the bind pose only)
+  void validate() const; // throws crowd::Error naming the first field out of range
 };
 
 // Cut at v vertices: take the first triangleCount[v] triangles and follow each index through

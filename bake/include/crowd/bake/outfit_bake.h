@@ -4,11 +4,13 @@
 // visible, hidden, or partial (drawn through an outfit-specific copy of its visible faces).
 #pragma once
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "crowd/bake/anim_bake.h"
 #include "crowd/bake/character.h"
+#include "crowd/bake/lod_bake.h"
 #include "crowd/bake/report.h"
 
 namespace crowd {
@@ -56,6 +58,10 @@ struct OutfitOptions {
   // this share of its faces; below it the sub-mesh is drawn whole.
   double minSaving = 0.10;
   AnimBakeOptions anim; // the pack's animation texture
+  // Continuous LOD of the merged mesh (body parts, outfit-specific copies, garments), applied
+  // before the animation bake; none when empty.
+  std::optional<LodOptions> lod;
+  void validate() const; // throws crowd::Error naming the first field out of range
 };
 
 struct SubMeshCoverage {
@@ -87,6 +93,12 @@ struct OutfitBakeResult {
   // body faces + garments; tagged = body + outfit-specific copies + garments.
   uint64_t naiveFaces = 0, prefittedFaces = 0, taggedFaces = 0, specificFaces = 0;
 };
+
+// The body in its regions ("material" or "joint", as OutfitOptions::regions) with one outfit's
+// garments appended after its parts: the outfit as seen from outside (hidden faces stay, being
+// hidden), for impostors. Parts: the body's, then the garments in the outfit's order.
+Character dressCharacter(const Character &body, const OutfitInput &outfit,
+                         const std::string &regions, Reporter &reporter);
 
 // Throws crowd::Error when an outfit has no skin, uses a joint the body lacks, or was bound in
 // another bind pose.

@@ -14,6 +14,7 @@
 namespace crowd::pack {
 
 inline constexpr uint32_t kImpostor = fourcc("IMPO");
+inline constexpr uint32_t kImpostorVersion = 2; // 1: no outfit field
 
 struct ImpostorView {
   uint16_t x = 0, y = 0, width = 0, height = 0; // crop rectangle in the frame's atlas (texels)
@@ -26,6 +27,8 @@ struct ImpostorView {
 
 struct Impostor {
   std::string clip;
+  std::string outfit; // the outfit worn ("" for the body as baked); chunk version 2 on
+
   float startTime = 0, frameStep = 0; // frame f shows clip time startTime + f * frameStep
   uint32_t frames = 0, azimuths = 0, elevations = 0;
   uint32_t texels = 0; // a full view is texels x texels before cropping
@@ -56,7 +59,7 @@ struct Impostor {
 };
 
 std::vector<uint8_t> encode(const Impostor &);
-Impostor decodeImpostor(std::span<const uint8_t>, const std::string &context);
+Impostor decodeImpostor(std::span<const uint8_t>, uint32_t version, const std::string &context);
 
 struct ImpostorPack {
   Provenance provenance;

@@ -37,7 +37,7 @@ public:
   // Resolves every instance's clip, outfit and palette against its pack; throws crowd::Error
   // naming the scene, pack and clip or outfit when one is unknown.
   // `impostors[k]` (null for none) belongs to packs[k]; both must outlive the renderer.
-  CrowdRenderer(const std::vector<pack::AnimationPack> &packs,
+  CrowdRenderer(const std::vector<const pack::AnimationPack *> &packs,
                 const std::vector<const pack::Impostor *> &impostors, const Scene &scene);
   ~CrowdRenderer();
   CrowdRenderer(const CrowdRenderer &) = delete;

@@ -1,0 +1,39 @@
+// crowdbake build: a character manifest into one character pack, or a library of them into a
+// folder of packs, through the job plan, the content cache and an executor. A character whose
+// job fails is reported and left out; the others are written.
+#pragma once
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "crowd/bake/executor.h"
+
+namespace crowd {
+
+struct BuildOptions {
+  std::string input;  // CHARACTER.json or LIBRARY.json
+  std::string output; // OUT.crowdpack for one character; a folder for a library
+  std::string cache;  // default: OUTDIR/.cache (one character: beside OUT, .crowdbake-cache)
+  std::string report; // build report JSON; default: OUTDIR/build.report.json (library only)
+  ExecutorOptions executor;
+};
+
+struct CharacterBuild {
+  std::string name, pack; // pack: the file written ("" when it failed)
+  bool failed = false;
+  std::string error; // the first failing job's one-line error
+  size_t jobs = 0, run = 0, cached = 0, failedJobs = 0;
+  double seconds = 0; // bake time summed over its jobs
+  uint64_t bytes = 0;
+};
+
+struct BuildResult {
+  std::vector<CharacterBuild> characters;
+  nlohmann::ordered_json report;
+  size_t failed() const;
+};
+
+BuildResult build(const BuildOptions &options);
+
+} // namespace crowd

@@ -1,0 +1,43 @@
+// The content-addressed cache of a library build: job keys (SHA-256 of the baker version, the
+// job's kind and canonical settings, its input files' hashes and its dependencies' keys) and a
+// folder of parts stored under them. Entries are written atomically, so builds sharing a cache
+// (two at once, or a farm's workers on a shared folder) never see torn files; a damaged entry
+// fails the container's checksums and is rebuilt.
+#pragma once
+#include <map>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "crowd/bake/job.h"
+
+namespace crowd {
+
+// "sha256:HEX" of a file, read in blocks (never whole into memory); also its size.
+struct FileHash {
+  std::string hash;
+  uint64_t size = 0;
+};
+FileHash hashFile(const std::string &path);
+std::string sha256Hex(const std::string &bytes);
+
+// Sets every job's key, in plan order (a job's dependencies come before it). Files are hashed
+// once each.
+void keyJobs(std::vector<Job> &jobs);
+
+class ContentCache {
+public:
+  explicit ContentCache(std::string folder) : folder_(std::move(folder)) {}
+  const std::string &folder() const { return folder_; }
+  // The part stored under `key`, or nothing. A damaged entry is reported in `problem` (and
+  // left to be overwritten by the rebuilt part).
+  std::optional<Part> load(const std::string &key, std::string &problem) const;
+  void store(const std::string &key, const Part &part) const;
+  std::string entryPath(const std::string &key) const;
+
+private:
+  std::string folder_;
+};
+
+} // namespace crowd

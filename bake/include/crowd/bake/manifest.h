@@ -1,0 +1,49 @@
+// Character manifests and libraries for crowdbake build (JSON written by users). A character is
+// a body, its outfits, the clips to keep and the settings of each bake; a library lists
+// characters (manifest files relative to it, or inline objects). Every default lives in the
+// bakes' option structs; a manifest only overrides. Errors say "FILE:LINE:COLUMN: /key: what".
+#pragma once
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "crowd/bake/anim_bake.h"
+#include "crowd/bake/impostor_bake.h"
+#include "crowd/bake/lod_bake.h"
+#include "crowd/bake/outfit_bake.h"
+
+namespace crowd {
+
+struct CharacterManifest {
+  std::string name;   // names the output pack (NAME.crowdpack in a library build)
+  std::string source; // the file it came from (a library for inline manifests)
+  std::string body;   // glTF path, resolved against the manifest's folder
+  std::vector<std::pair<std::string, std::string>> outfits; // name, glTF path (manifest order)
+  std::vector<std::string> clips; // clips to keep; empty: every clip
+  std::string mesh;               // the body's mesh to bake (ImportOptions::mesh)
+  AnimBakeOptions anim;
+  bool lod = true; // continuous LOD on every sub-mesh ("lod": false turns it off)
+  LodOptions lodOptions;
+  OutfitOptions outfitOptions; // "visibility": how outfits hide body parts
+  // Impostors for every (clip, outfit) pair of these lists; none when `impostorClips` is empty.
+  // An outfit of "" is the bare body.
+  std::vector<std::string> impostorClips, impostorOutfits;
+  ImpostorOptions impostor;
+  // Settings in a fixed order, for provenance and cache keys (no paths: they move).
+  nlohmann::ordered_json canonical() const;
+};
+
+struct Library {
+  std::string path;
+  bool single = false; // the file was one character manifest, not a library
+  std::vector<CharacterManifest> characters;
+};
+
+// A character manifest ({"name", "body", ...}) or a library ({"characters": [...]}).
+Library loadLibrary(const std::string &path);
+// One manifest from its text (tests); `path` names it in errors and anchors relative paths.
+CharacterManifest parseManifest(const std::string &text, const std::string &path);
+
+} // namespace crowd

@@ -1,0 +1,116 @@
+#include "crowd/bake/build.h"
+
+#include <chrono>
+#include <filesystem>
+
+#include "crowd/bake/manifest.h"
+#include "crowd/bake/provenance.h"
+#include "crowd/formats/container.h"
+#include "crowd/formats/error.h"
+
+namespace crowd {
+
+namespace fs = std::filesystem;
+using nlohmann::ordered_json;
+
+size_t BuildResult::failed() const {
+  size_t n = 0;
+  for (const auto &c : characters)
+    n += c.failed;
+  return n;
+}
+
+BuildResult build(const BuildOptions &o) {
+  const auto t0 = std::chrono::steady_clock::now();
+  Library lib = loadLibrary(o.input);
+  std::string cacheFolder = o.cache;
+  if (lib.single && fs::path(o.output).extension() != ".crowdpack")
+    throw Error(o.output + ": a character manifest builds one pack: -o NAME.crowdpack");
+  if (!lib.single) {
+    std::error_code ec;
+    fs::create_directories(o.output, ec);
+    if (ec || !fs::is_directory(o.output))
+      throw Error(o.output + ": cannot create the output folder" +
+                  (ec ? ": " + ec.message() : std::string()));
+  }
+  if (cacheFolder.empty())
+    cacheFolder = lib.single ? (fs::path(o.output).parent_path() / ".crowdbake-cache").string()
+                             : (fs::path(o.output) / ".cache").string();
+
+  std::vector<Job> jobs;
+  std::vector<std::pair<size_t, size_t>> ranges; // per character: its jobs [first, last]
+  for (const auto &m : lib.characters) {
+    auto plan = planCharacter(std::make_shared<CharacterManifest>(m), jobs.size());
+    ranges.emplace_back(jobs.size(), jobs.size() + plan.size() - 1);
+    jobs.insert(jobs.end(), plan.begin(), plan.end());
+  }
+  keyJobs(jobs);
+  ContentCache cache(cacheFolder);
+  auto outcomes = executeJobs(jobs, cache, o.executor);
+
+  BuildResult result;
+  ordered_json &r = result.report;
+  r["baker_version"] = kBakerVersion;
+  r["input"] = o.input;
+  r["output"] = o.output;
+  r["cache"] = cacheFolder;
+  size_t run = 0, cached = 0, failed = 0;
+  for (size_t c = 0; c < lib.characters.size(); ++c) {
+    CharacterBuild cb;
+    cb.name = lib.characters[c].name;
+    ordered_json cj;
+    cj["name"] = cb.name;
+    for (size_t i = ranges[c].first; i <= ranges[c].second; ++i) {
+      const auto &out = outcomes[i];
+      ++cb.jobs;
+      cb.run += !out.cached && !out.failed;
+      cb.cached += out.cached;
+      cb.failedJobs += out.failed;
+      cb.seconds += out.seconds;
+      if (out.failed && cb.error.empty())
+        cb.error = jobs[i].label() + ": " + out.error;
+      ordered_json jj{{"kind", jobs[i].kind},     {"label", jobs[i].label()},
+                      {"key", jobs[i].key},       {"cached", out.cached},
+                      {"failed", out.failed},     {"seconds", out.seconds}};
+      if (out.failed)
+        jj["error"] = out.error;
+      if (!out.cacheProblem.empty())
+        jj["damaged_cache_entry"] = out.cacheProblem;
+      if (!out.failed)
+        jj["figures"] = out.part.figures;
+      cj["jobs"].push_back(jj);
+    }
+    cb.failed = cb.failedJobs > 0;
+    const JobOutcome &link = outcomes[ranges[c].second];
+    if (!cb.failed) {
+      cb.pack = lib.single ? o.output : (fs::path(o.output) / (cb.name + ".crowdpack")).string();
+      const auto bytes = characterPackBytes(link.part);
+      try {
+        pack::writeFileAtomic(cb.pack, bytes);
+        cb.bytes = bytes.size();
+      } catch (const std::exception &e) {
+        cb.failed = true;
+        cb.error = e.what();
+        cb.pack.clear();
+      }
+    }
+    run += cb.run, cached += cb.cached, failed += cb.failedJobs;
+    cj["status"] = cb.failed ? "failed" : "ok";
+    if (cb.failed)
+      cj["error"] = cb.error;
+    cj["pack"] = cb.pack;
+    cj["pack_bytes"] = cb.bytes;
+    cj["jobs_run"] = cb.run;
+    cj["jobs_cached"] = cb.cached;
+    cj["jobs_failed"] = cb.failedJobs;
+    cj["bake_s"] = cb.seconds;
+    r["characters"].push_back(cj);
+    result.characters.push_back(cb);
+  }
+  r["jobs"] = {{"total", jobs.size()}, {"run", run}, {"cached", cached}, {"failed", failed}};
+  r["characters_failed"] = result.failed();
+  r["time_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return result;
+}
+
+} // namespace crowd

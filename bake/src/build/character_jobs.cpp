@@ -1,0 +1,276 @@
+// The jobs of a character build: mesh (outfits, LOD, animation), impostor per (clip, outfit),
+// and the link that writes one character pack from their parts.
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <map>
+
+#include "crowd/bake/content_cache.h"
+#include "crowd/bake/import.h"
+#include "crowd/bake/job.h"
+#include "crowd/bake/provenance.h"
+#include "crowd/formats/character_pack.h"
+#include "crowd/formats/error.h"
+
+namespace crowd {
+
+namespace {
+
+using nlohmann::ordered_json;
+using Clock = std::chrono::steady_clock;
+
+double since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+ordered_json warnings(const Reporter &r) {
+  ordered_json list = ordered_json::array();
+  for (const auto &w : r.warnings())
+    list.push_back({{"code", w.code}, {"message", w.message}, {"count", w.count}});
+  return list;
+}
+
+// Keeps only the manifest's clips, in the manifest's order; an unknown name is an error that
+// lists the file's clips.
+void keepClips(Character &c, const std::vector<std::string> &names, const std::string &file) {
+  if (names.empty())
+    return;
+  std::vector<AnimationClip> kept;
+  for (const auto &name : names) {
+    auto it = std::find_if(c.clips.begin(), c.clips.end(), [&](auto &k) { return k.name == name; });
+    if (it == c.clips.end()) {
+      std::string list;
+      for (const auto &k : c.clips)
+        list += (list.empty() ? "" : ", ") + k.name;
+      throw Error(file + ": no clip named '" + name + "' (clips: " + (list.empty() ? "none" : list) +
+                  ")");
+    }
+    kept.push_back(*it);
+  }
+  c.clips = std::move(kept);
+}
+
+Character importBody(const CharacterManifest &m, Reporter &reporter) {
+  ImportOptions io;
+  io.mesh = m.mesh;
+  Character body = importGltf(m.body, io, reporter);
+  keepClips(body, m.clips, m.body);
+  return body;
+}
+
+std::string outfitFile(const CharacterManifest &m, const std::string &outfit) {
+  for (const auto &[name, file] : m.outfits)
+    if (name == outfit)
+      return file;
+  throw Error("character '" + m.name + "': no outfit named '" + outfit + "'");
+}
+
+void addChunks(Part &part, const std::vector<uint8_t> &packBytes, bool withProvenance) {
+  pack::Reader r(packBytes, "part");
+  for (const auto &c : r.chunks()) {
+    if (c.type == pack::kProvenance && !withProvenance)
+      continue;
+    auto p = r.payload(c);
+    part.chunks.push_back({c.type, c.version, {p.begin(), p.end()}});
+  }
+}
+
+// Where an outfit impostor's region ids (body regions, then the outfit's garments) sit among
+// the pack's sub-meshes: body regions keep their index; garment k is the k-th of the outfit's
+// last `garments` sub-meshes (an outfit's own garments follow its copies).
+std::vector<uint8_t> regionMap(const pack::Outfits &table, const std::string &outfit,
+                               uint32_t bodyRegions, uint32_t garments, const std::string &ctx) {
+  if (bodyRegions != table.bodySubMeshes)
+    throw Error(ctx + ": " + std::to_string(bodyRegions) + " body regions, but the pack's body has " +
+                std::to_string(table.bodySubMeshes) + " sub-meshes");
+  auto it = std::find_if(table.outfits.begin(), table.outfits.end(),
+                         [&](auto &o) { return o.name == outfit; });
+  if (it == table.outfits.end() || it->subMeshes.size() < garments)
+    throw Error(ctx + ": outfit '" + outfit + "' is not in the pack's outfit table");
+  if (bodyRegions + garments > 255 || table.bodySubMeshes + table.colours.size() / 4 > 255)
+    throw Error(ctx + ": more than 254 regions cannot be stored in an impostor");
+  std::vector<uint8_t> map(256, 0); // by stored value (region + 1); 0 stays empty
+  for (uint32_t r = 0; r < bodyRegions; ++r)
+    map[r + 1] = uint8_t(r + 1);
+  const size_t first = it->subMeshes.size() - garments;
+  for (uint32_t g = 0; g < garments; ++g)
+    map[bodyRegions + g + 1] = uint8_t(it->subMeshes[first + g] + 1);
+  return map;
+}
+
+} // namespace
+
+Part meshJob(const Job &job, const std::vector<const Part *> &, int threads) {
+  const CharacterManifest &m = *job.character;
+  const auto t0 = Clock::now();
+  Reporter reporter;
+  reporter.quiet = true;
+  Character body = importBody(m, reporter);
+  Part part;
+  auto &f = part.figures;
+  f["input_triangles"] = body.mesh.indices.size() / 3;
+  f["joints"] = body.jointCount();
+  AnimBakeResult anim;
+  if (m.outfits.empty()) {
+    std::optional<pack::Lod> lod;
+    if (m.lod)
+      lod = applyLod(body, m.lodOptions, reporter);
+    AnimBakeOptions ao = m.anim;
+    ao.threads = threads;
+    anim = bakeAnimation(body, ao, reporter);
+    anim.pack.lod = std::move(lod);
+  } else {
+    std::vector<OutfitInput> outfits;
+    for (const auto &[name, file] : m.outfits)
+      outfits.push_back({name, importGltf(file, {}, reporter)});
+    OutfitOptions oo = m.outfitOptions;
+    oo.anim = m.anim;
+    oo.anim.threads = oo.visibility.threads = threads;
+    if (m.lod)
+      oo.lod = m.lodOptions;
+    OutfitBakeResult r = bakeOutfits(body, outfits, oo, reporter);
+    for (const auto &o : r.outfits)
+      f["outfits"].push_back({{"name", o.name},
+                              {"garment_faces", o.garmentFaces},
+                              {"removed_body_faces", o.removedFaces},
+                              {"visibility_s", o.seconds}});
+    f["faces_stored"] = {{"naive", r.naiveFaces}, {"tagged", r.taggedFaces}};
+    anim = std::move(r.anim);
+  }
+  const auto &acc = anim.accuracy[anim.baked];
+  for (size_t i = 0; i < acc.clips.size(); ++i)
+    f["clips"].push_back({{"name", acc.clips[i].clip},
+                          {"frames", acc.clips[i].frames},
+                          {"max_error_at_frames", acc.clips[i].maxAtFrames / anim.diagonal},
+                          {"max_error_at_midframes", acc.clips[i].maxAtMidframes / anim.diagonal}});
+  const auto &mesh = anim.pack.mesh;
+  f["vertices"] = mesh.vertexCount();
+  f["triangles"] = mesh.indices.size() / 3;
+  f["sub_meshes"] = mesh.subMeshes.size();
+  if (anim.pack.lod)
+    f["lod_floor_triangles"] = anim.pack.lod->totalTriangles(anim.pack.lod->floorVertices);
+  addChunks(part, pack::packBytes(anim.pack), false);
+  f["time_s"] = since(t0);
+  f["warnings"] = warnings(reporter);
+  return part;
+}
+
+Part impostorJob(const Job &job, const std::vector<const Part *> &, int threads) {
+  const CharacterManifest &m = *job.character;
+  const auto t0 = Clock::now();
+  Reporter reporter;
+  reporter.quiet = true;
+  Character c = importBody(m, reporter);
+  uint32_t garments = 0;
+  if (!job.outfit.empty()) {
+    OutfitInput o{job.outfit, importGltf(outfitFile(m, job.outfit), {}, reporter)};
+    garments = uint32_t(o.character.mesh.parts.size());
+    c = dressCharacter(c, o, m.outfitOptions.regions, reporter);
+  }
+  ImpostorOptions opt = m.impostor;
+  opt.clip = job.clip;
+  opt.threads = threads;
+  ImpostorBakeResult r = bakeImpostor(c, opt, reporter);
+  r.impostor.outfit = job.outfit;
+  Part part;
+  part.chunks.push_back({pack::kImpostor, pack::kImpostorVersion, pack::encode(r.impostor)});
+  part.figures = {{"clip", r.impostor.clip},
+                  {"outfit", job.outfit},
+                  {"body_regions", uint32_t(c.mesh.parts.size()) - garments},
+                  {"garment_regions", garments},
+                  {"occupancy", r.occupancy},
+                  {"bytes_per_frame", r.bytesPerFrame},
+                  {"time_s", since(t0)},
+                  {"warnings", warnings(reporter)}};
+  return part;
+}
+
+Part linkJob(const Job &job, const std::vector<const Part *> &deps, int) {
+  const CharacterManifest &m = *job.character;
+  const std::string ctx = "character '" + m.name + "'";
+  pack::Provenance prov;
+  prov.bakerVersion = kBakerVersion;
+  prov.settings = {{"command", "build"}, {"character", job.settings.dump()}};
+  for (const auto &file : job.files) {
+    FileHash h = hashFile(file);
+    prov.inputs.push_back({std::filesystem::path(file).filename().string(), h.size, h.hash});
+  }
+  Part part;
+  part.chunks.push_back({pack::kProvenance, 1, pack::encode(prov)});
+  const Part &mesh = *deps.at(0);
+  part.chunks.insert(part.chunks.end(), mesh.chunks.begin(), mesh.chunks.end());
+  std::optional<pack::Outfits> table;
+  for (const auto &c : mesh.chunks)
+    if (c.type == pack::kOutfits)
+      table = pack::decodeOutfits(c.payload, ctx + ", OUTF");
+  for (size_t d = 1; d < deps.size(); ++d) {
+    const Part &imp = *deps[d];
+    for (const auto &c : imp.chunks) {
+      pack::Impostor m = pack::decodeImpostor(c.payload, c.version, ctx + ", IMPO");
+      if (!m.outfit.empty()) { // re-number regions as the pack's sub-meshes
+        if (!table)
+          throw Error(ctx + ": an impostor of outfit '" + m.outfit + "' but no outfit table");
+        auto map = regionMap(*table, m.outfit, imp.figures.at("body_regions").get<uint32_t>(),
+                             imp.figures.at("garment_regions").get<uint32_t>(), ctx);
+        for (size_t t = 3; t < m.atlases.size(); t += 4)
+          m.atlases[t] = map[m.atlases[t]];
+        for (size_t t = 2; t < m.uvAtlases.size(); t += 4)
+          m.uvAtlases[t] = map[std::min<uint16_t>(m.uvAtlases[t], 255)];
+      }
+      part.chunks.push_back({pack::kImpostor, pack::kImpostorVersion, pack::encode(m)});
+    }
+  }
+  const auto bytes = characterPackBytes(part);
+  pack::loadCharacterPack(pack::Reader(bytes, m.name + ".crowdpack")); // cross-checks it all
+  part.figures["pack_bytes"] = bytes.size();
+  for (const auto &c : part.chunks)
+    part.figures["chunk_bytes"].push_back({{"type", pack::fourccName(c.type)},
+                                            {"bytes", c.payload.size()}});
+  return part;
+}
+
+std::vector<Job> planCharacter(std::shared_ptr<const CharacterManifest> character, size_t base) {
+  const CharacterManifest &m = *character;
+  std::vector<Job> jobs;
+  const ordered_json all = m.canonical();
+  std::vector<std::string> files = {m.body};
+  for (const auto &[name, file] : m.outfits)
+    files.push_back(file);
+
+  Job mesh;
+  mesh.kind = "mesh";
+  mesh.character = character;
+  mesh.files = files;
+  mesh.settings = all;
+  mesh.settings.erase("name"); // the same body and settings under another name share the part
+  mesh.settings.erase("impostor");
+  jobs.push_back(mesh);
+
+  Job link;
+  link.kind = "link";
+  link.character = character;
+  link.files = files;
+  link.settings = all;
+  link.deps = {base};
+  for (const auto &clip : m.impostorClips)
+    for (const auto &outfit : m.impostorOutfits) {
+      Job j;
+      j.kind = "impostor";
+      j.character = character;
+      j.clip = clip;
+      j.outfit = outfit;
+      j.files = {m.body};
+      if (!outfit.empty())
+        j.files.push_back(outfitFile(m, outfit));
+      j.settings = {{"clips", m.clips},     {"mesh", m.mesh},       {"clip", clip},
+                    {"outfit", outfit},     {"impostor", all["impostor"]}};
+      if (!outfit.empty())
+        j.settings["regions"] = m.outfitOptions.regions;
+      link.deps.push_back(base + jobs.size());
+      jobs.push_back(j);
+    }
+  jobs.push_back(link);
+  return jobs;
+}
+
+} // namespace crowd

@@ -1,0 +1,75 @@
+#include "crowd/bake/job.h"
+
+#include "crowd/formats/container.h"
+#include "crowd/formats/error.h"
+
+namespace crowd {
+
+namespace {
+constexpr uint32_t kFigures = pack::fourcc("FIGS"); // a part's figures (JSON), never in a pack
+}
+
+// The job kinds (character_jobs.cpp). A new bake adds its function and one line here.
+Part meshJob(const Job &, const std::vector<const Part *> &, int threads);
+Part impostorJob(const Job &, const std::vector<const Part *> &, int threads);
+Part linkJob(const Job &, const std::vector<const Part *> &, int threads);
+
+const std::vector<JobKind> &jobKinds() {
+  static const std::vector<JobKind> kinds = {
+      {"mesh", meshJob},
+      {"impostor", impostorJob},
+      {"link", linkJob},
+  };
+  return kinds;
+}
+
+Part runJob(const Job &job, const std::vector<const Part *> &deps, int threads) {
+  for (const auto &k : jobKinds())
+    if (job.kind == k.name)
+      return k.run(job, deps, threads);
+  throw Error("unknown job kind '" + job.kind + "'");
+}
+
+std::string Job::label() const {
+  std::string s = character->name + ": " + kind;
+  if (kind == "impostor")
+    s += " " + (clip.empty() ? std::string("(first clip)") : clip) +
+         (outfit.empty() ? "" : "/" + outfit);
+  return s;
+}
+
+std::vector<uint8_t> partBytes(const Part &part) {
+  pack::Writer w;
+  for (const auto &c : part.chunks)
+    w.add(c.type, c.version, c.payload);
+  const std::string figures = part.figures.dump();
+  w.add(kFigures, 1, {figures.begin(), figures.end()});
+  return w.bytes();
+}
+
+Part partFromBytes(std::vector<uint8_t> bytes, const std::string &name) {
+  pack::Reader reader(std::move(bytes), name);
+  Part part;
+  for (const auto &c : reader.chunks()) {
+    auto payload = reader.payload(c);
+    if (c.type != kFigures) {
+      part.chunks.push_back({c.type, c.version, {payload.begin(), payload.end()}});
+      continue;
+    }
+    try {
+      part.figures = nlohmann::ordered_json::parse(payload.begin(), payload.end());
+    } catch (const std::exception &e) {
+      throw Error(name + ": figures are not JSON: " + e.what());
+    }
+  }
+  return part;
+}
+
+std::vector<uint8_t> characterPackBytes(const Part &link) {
+  pack::Writer w;
+  for (const auto &c : link.chunks)
+    w.add(c.type, c.version, c.payload);
+  return w.bytes();
+}
+
+} // namespace crowd

@@ -1,0 +1,283 @@
+#include "crowd/bake/manifest.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "crowd/formats/error.h"
+#include "crowd/runtime/json_checker.h"
+
+namespace crowd {
+
+namespace {
+
+using nlohmann::json;
+using runtime::JsonChecker;
+using Keys = JsonChecker::Keys;
+namespace fs = std::filesystem;
+
+std::string readText(const std::string &path) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f)
+    throw Error(path + ": cannot open file");
+  std::ostringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
+
+// An input file named by a manifest: resolved against the manifest's folder; must exist.
+std::string inputFile(const JsonChecker &c, const json &j, const Keys &keys) {
+  std::string name = c.string(j, keys);
+  fs::path p = fs::path(c.path()).parent_path() / name;
+  std::error_code ec;
+  if (!fs::is_regular_file(p, ec))
+    c.fail(keys, "file '" + p.string() + "' does not exist or is not a regular file");
+  return p.lexically_normal().string();
+}
+
+std::vector<std::string> names(const JsonChecker &c, const json &j, const Keys &keys) {
+  if (!j.is_array())
+    c.fail(keys, "expected a list of names");
+  std::vector<std::string> out;
+  for (const auto &x : j) {
+    out.push_back(c.string(x, keys));
+    for (size_t k = 0; k + 1 < out.size(); ++k)
+      if (out[k] == out.back())
+        c.fail(keys, "'" + out.back() + "' is listed twice");
+  }
+  return out;
+}
+
+uint32_t whole(const JsonChecker &c, const json &j, const Keys &keys, double lo, double hi) {
+  double v = c.number(j, keys, lo, hi);
+  if (v != std::floor(v))
+    c.fail(keys, "expected a whole number");
+  return uint32_t(v);
+}
+
+// Runs an option struct's validate() and turns its "field: what" into a located error.
+template <class Options> void validate(const JsonChecker &c, const Options &o, const Keys &keys) {
+  try {
+    o.validate();
+  } catch (const Error &e) {
+    c.fail(keys, e.what());
+  }
+}
+
+CharacterManifest parse(const JsonChecker &c, const json &j, const Keys &at) {
+  auto key = [&](const std::string &k) {
+    Keys keys = at;
+    keys.push_back(k);
+    return keys;
+  };
+  auto key2 = [&](const std::string &section, const std::string &k) {
+    Keys keys = key(section);
+    keys.push_back(k);
+    return keys;
+  };
+  c.onlyKeys(j, at,
+             {"name", "body", "outfits", "clips", "mesh", "anim", "lod", "visibility", "impostor",
+              "comment"});
+  CharacterManifest m;
+  m.source = c.path();
+  if (!j.contains("name"))
+    c.fail(at, "a character needs a \"name\"");
+  if (!j.contains("body"))
+    c.fail(at, "a character needs a \"body\" (its glTF file)");
+  m.name = c.string(j["name"], key("name"));
+  for (char ch : m.name)
+    if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '_' && ch != '-' && ch != '.')
+      c.fail(key("name"), "'" + m.name + "' may hold only letters, digits, '_', '-' and '.' "
+                                         "(it names the pack file)");
+  m.body = inputFile(c, j["body"], key("body"));
+  if (j.contains("outfits")) {
+    const json &o = j["outfits"];
+    if (!o.is_object())
+      c.fail(key("outfits"), "expected {\"name\": \"file.glb\", ...}");
+    for (auto it = o.begin(); it != o.end(); ++it) {
+      Keys k = key("outfits");
+      k.push_back(it.key());
+      m.outfits.emplace_back(it.key(), inputFile(c, it.value(), k));
+    }
+  }
+  if (j.contains("clips"))
+    m.clips = names(c, j["clips"], key("clips"));
+  if (j.contains("mesh"))
+    m.mesh = c.string(j["mesh"], key("mesh"));
+  if (j.contains("anim")) {
+    const Keys k = key("anim");
+    const json &a = j["anim"];
+    c.onlyKeys(a, k, {"fps", "max_width", "precision"});
+    if (a.contains("fps"))
+      m.anim.fps = a["fps"] == "source" ? 0 : c.number(a["fps"], key2("anim", "fps"), 1e-3, 1000);
+    if (a.contains("max_width"))
+      m.anim.maxWidth = whole(c, a["max_width"], key2("anim", "max_width"), 2, 65536);
+    if (a.contains("precision"))
+      m.anim.precision = c.string(a["precision"], key2("anim", "precision"));
+    validate(c, m.anim, k);
+  }
+  if (j.contains("lod")) {
+    const Keys k = key("lod");
+    const json &l = j["lod"];
+    if (l.is_boolean()) {
+      m.lod = l.get<bool>();
+    } else {
+      c.onlyKeys(l, k, {"floor", "poses"});
+      if (l.contains("floor"))
+        m.lodOptions.floorFraction = c.number(l["floor"], key2("lod", "floor"), 0, 1);
+      if (l.contains("poses"))
+        m.lodOptions.poses = whole(c, l["poses"], key2("lod", "poses"), 0, 1024);
+      validate(c, m.lodOptions, k);
+    }
+  }
+  auto &vis = m.outfitOptions.visibility;
+  if (j.contains("visibility")) {
+    const Keys k = key("visibility");
+    const json &v = j["visibility"];
+    c.onlyKeys(v, k, {"frame_step", "rays", "points", "ring", "ground", "regions", "min_saving"});
+    if (v.contains("frame_step"))
+      vis.frameStep = whole(c, v["frame_step"], key2("visibility", "frame_step"), 1, 100000);
+    if (v.contains("rays"))
+      vis.rays = whole(c, v["rays"], key2("visibility", "rays"), 1, 4096);
+    if (v.contains("points"))
+      vis.points = whole(c, v["points"], key2("visibility", "points"), 1, 4);
+    if (v.contains("ring"))
+      vis.ring = whole(c, v["ring"], key2("visibility", "ring"), 0, 64);
+    if (v.contains("ground"))
+      vis.ground = c.boolean(v["ground"], key2("visibility", "ground"));
+    if (v.contains("regions"))
+      m.outfitOptions.regions = c.string(v["regions"], key2("visibility", "regions"));
+    if (v.contains("min_saving"))
+      m.outfitOptions.minSaving = c.number(v["min_saving"], key2("visibility", "min_saving"), 0, 1);
+  }
+  // The outfit bake's animation texture is the character's.
+  m.outfitOptions.anim = m.anim;
+  vis.fps = m.anim.fps > 0 ? m.anim.fps : vis.fps;
+  validate(c, m.outfitOptions, key("visibility"));
+  if (j.contains("impostor")) {
+    const Keys k = key("impostor");
+    const json &im = j["impostor"];
+    c.onlyKeys(im, k, {"clips", "outfits", "frames", "views", "texels", "mirror"});
+    if (im.contains("clips"))
+      m.impostorClips = names(c, im["clips"], key2("impostor", "clips"));
+    else
+      m.impostorClips = {m.clips.empty() ? std::string() : m.clips.front()}; // "": the first
+    if (im.contains("outfits"))
+      m.impostorOutfits = names(c, im["outfits"], key2("impostor", "outfits"));
+    else if (m.outfits.empty())
+      m.impostorOutfits = {""};
+    else
+      for (const auto &o : m.outfits)
+        m.impostorOutfits.push_back(o.first);
+    for (const auto &o : m.impostorOutfits) {
+      bool known = o.empty(); // the bare body
+      for (const auto &[name, file] : m.outfits)
+        known = known || name == o;
+      if (!known)
+        c.fail(key2("impostor", "outfits"), "'" + o + "' is not one of the character's outfits");
+    }
+    for (const auto &clip : m.impostorClips)
+      if (!m.clips.empty() && std::find(m.clips.begin(), m.clips.end(), clip) == m.clips.end())
+        c.fail(key2("impostor", "clips"), "clip '" + clip + "' is not among the character's \"clips\"");
+    if (im.contains("frames"))
+      m.impostor.frames = whole(c, im["frames"], key2("impostor", "frames"), 1, 4096);
+    if (im.contains("texels"))
+      m.impostor.texels = whole(c, im["texels"], key2("impostor", "texels"), 4, 4096);
+    if (im.contains("mirror"))
+      m.impostor.mirror = c.boolean(im["mirror"], key2("impostor", "mirror"));
+    if (im.contains("views")) {
+      std::string views = c.string(im["views"], key2("impostor", "views"));
+      unsigned a = 0, e = 0;
+      char x = 0;
+      std::istringstream in(views);
+      if (!(in >> a >> x >> e) || x != 'x' || !in.eof())
+        c.fail(key2("impostor", "views"), "expected \"AxE\", e.g. \"32x8\", got '" + views + "'");
+      m.impostor.azimuths = a;
+      m.impostor.elevations = e;
+    }
+    validate(c, m.impostor, k);
+  }
+  return m;
+}
+
+} // namespace
+
+nlohmann::ordered_json CharacterManifest::canonical() const {
+  nlohmann::ordered_json j;
+  j["name"] = name;
+  j["clips"] = clips;
+  j["mesh"] = mesh;
+  j["anim"] = {{"fps", anim.fps}, {"max_width", anim.maxWidth}, {"precision", anim.precision}};
+  if (lod)
+    j["lod"] = {{"floor", lodOptions.floorFraction}, {"poses", lodOptions.poses}};
+  else
+    j["lod"] = false;
+  for (const auto &[outfit, file] : outfits)
+    j["outfits"].push_back(outfit);
+  if (!outfits.empty()) {
+    const auto &v = outfitOptions.visibility;
+    j["visibility"] = {{"frame_step", v.frameStep}, {"rays", v.rays},
+                       {"points", v.points},        {"ring", v.ring},
+                       {"ground", v.ground},        {"regions", outfitOptions.regions},
+                       {"min_saving", outfitOptions.minSaving}};
+  }
+  if (!impostorClips.empty())
+    j["impostor"] = {{"clips", impostorClips},
+                     {"outfits", impostorOutfits},
+                     {"frames", impostor.frames},
+                     {"views", std::to_string(impostor.azimuths) + "x" +
+                                   std::to_string(impostor.elevations)},
+                     {"texels", impostor.texels},
+                     {"mirror", impostor.mirror}};
+  return j;
+}
+
+CharacterManifest parseManifest(const std::string &text, const std::string &path) {
+  JsonChecker c(text, path);
+  return parse(c, c.parse(), {});
+}
+
+Library loadLibrary(const std::string &path) {
+  const std::string text = readText(path);
+  JsonChecker c(text, path);
+  const json j = c.parse();
+  Library lib;
+  lib.path = path;
+  if (!j.is_object())
+    c.fail({}, "expected a character manifest or {\"characters\": [...]}");
+  if (!j.contains("characters")) {
+    lib.single = true;
+    lib.characters.push_back(parse(c, j, {}));
+    return lib;
+  }
+  c.onlyKeys(j, {}, {"characters", "comment"});
+  const json &list = j["characters"];
+  if (!list.is_array() || list.empty())
+    c.fail({"characters"}, "expected a non-empty list of manifest files or objects");
+  for (const auto &entry : list) {
+    if (entry.is_string()) {
+      const std::string file = inputFile(c, entry, {"characters"});
+      const std::string sub = readText(file);
+      JsonChecker sc(sub, file);
+      const json sj = sc.parse();
+      if (sj.is_object() && sj.contains("characters"))
+        c.fail({"characters"}, "'" + file + "' is a library, not a character manifest");
+      lib.characters.push_back(parse(sc, sj, {}));
+    } else if (entry.is_object()) {
+      lib.characters.push_back(parse(c, entry, {"characters"}));
+    } else {
+      c.fail({"characters"}, "expected a manifest file name or an inline manifest object");
+    }
+  }
+  std::set<std::string> seen;
+  for (const auto &m : lib.characters)
+    if (!seen.insert(m.name).second)
+      c.fail({"characters"}, "two characters are named '" + m.name + "'");
+  return lib;
+}
+
+} // namespace crowd

@@ -1,0 +1,35 @@
+// JSON input files a user writes (scenes, character manifests, libraries): parsing and checks
+// whose errors say "FILE:LINE:COLUMN: /key/path: what". nlohmann::json keeps no source
+// positions, so a semantic error points at the first occurrence of the offending key after its
+// parent's key, which is where a reader would look.
+#pragma once
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace crowd::runtime {
+
+class JsonChecker {
+public:
+  using Keys = std::vector<std::string>;
+  JsonChecker(const std::string &text, const std::string &path) : text_(text), path_(path) {}
+
+  // Parses the text; a syntax error names its line and column.
+  nlohmann::json parse() const;
+  [[noreturn]] void fail(const Keys &keys, const std::string &what) const;
+  void onlyKeys(const nlohmann::json &j, const Keys &keys, const Keys &allowed) const;
+  double number(const nlohmann::json &j, const Keys &keys, double lo, double hi) const;
+  std::string string(const nlohmann::json &j, const Keys &keys) const; // non-empty
+  bool boolean(const nlohmann::json &j, const Keys &keys) const;
+  const std::string &path() const { return path_; }
+
+private:
+  const std::string &text_;
+  const std::string &path_;
+};
+
+// Line and column (1-based) of byte `offset` in `text`, as "LINE:COLUMN".
+std::string lineColumn(const std::string &text, size_t offset);
+
+} // namespace crowd::runtime

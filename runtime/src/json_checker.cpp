@@ -1,0 +1,86 @@
+#include "crowd/runtime/json_checker.h"
+
+#include <algorithm>
+
+#include "crowd/formats/error.h"
+
+namespace crowd::runtime {
+
+using nlohmann::json;
+
+std::string lineColumn(const std::string &text, size_t offset) {
+  size_t line = 1, col = 1;
+  for (size_t i = 0; i < offset && i < text.size(); ++i) {
+    if (text[i] == '\n') {
+      ++line;
+      col = 1;
+    } else {
+      ++col;
+    }
+  }
+  return std::to_string(line) + ":" + std::to_string(col);
+}
+
+json JsonChecker::parse() const {
+  try {
+    return json::parse(text_);
+  } catch (const json::parse_error &e) {
+    std::string what = e.what();
+    if (auto p = what.find("syntax error"); p != std::string::npos)
+      what = what.substr(p);
+    throw Error(path_ + ":" + lineColumn(text_, e.byte ? e.byte - 1 : 0) + ": " + what);
+  }
+}
+
+void JsonChecker::fail(const Keys &keys, const std::string &what) const {
+  size_t pos = 0;
+  for (const auto &k : keys) {
+    size_t found = text_.find("\"" + k + "\"", pos);
+    if (found == std::string::npos)
+      break;
+    pos = found;
+  }
+  std::string where;
+  for (const auto &k : keys)
+    where += "/" + k;
+  throw Error(path_ + ":" + lineColumn(text_, pos) + ": " + (where.empty() ? "" : where + ": ") +
+              what);
+}
+
+void JsonChecker::onlyKeys(const json &j, const Keys &keys, const Keys &allowed) const {
+  if (!j.is_object())
+    fail(keys, "expected an object");
+  for (auto it = j.begin(); it != j.end(); ++it)
+    if (std::find(allowed.begin(), allowed.end(), it.key()) == allowed.end()) {
+      auto k = keys;
+      k.push_back(it.key());
+      std::string list;
+      for (const auto &a : allowed)
+        list += (list.empty() ? "" : ", ") + a;
+      fail(k, "unknown key '" + it.key() + "' (known: " + list + ")");
+    }
+}
+
+double JsonChecker::number(const json &j, const Keys &keys, double lo, double hi) const {
+  if (!j.is_number())
+    fail(keys, "expected a number");
+  double v = j.get<double>();
+  if (!(v >= lo && v <= hi))
+    fail(keys, "value " + std::to_string(v) + " is outside [" + std::to_string(lo) + ", " +
+                   std::to_string(hi) + "]");
+  return v;
+}
+
+std::string JsonChecker::string(const json &j, const Keys &keys) const {
+  if (!j.is_string() || j.get<std::string>().empty())
+    fail(keys, "expected a non-empty string");
+  return j.get<std::string>();
+}
+
+bool JsonChecker::boolean(const json &j, const Keys &keys) const {
+  if (!j.is_boolean())
+    fail(keys, "expected true or false");
+  return j.get<bool>();
+}
+
+} // namespace crowd::runtime

@@ -1,0 +1,57 @@
+#include "crowd/runtime/preview_scene.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include "crowd/runtime/impostor_runtime.h"
+
+namespace crowd::runtime {
+
+Scene previewScene(const std::string &packPath, const pack::CharacterPack &p) {
+  Scene s;
+  s.path = packPath;
+  s.packPaths = {packPath};
+  s.packNames = {std::filesystem::path(packPath).stem().string()};
+  s.impostorPaths = {""};
+  for (const auto &c : p.body.clips)
+    s.clipNames.push_back(c.name);
+  if (s.clipNames.empty())
+    s.clipNames = {""};
+  s.outfitNames.clear();
+  if (p.body.outfits)
+    for (const auto &o : p.body.outfits->outfits)
+      s.outfitNames.push_back(o.name);
+  if (s.outfitNames.empty())
+    s.outfitNames = {""};
+  s.palettes = {{}};
+  const auto &sphere = p.body.mesh.boundingSphere;
+  const double r = std::max(1e-3, double(sphere[3]));
+  const size_t pairs = s.clipNames.size() * s.outfitNames.size();
+  const double spacing = 2.2 * r, width = spacing * double(pairs);
+  // The far row sits past where every impostor takes over (a texel per pixel at 1080 rows).
+  double far = 40 * r;
+  for (const auto &m : p.impostors)
+    far = std::max(far, 1.5 * oneToOneDistance(m, s.camera.fovYDegrees * 3.14159265358979 / 180,
+                                               1080));
+  for (int row = 0; row < 2; ++row)
+    for (uint32_t c = 0; c < s.clipNames.size(); ++c)
+      for (uint32_t o = 0; o < s.outfitNames.size(); ++o) {
+        Instance inst;
+        const double k = double(c * s.outfitNames.size() + o);
+        inst.position = {(k + 0.5) * spacing - width / 2 - sphere[0], -sphere[1] + r,
+                         row == 0 ? -sphere[2] : -far};
+        inst.clip = c;
+        inst.outfit = o;
+        s.instances.push_back(inst);
+      }
+  const double halfFov = s.camera.fovYDegrees * 0.5 * 3.14159265358979 / 180;
+  const double distance = std::max(width / 2 / std::tan(halfFov) / 1.6, 3 * r);
+  s.camera.position = {0, 1.3 * r, distance};
+  s.camera.target = {0, r, 0};
+  s.camera.farPlane = std::max(1000.0, 4 * (far + distance));
+  s.camera.nearPlane = std::max(1e-3, r * 0.01);
+  return s;
+}
+
+} // namespace crowd::runtime

@@ -1,0 +1,94 @@
+#!/usr/bin/env bash
+# crowdbake build: manifests with errors, a library with a failing character, byte identity at
+# 1 and 2 workers, warm builds from the cache, a changed setting, a damaged cache entry, two
+# builds sharing one cache at once, and the player drawing a character pack.
+set -euo pipefail
+bin=$1 work=$2
+rm -rf "$work" && mkdir -p "$work" && cd "$work"
+"$bin/crowdbake" samples --out s >/dev/null
+fail() { echo "FAIL: $*" >&2; exit 1; }
+expect_error() { # expect_error PATTERN command...: exit code 1 and PATTERN on stderr
+  local pattern=$1; shift
+  local rc=0; "$@" 2>err.txt >/dev/null || rc=$?
+  [ $rc = 1 ] || fail "$* exited $rc, expected 1"
+  grep -Eq "$pattern" err.txt || fail "$*: expected '$pattern' in: $(cat err.txt)"
+  echo "ok: $(head -c 160 err.txt)"
+}
+
+# Manifest errors name file, line and column.
+printf '{"name": "a",\n "body": "missing.glb"}\n' > missing.json
+expect_error 'missing.json:2:2: /body: file .*missing.glb. does not exist' \
+  "$bin/crowdbake" build missing.json -o a.crowdpack
+printf '{"name": "a", "body": "s/humanoid.glb",\n  "lod": {"flor": 0.1}}\n' > unknown.json
+expect_error 'unknown.json:2:11: /lod/flor: unknown key' "$bin/crowdbake" build unknown.json -o a.crowdpack
+printf '{"name": "a", "body": "s/humanoid.glb",\n  "clips": "walk"}\n' > type.json
+expect_error 'type.json:2:3: /clips: expected a list' "$bin/crowdbake" build type.json -o a.crowdpack
+printf '{"name": "a", "body": "s/humanoid.glb", "clips": ["sprint"]}\n' > clip.json
+expect_error "no clip named 'sprint'" "$bin/crowdbake" build clip.json -o a.crowdpack
+
+# A library: two good characters (one with impostors), one whose body is not glTF.
+head -c 300 s/humanoid.glb > broken.glb
+cat > library.json <<'JSON'
+{"characters": [
+  {"name": "walker", "body": "s/humanoid.glb", "clips": ["walk"],
+   "impostor": {"clips": ["walk"], "frames": 2, "views": "4x2", "texels": 16}},
+  {"name": "broken", "body": "broken.glb"},
+  {"name": "runner", "body": "s/humanoid.glb", "clips": ["run", "idle"], "lod": {"floor": 0.1}}
+]}
+JSON
+rc=0; "$bin/crowdbake" build library.json -o out1 --jobs 1 -q || rc=$?
+[ $rc = 1 ] || fail "a library with a broken character exited $rc, expected 1"
+[ -f out1/walker.crowdpack ] && [ -f out1/runner.crowdpack ] || fail "good characters not written"
+[ ! -e out1/broken.crowdpack ] || fail "the broken character left a pack"
+grep -q '"characters_failed": 1' out1/build.report.json || fail "report does not count the failure"
+grep -q '"error": "broken: mesh: .*broken.glb' out1/build.report.json || fail "report does not name the error"
+echo "ok: the broken character failed alone"
+"$bin/crowdbake" verify out1/walker.crowdpack
+"$bin/crowdbake" verify out1/runner.crowdpack
+
+# Same bytes at 2 workers (own cache), and a warm build runs nothing.
+"$bin/crowdbake" build library.json -o out2 --jobs 2 -q || true
+cmp out1/walker.crowdpack out2/walker.crowdpack
+cmp out1/runner.crowdpack out2/runner.crowdpack
+echo "ok: byte-identical at --jobs 1 and --jobs 2"
+"$bin/crowdbake" build library.json -o out1 --jobs 2 -q || true
+grep -q '"run": 0' out1/build.report.json || fail "warm build ran jobs"
+echo "ok: warm build: every good job cached"
+
+# A changed setting reruns only that character's jobs.
+sed 's/"floor": 0.1/"floor": 0.2/' library.json > library2.json
+"$bin/crowdbake" build library2.json -o out1 --cache out1/.cache -q || true
+grep -q '"run": 2' out1/build.report.json || fail "changing one setting should run 2 jobs (mesh, link)"
+cmp out1/walker.crowdpack out2/walker.crowdpack
+echo "ok: a changed setting reran runner's mesh and link only"
+
+# A damaged cache entry is detected, reported and rebuilt.
+for entry in $(find out2/.cache -name '*.part'); do
+  printf 'garbage' | dd of="$entry" bs=1 seek=100 conv=notrunc status=none
+done
+head -c 200 "$entry" > "$entry.cut" && mv "$entry.cut" "$entry" # and one truncated
+"$bin/crowdbake" build library.json -o out2 2>log.txt || true
+grep -q "damaged cache entry rebuilt" log.txt || fail "damaged entry not reported"
+cmp out2/walker.crowdpack out1/walker.crowdpack
+echo "ok: damaged cache entry rebuilt"
+
+# Two builds sharing one cache at once: both complete with identical packs.
+"$bin/crowdbake" build library.json -o out3 --cache shared -q & a=$!
+"$bin/crowdbake" build library.json -o out4 --cache shared -q & b=$!
+wait $a || true; wait $b || true
+cmp out3/walker.crowdpack out4/walker.crowdpack
+cmp out3/runner.crowdpack out4/runner.crowdpack
+cmp out3/runner.crowdpack out2/runner.crowdpack
+[ -z "$(find shared -name '*.tmp-*')" ] || fail "temporary files left in the cache"
+echo "ok: two builds sharing a cache"
+
+# The player draws a character pack without a scene file.
+if command -v xvfb-run >/dev/null; then
+  xvfb-run -a -s "-screen 0 640x480x24" "$bin/crowdplay" out1/walker.crowdpack --headless \
+    --frames 2 --size 320x240 --screenshot walker.png --stats stats.json
+  grep -q '"impostors"' stats.json || fail "no stats"
+  [ -s walker.png ] || fail "no screenshot"
+  echo "ok: crowdplay drew the character pack"
+else
+  echo "skip: xvfb-run not installed, the player check did not run"
+fi
