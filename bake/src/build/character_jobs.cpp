@@ -191,10 +191,9 @@ Part linkJob(const Job &job, const std::vector<const Part *> &deps, int) {
   pack::Provenance prov;
   prov.bakerVersion = kBakerVersion;
   prov.settings = {{"command", "build"}, {"character", job.settings.dump()}};
-  for (const auto &file : job.files) {
-    FileHash h = hashFile(file);
-    prov.inputs.push_back({std::filesystem::path(file).filename().string(), h.size, h.hash});
-  }
+  for (size_t k = 0; k < job.files.size(); ++k) // hashed once, by keyJobs
+    prov.inputs.push_back({std::filesystem::path(job.files[k]).filename().string(),
+                           job.hashes.at(k).size, job.hashes.at(k).hash});
   Part part;
   part.chunks.push_back({pack::kProvenance, 1, pack::encode(prov)});
   const Part &mesh = *deps.at(0);
@@ -237,33 +236,33 @@ std::vector<Job> planCharacter(std::shared_ptr<const CharacterManifest> characte
   for (const auto &[name, file] : m.outfits)
     files.push_back(file);
 
-  Job mesh;
-  mesh.kind = "mesh";
-  mesh.character = character;
-  mesh.files = files;
-  mesh.settings = all;
+  auto job = [&](const char *kind, std::vector<std::string> inputs, ordered_json settings) {
+    Job j;
+    j.kind = kind;
+    j.character = character;
+    j.files = std::move(inputs);
+    j.settings = std::move(settings);
+    return j;
+  };
+  Job mesh = job("mesh", files, all);
   mesh.settings.erase("name"); // the same body and settings under another name share the part
   mesh.settings.erase("impostor");
   jobs.push_back(mesh);
 
-  Job link;
-  link.kind = "link";
-  link.character = character;
-  link.files = files;
-  link.settings = all;
+  Job link = job("link", files, all);
   link.deps = {base};
   for (const auto &clip : m.impostorClips)
     for (const auto &outfit : m.impostorOutfits) {
-      Job j;
-      j.kind = "impostor";
-      j.character = character;
+      Job j = job("impostor", {m.body},
+                  {{"clips", m.clips},
+                   {"mesh", m.mesh},
+                   {"clip", clip},
+                   {"outfit", outfit},
+                   {"impostor", all["impostor"]}});
       j.clip = clip;
       j.outfit = outfit;
-      j.files = {m.body};
       if (!outfit.empty())
         j.files.push_back(outfitFile(m, outfit));
-      j.settings = {{"clips", m.clips},     {"mesh", m.mesh},       {"clip", clip},
-                    {"outfit", outfit},     {"impostor", all["impostor"]}};
       if (!outfit.empty())
         j.settings["regions"] = m.outfitOptions.regions;
       link.deps.push_back(base + jobs.size());

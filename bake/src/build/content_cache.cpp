@@ -81,14 +81,16 @@ FileHash hashFile(const std::string &path) {
 }
 
 void keyJobs(std::vector<Job> &jobs) {
-  std::map<std::string, std::string> fileHashes;
+  std::map<std::string, FileHash> fileHashes;
   for (auto &job : jobs) {
     std::string text = std::string(kBakerVersion) + "\n" + job.kind + "\n" + job.settings.dump();
+    job.hashes.clear();
     for (const auto &f : job.files) {
       auto [it, fresh] = fileHashes.try_emplace(f);
       if (fresh)
-        it->second = hashFile(f).hash;
-      text += "\nfile " + it->second; // content only: the same bytes elsewhere hit the cache
+        it->second = hashFile(f);
+      job.hashes.push_back(it->second);
+      text += "\nfile " + it->second.hash; // content only: the same bytes elsewhere hit the cache
     }
     for (size_t d : job.deps)
       text += "\ndep " + jobs.at(d).key;

@@ -69,8 +69,7 @@ int cmdBuild(int argc, char **argv) {
   o.executor.progress = quiet ? "none" : isatty(2) ? "bar" : "lines";
   BuildResult r = build(o);
   std::string report = o.report;
-  if (report.empty() && r.report.contains("characters") && r.characters.size() > 0 &&
-      std::filesystem::is_directory(o.output))
+  if (report.empty() && std::filesystem::is_directory(o.output)) // a library's folder
     report = (std::filesystem::path(o.output) / "build.report.json").string();
   if (!report.empty())
     writeJson(report, r.report);

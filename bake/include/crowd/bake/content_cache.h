@@ -15,10 +15,7 @@
 namespace crowd {
 
 // "sha256:HEX" of a file, read in blocks (never whole into memory); also its size.
-struct FileHash {
-  std::string hash;
-  uint64_t size = 0;
-};
+using FileHash = Job::FileHash;
 FileHash hashFile(const std::string &path);
 std::string sha256Hex(const std::string &bytes);
 

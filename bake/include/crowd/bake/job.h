@@ -35,6 +35,11 @@ struct Job {
   std::shared_ptr<const CharacterManifest> character;
   std::string clip, outfit;         // impostor jobs: the pair they draw
   std::vector<std::string> files;   // inputs whose bytes the job reads
+  struct FileHash {
+    std::string hash; // "sha256:HEX"
+    uint64_t size = 0;
+  };
+  std::vector<FileHash> hashes;     // per file (set by keyJobs)
   std::vector<size_t> deps;         // jobs whose parts it reads, by index in the plan
   nlohmann::ordered_json settings;  // canonical: everything besides inputs that shapes the part
   std::string key;                  // content key (set by keyJobs)
