@@ -6,13 +6,14 @@
 #include "crowd/formats/bytes.h"
 #include "crowd/formats/error.h"
 #include "crowd/formats/impostor.h"
+#include "crowd/formats/limits.h"
 
 namespace crowd::pack {
 
 namespace {
 constexpr uint32_t kChunkVersion = 1;
-constexpr uint32_t kMaxTextureSide = 65536;
-constexpr uint64_t kMaxElements = uint64_t(1) << 32;
+constexpr uint32_t kMaxTextureSide = limits::kTextureSide;
+constexpr uint64_t kMaxElements = limits::kChunkElements;
 
 // Texture width and height, each in 1..maxSide.
 void readSize(ByteReader &r, uint32_t &width, uint32_t &height, uint32_t maxSide) {

@@ -2,6 +2,8 @@
 
 #include <array>
 #include <atomic>
+#include <mutex>
+#include <set>
 #include <bit>
 #include <cstdio>
 #include <cstring>
@@ -81,27 +83,51 @@ std::vector<uint8_t> Writer::bytes() const {
   return out;
 }
 
+namespace {
+// Temporary files being written, so abandonPendingWrites can remove them.
+std::mutex pendingMutex;
+std::set<std::string> pendingWrites;
+} // namespace
+
+void abandonPendingWrites() {
+  pendingMutex.lock(); // never unlocked: the process is ending
+  for (const auto &tmp : pendingWrites)
+    std::remove(tmp.c_str());
+}
+
 void writeFileAtomic(const std::string &path, std::span<const uint8_t> data) {
   // Unique per process and per call: threads (and farm workers) may write the same path at once.
   static std::atomic<uint64_t> serial{0};
   std::string tmp =
       path + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(serial.fetch_add(1));
   {
+    std::lock_guard<std::mutex> lock(pendingMutex);
+    pendingWrites.insert(tmp);
+  }
+  auto done = [&] {
+    std::lock_guard<std::mutex> lock(pendingMutex);
+    pendingWrites.erase(tmp);
+  };
+  {
     std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    if (!f)
+    if (!f) {
+      done();
       throw Error(path + ": cannot create temporary file " + tmp);
+    }
     f.write(reinterpret_cast<const char *>(data.data()), std::streamsize(data.size()));
     f.close();
     if (!f) {
-      f.close();
       std::remove(tmp.c_str());
+      done();
       throw Error(path + ": write failed (disk full?)");
     }
   }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+  const bool renamed = std::rename(tmp.c_str(), path.c_str()) == 0;
+  if (!renamed)
     std::remove(tmp.c_str());
+  done();
+  if (!renamed)
     throw Error(path + ": cannot rename temporary file into place");
-  }
 }
 
 Reader::Reader(std::vector<uint8_t> bytes, std::string name)

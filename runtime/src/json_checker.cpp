@@ -8,6 +8,28 @@ namespace crowd::runtime {
 
 using nlohmann::json;
 
+void checkJsonDepth(std::string_view text, const std::string &path, int limit) {
+  int depth = 0;
+  bool inString = false;
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (inString) {
+      if (c == '\\')
+        ++i;
+      else if (c == '"')
+        inString = false;
+    } else if (c == '"') {
+      inString = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > limit)
+        throw Error(path + ":" + lineColumn(std::string(text.substr(0, i + 1)), i) +
+                    ": JSON nests deeper than " + std::to_string(limit) + " levels");
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+}
+
 std::string lineColumn(const std::string &text, size_t offset) {
   size_t line = 1, col = 1;
   for (size_t i = 0; i < offset && i < text.size(); ++i) {
@@ -22,6 +44,7 @@ std::string lineColumn(const std::string &text, size_t offset) {
 }
 
 json JsonChecker::parse() const {
+  checkJsonDepth(text_, path_);
   try {
     return json::parse(text_);
   } catch (const json::parse_error &e) {

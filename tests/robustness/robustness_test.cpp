@@ -4,6 +4,7 @@
 #include <fstream>
 #include <functional>
 #include <limits>
+#include <sys/stat.h>
 
 #include <gtest/gtest.h>
 
@@ -48,6 +49,17 @@ void poke(GltfBuilder &b, int acc, size_t index, float value) {
 
 const float kNaN = std::numeric_limits<float>::quiet_NaN();
 
+// The quad as a .gltf whose buffer URI is `uri`, its real buffer as ext.bin beside it, and a
+// copy of that buffer one folder up (where an escaping URI would find it).
+std::string externalBufferAt(const std::string &d, const std::string &uri) {
+  std::string p = quad().write(d, "ext", true);
+  fs::copy_file(d + "/ext.bin", d + "/../outside.bin", fs::copy_options::overwrite_existing);
+  nlohmann::json j = nlohmann::json::parse(std::ifstream(p));
+  j["buffers"][0]["uri"] = uri;
+  std::ofstream(p) << j.dump();
+  return p;
+}
+
 const std::vector<Case> kCases = {
     {"truncated_glb", "not a readable glTF",
      [](const std::string &d) {
@@ -60,6 +72,34 @@ const std::vector<Case> kCases = {
        std::string p = quad().writeGlb(d, "m");
        std::fstream f(p, std::ios::in | std::ios::out | std::ios::binary);
        f.write("glTX", 4);
+       return p;
+     }},
+    // Confinement: each refused before a byte of the named file is read.
+    {"uri_traversal", "URI '../outside.bin': leaves the asset folder",
+     [](const std::string &d) { return externalBufferAt(d, "../outside.bin"); }},
+    {"uri_absolute", "URI '/etc/hostname': absolute paths are not allowed",
+     [](const std::string &d) { return externalBufferAt(d, "/etc/hostname"); }},
+    {"uri_escaping_symlink", "URI 'link.bin': resolves through a link to",
+     [](const std::string &d) {
+       fs::create_symlink("../outside.bin", d + "/link.bin");
+       return externalBufferAt(d, "link.bin");
+     }},
+    {"uri_dev_zero", "URI '/dev/zero': absolute paths are not allowed",
+     [](const std::string &d) { return externalBufferAt(d, "/dev/zero"); }},
+    {"uri_symlink_to_dev_zero", "resolves through a link to /dev/zero",
+     [](const std::string &d) {
+       fs::create_symlink("/dev/zero", d + "/zero.bin");
+       return externalBufferAt(d, "zero.bin");
+     }},
+    {"uri_fifo", "not a regular file (a FIFO): nothing read",
+     [](const std::string &d) {
+       mkfifo((d + "/fifo.bin").c_str(), 0600);
+       return externalBufferAt(d, "fifo.bin");
+     }},
+    {"json_nested_100000", "JSON nests deeper than 64 levels",
+     [](const std::string &d) {
+       std::string p = d + "/deep.gltf";
+       std::ofstream(p) << std::string(100000, '[') << std::string(100000, ']');
        return p;
      }},
     {"missing_buffer_file", "not a readable glTF",
@@ -140,7 +180,7 @@ const std::vector<Case> kCases = {
        b.j["extensionsRequired"] = {"KHR_draco_mesh_compression"};
        return b.write(d, "x");
      }},
-    {"absurd_count", "absurd count",
+    {"absurd_count", "over the limit of",
      [](const std::string &d) {
        auto b = quad();
        b.j["accessors"][3]["count"] = 1099511627776LL;
@@ -158,7 +198,7 @@ const std::vector<Case> kCases = {
        return d + "/bad.gltf";
      }},
     {"missing_file", "cannot open file", [](const std::string &d) { return d + "/nothing.glb"; }},
-    {"joint_node_missing", "joint node 42 does not exist",
+    {"joint_node_missing", "/skins/0/joints/1: index 42 names nothing",
      [](const std::string &d) {
        auto b = quad();
        b.j["skins"][0]["joints"][1] = 42;

@@ -17,7 +17,7 @@ expect_error() { # expect_error PATTERN command...: exit code 1 and PATTERN on s
 
 # Manifest errors name file, line and column.
 printf '{"name": "a",\n "body": "missing.glb"}\n' > missing.json
-expect_error 'missing.json:2:2: /body: file .*missing.glb. does not exist' \
+expect_error 'missing.json:2:2: /body: .*missing.glb: cannot open file' \
   "$bin/crowdbake" build missing.json -o a.crowdpack
 printf '{"name": "a", "body": "s/humanoid.glb",\n  "lod": {"flor": 0.1}}\n' > unknown.json
 expect_error 'unknown.json:2:11: /lod/flor: unknown key' "$bin/crowdbake" build unknown.json -o a.crowdpack

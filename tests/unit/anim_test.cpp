@@ -206,7 +206,8 @@ TEST(AnimBake, AbsurdClipLengthsAreAClearError) {
     bakeAnimation(c, {}, r);
     FAIL();
   } catch (const Error &e) {
-    EXPECT_STREQ(e.what(), "clip 'forever' would need more than 100000 frames");
+    EXPECT_NE(std::string(e.what()).find("clip 'forever': "), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("needs more than 65536 frames"), std::string::npos);
   }
 }
 } // namespace

@@ -195,9 +195,12 @@ TEST(Import, MeshByNameAndAClearErrorForAnUnknownOne) {
   b.skinnedQuad();
   std::string path = b.write(test::tempDir("import_byname"), "n");
   Reporter r;
-  EXPECT_EQ(importGltf(path, {"quad"}, r).mesh.vertexCount(), 4u);
+  ImportOptions byName;
+  byName.mesh = "quad";
+  EXPECT_EQ(importGltf(path, byName, r).mesh.vertexCount(), 4u);
+  byName.mesh = "nope";
   try {
-    importGltf(path, {"nope"}, r);
+    importGltf(path, byName, r);
     FAIL();
   } catch (const Error &e) {
     EXPECT_NE(std::string(e.what()).find("no mesh named 'nope'"), std::string::npos);

@@ -7,6 +7,7 @@
 #include "crowd/bake/evaluate.h"
 #include "crowd/bake/parallel.h"
 #include "crowd/formats/error.h"
+#include "crowd/formats/limits.h"
 #include "crowd/runtime/texture_skinning.h"
 
 namespace crowd {
@@ -154,8 +155,10 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
     double duration = clip.end - clip.start;
     double fps = options.fps > 0 ? options.fps : sourceRate(clip);
     double wanted = duration > 0 ? std::max(1.0, std::round(duration * fps)) : 0.0;
-    if (wanted > 100000) // checked before the cast: an absurd duration must not overflow it
-      throw Error("clip '" + clip.name + "' would need more than 100000 frames");
+    if (wanted >= double(limits::kClipFrames)) // before the cast: an absurd duration overflows it
+      throw Error("clip '" + clip.name + "': " + std::to_string(duration) + " s at " +
+                  std::to_string(fps) + " fps needs more than " +
+                  std::to_string(limits::kClipFrames) + " frames (use --fps or --clip)");
     auto intervals = uint32_t(wanted);
     ClipFrames cf{&clip,         clip.name,
                   clip.start,    intervals ? duration / intervals : 0.0,
@@ -180,6 +183,10 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
     for (uint32_t i = 0; i < clips[ci].count; ++i)
       frameList.push_back({ci, i});
   size_t total = frameList.size();
+  if (uint64_t(total) * c.mesh.vertexCount() > limits::kFrameVertices)
+    throw Error(std::to_string(total) + " frames x " + std::to_string(c.mesh.vertexCount()) +
+                " vertices is over the bake's limit of " + std::to_string(limits::kFrameVertices) +
+                " (the accuracy check keeps every frame's positions): use --fps or --clip");
   std::vector<std::vector<glm::dmat4>> joints(total);
   std::vector<std::vector<glm::dvec3>> reference(total), midReference(total);
   parallelFor(total, options.threads, [&](size_t f) {

@@ -22,7 +22,7 @@ size_t BuildResult::failed() const {
 
 BuildResult build(const BuildOptions &o) {
   const auto t0 = std::chrono::steady_clock::now();
-  Library lib = loadLibrary(o.input);
+  Library lib = loadLibrary(o.input, o.files);
   std::string cacheFolder = o.cache;
   if (lib.single && fs::path(o.output).extension() != ".crowdpack")
     throw Error(o.output + ": a character manifest builds one pack: -o NAME.crowdpack");

@@ -52,6 +52,7 @@ void keepClips(Character &c, const std::vector<std::string> &names, const std::s
 
 Character importBody(const CharacterManifest &m, Reporter &reporter) {
   ImportOptions io;
+  io.input = m.input;
   io.mesh = m.mesh;
   Character body = importGltf(m.body, io, reporter);
   keepClips(body, m.clips, m.body);
@@ -121,8 +122,10 @@ Part meshJob(const Job &job, const std::vector<const Part *> &, int threads) {
     anim.pack.lod = std::move(lod);
   } else {
     std::vector<OutfitInput> outfits;
+    ImportOptions io;
+    io.input = m.input;
     for (const auto &[name, file] : m.outfits)
-      outfits.push_back({name, importGltf(file, {}, reporter)});
+      outfits.push_back({name, importGltf(file, io, reporter)});
     OutfitOptions oo = m.outfitOptions;
     oo.anim = m.anim;
     oo.anim.threads = oo.visibility.threads = threads;
@@ -163,7 +166,9 @@ Part impostorJob(const Job &job, const std::vector<const Part *> &, int threads)
   Character c = importBody(m, reporter);
   uint32_t garments = 0;
   if (!job.outfit.empty()) {
-    OutfitInput o{job.outfit, importGltf(outfitFile(m, job.outfit), {}, reporter)};
+    ImportOptions io;
+    io.input = m.input;
+    OutfitInput o{job.outfit, importGltf(outfitFile(m, job.outfit), io, reporter)};
     garments = uint32_t(o.character.mesh.parts.size());
     c = dressCharacter(c, o, m.outfitOptions.regions, reporter);
   }

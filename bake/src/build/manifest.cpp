@@ -20,23 +20,27 @@ using runtime::JsonChecker;
 using Keys = JsonChecker::Keys;
 namespace fs = std::filesystem;
 
-std::string readText(const std::string &path) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f)
-    throw Error(path + ": cannot open file");
-  std::ostringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
+std::string readText(const std::string &path, const InputPolicy &policy) {
+  const std::vector<uint8_t> bytes = readInputFile(path, policy);
+  return std::string(bytes.begin(), bytes.end());
 }
 
-// An input file named by a manifest: resolved against the manifest's folder; must exist.
-std::string inputFile(const JsonChecker &c, const json &j, const Keys &keys) {
-  std::string name = c.string(j, keys);
-  fs::path p = fs::path(c.path()).parent_path() / name;
-  std::error_code ec;
-  if (!fs::is_regular_file(p, ec))
-    c.fail(keys, "file '" + p.string() + "' does not exist or is not a regular file");
-  return p.lexically_normal().string();
+// An input file named by a manifest: resolved against the manifest's folder and kept inside it
+// (or the asset root); must be a regular file within the size bound.
+std::string inputFile(const JsonChecker &c, const json &j, const Keys &keys,
+                      const InputPolicy &policy) {
+  const std::string name = c.string(j, keys);
+  std::string p;
+  try {
+    p = resolveNamedInput(name, c.path(), policy, "file");
+    checkInputFile(p, policy);
+  } catch (const Error &e) {
+    std::string why = e.what();
+    if (why.rfind(c.path() + ": ", 0) == 0)
+      why = why.substr(c.path().size() + 2);
+    c.fail(keys, why);
+  }
+  return p;
 }
 
 std::vector<std::string> names(const JsonChecker &c, const json &j, const Keys &keys) {
@@ -68,7 +72,8 @@ template <class Options> void validate(const JsonChecker &c, const Options &o, c
   }
 }
 
-CharacterManifest parse(const JsonChecker &c, const json &j, const Keys &at) {
+CharacterManifest parse(const JsonChecker &c, const json &j, const Keys &at,
+                        const InputPolicy &policy) {
   auto key = [&](const std::string &k) {
     Keys keys = at;
     keys.push_back(k);
@@ -93,7 +98,8 @@ CharacterManifest parse(const JsonChecker &c, const json &j, const Keys &at) {
     if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '_' && ch != '-' && ch != '.')
       c.fail(key("name"), "'" + m.name + "' may hold only letters, digits, '_', '-' and '.' "
                                          "(it names the pack file)");
-  m.body = inputFile(c, j["body"], key("body"));
+  m.input = policy;
+  m.body = inputFile(c, j["body"], key("body"), policy);
   if (j.contains("outfits")) {
     const json &o = j["outfits"];
     if (!o.is_object())
@@ -101,7 +107,7 @@ CharacterManifest parse(const JsonChecker &c, const json &j, const Keys &at) {
     for (auto it = o.begin(); it != o.end(); ++it) {
       Keys k = key("outfits");
       k.push_back(it.key());
-      m.outfits.emplace_back(it.key(), inputFile(c, it.value(), k));
+      m.outfits.emplace_back(it.key(), inputFile(c, it.value(), k, policy));
     }
   }
   if (j.contains("clips"))
@@ -236,13 +242,14 @@ nlohmann::ordered_json CharacterManifest::canonical() const {
   return j;
 }
 
-CharacterManifest parseManifest(const std::string &text, const std::string &path) {
+CharacterManifest parseManifest(const std::string &text, const std::string &path,
+                                const InputPolicy &policy) {
   JsonChecker c(text, path);
-  return parse(c, c.parse(), {});
+  return parse(c, c.parse(), {}, policy);
 }
 
-Library loadLibrary(const std::string &path) {
-  const std::string text = readText(path);
+Library loadLibrary(const std::string &path, const InputPolicy &policy) {
+  const std::string text = readText(path, policy);
   JsonChecker c(text, path);
   const json j = c.parse();
   Library lib;
@@ -251,7 +258,7 @@ Library loadLibrary(const std::string &path) {
     c.fail({}, "expected a character manifest or {\"characters\": [...]}");
   if (!j.contains("characters")) {
     lib.single = true;
-    lib.characters.push_back(parse(c, j, {}));
+    lib.characters.push_back(parse(c, j, {}, policy));
     return lib;
   }
   c.onlyKeys(j, {}, {"characters", "comment"});
@@ -260,15 +267,15 @@ Library loadLibrary(const std::string &path) {
     c.fail({"characters"}, "expected a non-empty list of manifest files or objects");
   for (const auto &entry : list) {
     if (entry.is_string()) {
-      const std::string file = inputFile(c, entry, {"characters"});
-      const std::string sub = readText(file);
+      const std::string file = inputFile(c, entry, {"characters"}, policy);
+      const std::string sub = readText(file, policy);
       JsonChecker sc(sub, file);
       const json sj = sc.parse();
       if (sj.is_object() && sj.contains("characters"))
         c.fail({"characters"}, "'" + file + "' is a library, not a character manifest");
-      lib.characters.push_back(parse(sc, sj, {}));
+      lib.characters.push_back(parse(sc, sj, {}, policy));
     } else if (entry.is_object()) {
-      lib.characters.push_back(parse(c, entry, {"characters"}));
+      lib.characters.push_back(parse(c, entry, {"characters"}, policy));
     } else {
       c.fail({"characters"}, "expected a manifest file name or an inline manifest object");
     }

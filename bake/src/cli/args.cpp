@@ -75,6 +75,45 @@ uint32_t whole(const Args &a, const std::string &key, double def, double lo, dou
   return uint32_t(v);
 }
 
+const std::set<std::string> kInputOptions = {"asset-root", "max-file-size", "max-memory",
+                                             "max-seconds"};
+
+const char *kInputHelp = R"(
+untrusted input (every file a bake reads):
+  --asset-root DIR     files a glTF names (buffers, images) must resolve inside DIR (default:
+                       the glTF's own folder); '..' leaving it, absolute paths, links out of
+                       it and non-regular files (devices, FIFOs, folders) are errors
+  --max-file-size MIB  largest input file read (default 1024 MiB), checked before reading
+  --max-memory MIB     stop with an error past this resident memory (default: 3/4 of RAM)
+  --max-seconds S      stop with an error after S seconds (default 3600); either limit
+                       writes nothing
+)";
+
+crowd::InputPolicy inputPolicy(const Args &a) {
+  crowd::InputPolicy p;
+  p.assetRoot = a.get("asset-root");
+  if (a.options.count("max-file-size"))
+    p.maxFileBytes = uint64_t(whole(a, "max-file-size", 1024, 1, 1 << 22)) << 20;
+  try {
+    p.validate();
+  } catch (const crowd::Error &e) {
+    throw UsageError(e.what());
+  }
+  return p;
+}
+
+crowd::ResourceLimits resourceLimits(const Args &a) {
+  crowd::ResourceLimits r;
+  r.maxMemoryMiB = uint64_t(number(a, "max-memory", 0));
+  r.maxSeconds = number(a, "max-seconds", r.maxSeconds);
+  try {
+    r.validate();
+  } catch (const crowd::Error &e) {
+    throw UsageError(e.what());
+  }
+  return r;
+}
+
 void writeJson(const std::string &path, const nlohmann::ordered_json &j) {
   std::string tmp = path + ".tmp";
   {

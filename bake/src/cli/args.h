@@ -9,7 +9,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "crowd/bake/input_files.h"
 #include "crowd/bake/report.h"
+#include "crowd/bake/resource_guard.h"
 
 namespace crowd::cli {
 
@@ -40,6 +42,13 @@ uint32_t whole(const Args &a, const std::string &key, double def, double lo, dou
 void oneInput(const Args &a, const char *command);
 bool progressWanted(const Args &a); // stderr is a terminal and --quiet is not given
 void writeJson(const std::string &path, const nlohmann::ordered_json &j); // atomically
+// Options of every command that reads untrusted input: --asset-root DIR, --max-file-size MIB,
+// --max-memory MIB, --max-seconds S; their help text, and the structs they fill.
+extern const std::set<std::string> kInputOptions;
+extern const char *kInputHelp;
+crowd::InputPolicy inputPolicy(const Args &a);
+crowd::ResourceLimits resourceLimits(const Args &a);
+
 // The reporter's warnings for a --report file: [{code, message, count}, ...].
 nlohmann::ordered_json warningsJson(const Reporter &reporter);
 

@@ -7,6 +7,8 @@
 #include <CLI/CLI.hpp>
 
 #include "args.h"
+#include "crowd/bake/resource_guard.h"
+#include "crowd/formats/error.h"
 #include "commands.h"
 #include "crowd/bake/build.h"
 
@@ -58,6 +60,19 @@ int cmdBuild(int argc, char **argv) {
   app.add_option("--report", o.report,
                  "build report JSON (default for a library: OUTDIR/build.report.json)");
   app.add_flag("-q,--quiet", quiet, "no progress on stderr");
+  ResourceLimits limits;
+  double maxFileMiB = double(o.files.maxFileBytes >> 20);
+  app.add_option("--asset-root", o.files.assetRoot,
+                 "files named by manifests and glTFs must resolve inside DIR (default: the "
+                 "naming file's own folder)");
+  app.add_option("--max-file-size", maxFileMiB, "largest input file read, in MiB")
+      ->capture_default_str()
+      ->check(CLI::Range(1.0, double(1 << 22)));
+  app.add_option("--max-memory", limits.maxMemoryMiB,
+                 "stop with an error past this resident memory, in MiB (0: 3/4 of RAM)")
+      ->capture_default_str();
+  app.add_option("--max-seconds", limits.maxSeconds, "stop with an error after this many seconds")
+      ->capture_default_str();
   try {
     app.parse(argc - 1, argv + 1);
   } catch (const CLI::CallForHelp &) {
@@ -67,6 +82,13 @@ int cmdBuild(int argc, char **argv) {
     throw UsageError(e.what());
   }
   o.executor.progress = quiet ? "none" : isatty(2) ? "bar" : "lines";
+  o.files.maxFileBytes = uint64_t(maxFileMiB) << 20;
+  try {
+    o.files.validate();
+  } catch (const Error &e) {
+    throw UsageError(e.what());
+  }
+  ResourceGuard guard(limits, "crowdbake build " + o.input);
   BuildResult r = build(o);
   std::string report = o.report;
   if (report.empty() && std::filesystem::is_directory(o.output)) // a library's folder

@@ -20,6 +20,7 @@
 #include "crowd/bake/lod_bake.h"
 #include "crowd/bake/preview.h"
 #include "crowd/bake/provenance.h"
+#include "crowd/bake/resource_guard.h"
 #include "crowd/formats/character_pack.h"
 #include "crowd/formats/chunks.h"
 #include "crowd/formats/error.h"
@@ -233,6 +234,7 @@ int cmdAnim(const Args &a, const std::string &command) {
   const std::string input = a.positional[0];
   crowd::ImportOptions io;
   io.mesh = a.get("mesh");
+  io.input = inputPolicy(a);
   bool progress = progressWanted(a);
   if (progress)
     std::fprintf(stderr, "crowdbake: importing %s\n", input.c_str());
@@ -369,6 +371,7 @@ int cmdImpostor(const Args &a) {
   reporter.quiet = a.has("quiet");
   crowd::ImportOptions io;
   io.mesh = a.get("mesh");
+  io.input = inputPolicy(a);
   crowd::Character character = crowd::importGltf(a.positional[0], io, reporter);
   crowd::ImpostorBakeResult r = crowd::bakeImpostor(character, opt, reporter);
   crowd::pack::ImpostorPack pk;
@@ -744,26 +747,33 @@ int main(int argc, char **argv) {
     for (int i = 2; i < argc; ++i)
       if (std::string(argv[i]) == "--help" || std::string(argv[i]) == "-h") {
         std::cout << (command == "outfits" ? kOutfitsHelp : kHelp.at(command));
+        if (command == "anim" || command == "lod" || command == "impostor" || command == "outfits")
+          std::cout << kInputHelp;
         return 0;
       }
     if (command == "samples")
       return cmdSamples(parse(argc, argv, {"out"}, {}));
+    // The bakes read untrusted input: each runs under the resource guard.
+    auto bake = [&](std::set<std::string> valued, const std::set<std::string> &flags,
+                    auto &&run) {
+      valued.insert(kInputOptions.begin(), kInputOptions.end());
+      const Args a = parse(argc, argv, valued, flags);
+      crowd::ResourceGuard guard(resourceLimits(a),
+                                 "crowdbake " + command +
+                                     (a.positional.empty() ? "" : " " + a.positional[0]));
+      return run(a);
+    };
     if (command == "anim" || command == "lod")
-      return cmdAnim(parse(argc, argv,
-                           {"output", "clip", "mesh", "fps", "max-width", "precision", "threads",
-                            "report", "floor", "poses"},
-                           {"quiet", "lod"}),
-                     command);
+      return bake({"output", "clip", "mesh", "fps", "max-width", "precision", "threads", "report",
+                   "floor", "poses"},
+                  {"quiet", "lod"}, [&](const Args &a) { return cmdAnim(a, command); });
     if (command == "impostor")
-      return cmdImpostor(parse(
-          argc, argv, {"output", "clip", "mesh", "frames", "views", "texels", "threads", "report"},
-          {"quiet", "mirror"}));
+      return bake({"output", "clip", "mesh", "frames", "views", "texels", "threads", "report"},
+                  {"quiet", "mirror"}, cmdImpostor);
     if (command == "outfits")
-      return cmdOutfits(parse(argc, argv,
-                              {"output", "outfit", "frame-step", "rays", "points", "ring",
-                               "min-saving", "check", "regions", "fps", "precision", "max-width", "threads",
-                               "report"},
-                              {"quiet", "no-ground"}));
+      return bake({"output", "outfit", "frame-step", "rays", "points", "ring", "min-saving",
+                   "check", "regions", "fps", "precision", "max-width", "threads", "report"},
+                  {"quiet", "no-ground"}, cmdOutfits);
     if (command == "inspect")
       return cmdInspect(parse(argc, argv, {}, {"json"}));
     if (command == "verify")

@@ -117,8 +117,10 @@ int cmdOutfits(const Args &a) {
       std::fprintf(stderr, "crowdbake: %s\n", s.c_str());
   };
 
+  ImportOptions io;
+  io.input = inputPolicy(a);
   say("importing " + a.positional[0]);
-  Character body = importGltf(a.positional[0], {}, reporter);
+  Character body = importGltf(a.positional[0], io, reporter);
   std::vector<OutfitInput> outfits;
   std::vector<std::string> sources = body.sourceFiles;
   for (const auto &arg : a.lists.at("outfit")) {
@@ -127,7 +129,7 @@ int cmdOutfits(const Args &a) {
       if (o.name == name)
         throw UsageError("two outfits are named '" + name + "' (use --outfit NAME=FILE)");
     say("importing outfit '" + name + "' from " + file);
-    outfits.push_back({name, importGltf(file, {}, reporter)});
+    outfits.push_back({name, importGltf(file, io, reporter)});
     sources.insert(sources.end(), outfits.back().character.sourceFiles.begin(),
                    outfits.back().character.sourceFiles.end());
   }

@@ -14,7 +14,10 @@
 #include <glm/gtc/type_ptr.hpp>
 #include <tiny_gltf.h>
 
+#include "crowd/bake/input_files.h"
 #include "crowd/formats/error.h"
+#include "crowd/runtime/json_checker.h"
+#include "gltf_schema.h"
 
 namespace crowd {
 namespace {
@@ -33,21 +36,6 @@ std::string oneLine(std::string s) {
   return s;
 }
 
-// glTF URIs are percent-encoded ("my%20file.bin").
-std::string percentDecoded(const std::string &uri) {
-  std::string out;
-  for (size_t i = 0; i < uri.size(); ++i) {
-    if (uri[i] == '%' && i + 2 < uri.size() && std::isxdigit(uint8_t(uri[i + 1])) &&
-        std::isxdigit(uint8_t(uri[i + 2]))) {
-      out += char(std::stoi(uri.substr(i + 1, 2), nullptr, 16));
-      i += 2;
-    } else {
-      out += uri[i];
-    }
-  }
-  return out;
-}
-
 // Images are kept encoded as tinygltf hands them over; only the diffuse texture the mesh uses is
 // decoded (through OpenImageIO), and an image that cannot be decoded is a warning, not a failure.
 using EncodedImages = std::map<int, std::vector<uint8_t>>;
@@ -58,47 +46,119 @@ bool keepEncodedImage(tinygltf::Image *, const int index, std::string *, std::st
   return true;
 }
 
-constexpr int kMaxTextureSide = 8192;
+constexpr int kMaxTextureSide = limits::kImageSide;
 
 class Importer {
 public:
   Importer(std::string path, Reporter &reporter) : path_(std::move(path)), reporter_(reporter) {}
 
   Character run(const ImportOptions &options) {
-    load();
-    buildHierarchy();
-    selectMeshes(options);
-    readMeshes();
-    readAnimations();
-    readDiffuseTexture();
+    try {
+      load(options.input);
+      buildHierarchy();
+      selectMeshes(options);
+      readMeshes();
+      readAnimations();
+      readDiffuseTexture();
+    } catch (const std::bad_alloc &) {
+      fail("out of memory while " + stage_);
+    }
     return std::move(out_);
   }
 
 private:
+  struct MeshNode {
+    int node;
+    int rigid; // node that acts as the joint of a rigid mesh, or -1 when skinned
+    uint16_t rigidJoint = 0;
+  };
+
   [[noreturn]] void fail(const std::string &what) const { throw Error(path_ + ": " + what); }
 
-  void load() {
-    std::ifstream probe(path_, std::ios::binary);
-    if (!probe)
-      fail("cannot open file");
-    char magic[4] = {};
-    probe.read(magic, 4);
-    bool binary = probe.gcount() == 4 && std::string(magic, 4) == "glTF";
+  // tinygltf reads external buffers and images through these callbacks, so every URI goes
+  // through resolveNamedInput and readInputFile; the first refusal becomes the import's error.
+  struct Confinement {
+    const std::string *gltf;
+    const InputPolicy *policy;
+    std::string problem;
+    std::vector<std::string> read; // every external file read, in order
+  };
+  static constexpr const char *kRefused = "\x01refused";
+  static std::string expandUri(const std::string &uri, void *user) {
+    auto *c = static_cast<Confinement *>(user);
+    // tinygltf also tries "./URI": the same name, relative to the glTF's folder.
+    const std::string name = uri.rfind("./", 0) == 0 ? uri.substr(2) : uri;
+    try {
+      return resolveNamedInput(name, *c->gltf, *c->policy, "URI");
+    } catch (const Error &e) {
+      if (c->problem.empty())
+        c->problem = e.what();
+      return kRefused;
+    }
+  }
+  static bool uriExists(const std::string &path, void *) {
+    std::error_code ec;
+    return path != kRefused && std::filesystem::exists(path, ec);
+  }
+  static bool readUri(std::vector<unsigned char> *out, std::string *err, const std::string &path,
+                      void *user) {
+    auto *c = static_cast<Confinement *>(user);
+    try {
+      *out = readInputFile(path, *c->policy);
+      if (std::find(c->read.begin(), c->read.end(), path) == c->read.end())
+        c->read.push_back(path);
+      return true;
+    } catch (const Error &e) {
+      if (c->problem.empty())
+        c->problem = *c->gltf + ": URI " + e.what();
+      *err += e.what();
+      return false;
+    }
+  }
+  static bool noWrite(std::string *, const std::string &, const std::vector<unsigned char> &,
+                      void *) {
+    return false;
+  }
+
+  void load(const InputPolicy &policy) {
+    stage_ = "reading the file";
+    const std::vector<uint8_t> bytes = readInputFile(path_, policy);
+    const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
+    // The JSON's nesting is checked before tinygltf parses it: its parser recurses.
+    std::string_view json(reinterpret_cast<const char *>(bytes.data()), bytes.size());
+    if (binary) {
+      uint32_t length = 0;
+      if (bytes.size() >= 20)
+        std::memcpy(&length, bytes.data() + 12, 4);
+      json = json.substr(std::min<size_t>(20, json.size()), length);
+    }
+    runtime::checkJsonDepth(json, path_);
+    if (binary && bytes.size() >= 8 && bytes[4] != 2)
+      fail("GLB container version " + std::to_string(bytes[4]) + " is not 2");
+    checkGltfJson(json, path_);
+    stage_ = "parsing the glTF JSON";
+    Confinement confinement{&path_, &policy, {}, {}};
     tinygltf::TinyGLTF loader;
     loader.SetImageLoader(keepEncodedImage, &encodedImages_);
+    loader.SetFsCallbacks({uriExists, expandUri, readUri, noWrite, &confinement});
     std::string err, warn;
-    bool ok = binary ? loader.LoadBinaryFromFile(&model_, &err, &warn, path_)
-                     : loader.LoadASCIIFromFile(&model_, &err, &warn, path_);
+    // base_dir stays empty: URIs reach expandUri as written (percent-decoded), and are resolved
+    // against the glTF's own folder there, never the working directory.
+    bool ok = binary ? loader.LoadBinaryFromMemory(&model_, &err, &warn, bytes.data(),
+                                                   unsigned(bytes.size()), "")
+                     : loader.LoadASCIIFromString(&model_, &err, &warn,
+                                                  reinterpret_cast<const char *>(bytes.data()),
+                                                  unsigned(bytes.size()), "");
+    if (!confinement.problem.empty())
+      throw Error(confinement.problem);
     if (!ok)
       fail("not a readable glTF: " + oneLine(err.empty() ? warn : err));
     for (const auto &ext : model_.extensionsRequired)
       if (!kSupportedRequired.count(ext))
         fail("unsupported required extension " + ext);
     out_.sourceFiles.push_back(path_);
-    const auto dir = std::filesystem::path(path_).parent_path();
-    for (const auto &buffer : model_.buffers)
-      if (!buffer.uri.empty() && buffer.uri.rfind("data:", 0) != 0)
-        out_.sourceFiles.push_back((dir / percentDecoded(buffer.uri)).string());
+    for (const auto &file : confinement.read)
+      out_.sourceFiles.push_back(file);
   }
 
   // --- accessors -------------------------------------------------------------------------
@@ -195,8 +255,15 @@ private:
   }
 
   // Every element of accessor `index` as doubles (count * components), normalised per spec.
-  std::vector<double> readAccessor(int index, const std::string &what, bool finite = true) const {
+  // The count is checked against the limits and the buffer view before anything is allocated;
+  // an accessor shared by several primitives is read once.
+  std::shared_ptr<const std::vector<double>> readAccessor(int index, const std::string &what,
+                                                          bool finite = true) {
+    auto cached = accessorCache_.find({index, finite});
+    if (cached != accessorCache_.end())
+      return cached->second;
     std::string ctx = what + ", accessor " + std::to_string(index);
+    stage_ = "reading " + ctx;
     if (index < 0 || size_t(index) >= model_.accessors.size())
       fail(ctx + ": does not exist");
     const auto &acc = model_.accessors[size_t(index)];
@@ -204,22 +271,29 @@ private:
     int cs = componentSize(acc.componentType);
     if (nc == 0 || cs == 0)
       fail(ctx + ": unsupported type or component type");
-    if (acc.count > (size_t(1) << 28))
-      fail(ctx + ": absurd count " + std::to_string(acc.count));
+    if (acc.count > limits::kAccessorElements)
+      fail(ctx + ": count " + std::to_string(acc.count) + " is over the limit of " +
+           std::to_string(limits::kAccessorElements) + " elements");
     size_t elemSize = size_t(nc) * size_t(cs);
-    std::vector<double> out(acc.count * size_t(nc), 0.0);
+    const uint8_t *p = nullptr;
+    size_t stride = elemSize;
     if (acc.bufferView >= 0) {
-      size_t stride = model_.bufferViews.size() > size_t(acc.bufferView) &&
-                              model_.bufferViews[size_t(acc.bufferView)].byteStride
-                          ? model_.bufferViews[size_t(acc.bufferView)].byteStride
-                          : elemSize;
-      const uint8_t *p =
-          viewRange(acc.bufferView, acc.byteOffset, acc.count, stride, elemSize, ctx);
+      if (size_t(acc.bufferView) < model_.bufferViews.size() &&
+          model_.bufferViews[size_t(acc.bufferView)].byteStride) {
+        stride = model_.bufferViews[size_t(acc.bufferView)].byteStride;
+        if (stride < elemSize)
+          fail(ctx + ": bufferView byteStride " + std::to_string(stride) +
+               " is smaller than an element (" + std::to_string(elemSize) + " bytes)");
+      }
+      p = viewRange(acc.bufferView, acc.byteOffset, acc.count, stride, elemSize, ctx);
+    }
+    auto shared = std::make_shared<std::vector<double>>(acc.count * size_t(nc), 0.0);
+    auto &out = *shared;
+    if (p)
       for (size_t i = 0; i < acc.count; ++i)
         for (int c = 0; c < nc; ++c)
           out[i * size_t(nc) + size_t(c)] =
               readComponent(p + i * stride + size_t(c * cs), acc.componentType, acc.normalized);
-    }
     if (acc.sparse.isSparse) {
       size_t n = size_t(std::max(acc.sparse.count, 0));
       int ics = componentSize(acc.sparse.indices.componentType);
@@ -245,10 +319,16 @@ private:
       for (size_t i = 0; i < out.size(); ++i)
         if (!std::isfinite(out[i]))
           fail(ctx + ": element " + std::to_string(i / size_t(nc)) + " is NaN or infinite");
-    return out;
+    accessorCache_[{index, finite}] = shared;
+    return shared;
   }
 
-  size_t accessorCount(int index) const { return model_.accessors.at(size_t(index)).count; }
+  // An accessor's declared count (not yet checked against its buffer view).
+  size_t accessorCount(int index) const {
+    if (index < 0 || size_t(index) >= model_.accessors.size())
+      fail("accessor " + std::to_string(index) + ": does not exist");
+    return model_.accessors[size_t(index)].count;
+  }
   int accessorType(int index, const std::string &what) const {
     if (index < 0 || size_t(index) >= model_.accessors.size())
       fail(what + ", accessor " + std::to_string(index) + ": does not exist");
@@ -370,16 +450,19 @@ private:
         if (!jointSet.insert(j).second)
           fail(ctx + ": node " + std::to_string(j) + " is listed twice as a joint");
       }
-      std::vector<double> ibm;
+      if (skin.joints.size() > limits::kJoints)
+        fail(ctx + ": " + std::to_string(skin.joints.size()) + " joints, over the limit of " +
+             std::to_string(limits::kJoints));
+      std::shared_ptr<const std::vector<double>> ibm;
       if (skin.inverseBindMatrices >= 0) {
-        ibm = readAccessor(skin.inverseBindMatrices, ctx + " inverseBindMatrices");
         if (accessorType(skin.inverseBindMatrices, ctx) != TINYGLTF_TYPE_MAT4 ||
             accessorCount(skin.inverseBindMatrices) < skin.joints.size())
           fail(ctx + ": inverseBindMatrices must be MAT4 with one per joint");
+        ibm = readAccessor(skin.inverseBindMatrices, ctx + " inverseBindMatrices");
       }
       for (size_t j = 0; j < skin.joints.size(); ++j) {
         skinJoints_.push_back(skin.joints[j]);
-        skinIbm_.push_back(ibm.empty() ? glm::dmat4(1.0) : glm::make_mat4(&ibm[j * 16]));
+        skinIbm_.push_back(ibm ? glm::make_mat4(&(*ibm)[j * 16]) : glm::dmat4(1.0));
       }
     }
 
@@ -439,7 +522,11 @@ private:
     std::vector<std::vector<uint32_t>> partTriangles;
     std::vector<SkinnedMesh::Part> partLooks; // material look of each part
     auto &mesh = out_.mesh;
-    size_t moreThan4 = 0, renormalised = 0, morphTargets = 0, missingNormals = 0;
+    size_t moreThan4 = 0, renormalised = 0, morphTargets = 0, missingNormals = 0,
+           duplicatePrimitives = 0;
+    std::map<std::string, uint32_t> vertexBases; // first vertex of each distinct vertex set
+    std::set<std::string> seenPrimitives;
+    checkMeshSize();
     for (const auto &mn : meshNodes_) {
       const auto &gm = model_.meshes[size_t(model_.nodes[size_t(mn.node)].mesh)];
       for (size_t pi = 0; pi < gm.primitives.size(); ++pi) {
@@ -458,8 +545,20 @@ private:
           fail(ctx + ": no POSITION attribute");
         if (accessorType(posAcc, ctx + " POSITION") != TINYGLTF_TYPE_VEC3)
           fail(ctx + " POSITION: must be VEC3");
-        auto pos = readAccessor(posAcc, ctx + " POSITION");
-        size_t vc = pos.size() / 3;
+        const size_t vc = accessorCount(posAcc);
+        // Primitives repeating another's vertices share them; one repeating another's vertices,
+        // indices and material too is dropped (some exporters write hundreds).
+        const std::string vertexKey = vertexKeyOf(prim, mn);
+        if (!seenPrimitives.insert(vertexKey + "|" + std::to_string(prim.indices) + "|" +
+                                   std::to_string(prim.material))
+                 .second) {
+          ++duplicatePrimitives;
+          continue;
+        }
+        const auto [known, fresh] =
+            vertexBases.try_emplace(vertexKey, uint32_t(mesh.positions.size()));
+        const auto posData = readAccessor(posAcc, ctx + " POSITION");
+        const std::vector<double> &pos = *posData;
         auto sameCount = [&](int acc, const char *name, int type) {
           if (accessorType(acc, ctx + " " + name) != type || accessorCount(acc) != vc)
             fail(ctx + " " + name + ": type or count differs from POSITION");
@@ -467,17 +566,18 @@ private:
         std::vector<double> nrm, uv;
         if (int a = attr("NORMAL"); a >= 0) {
           sameCount(a, "NORMAL", TINYGLTF_TYPE_VEC3);
-          nrm = readAccessor(a, ctx + " NORMAL");
+          nrm = *readAccessor(a, ctx + " NORMAL");
         } else {
-          ++missingNormals;
+          missingNormals += fresh;
         }
         if (int a = attr("TEXCOORD_0"); a >= 0) {
           sameCount(a, "TEXCOORD_0", TINYGLTF_TYPE_VEC2);
-          uv = readAccessor(a, ctx + " TEXCOORD_0");
+          uv = *readAccessor(a, ctx + " TEXCOORD_0");
         }
         std::vector<uint32_t> idx;
         if (prim.indices >= 0) {
-          auto raw = readAccessor(prim.indices, ctx + " indices");
+          const auto rawData = readAccessor(prim.indices, ctx + " indices");
+          const std::vector<double> &raw = *rawData;
           for (size_t k = 0; k < raw.size(); ++k) {
             if (raw[k] < 0 || raw[k] >= double(vc))
               fail(ctx + " indices: index " + std::to_string(k) + " = " +
@@ -493,7 +593,7 @@ private:
 
         // Influences: every JOINTS_n/WEIGHTS_n pair, largest 4 kept.
         std::vector<std::vector<std::pair<double, int>>> infl(vc);
-        if (mn.rigid < 0) {
+        if (fresh && mn.rigid < 0) {
           size_t jointCount = skinJoints_.size();
           for (int set = 0;; ++set) {
             int ja = attr("JOINTS_" + std::to_string(set)),
@@ -505,8 +605,9 @@ private:
                    std::to_string(set));
             sameCount(ja, "JOINTS", TINYGLTF_TYPE_VEC4);
             sameCount(wa, "WEIGHTS", TINYGLTF_TYPE_VEC4);
-            auto jv = readAccessor(ja, ctx + " JOINTS_" + std::to_string(set));
-            auto wv = readAccessor(wa, ctx + " WEIGHTS_" + std::to_string(set));
+            const auto jData = readAccessor(ja, ctx + " JOINTS_" + std::to_string(set));
+            const auto wData = readAccessor(wa, ctx + " WEIGHTS_" + std::to_string(set));
+            const std::vector<double> &jv = *jData, &wv = *wData;
             for (size_t v = 0; v < vc; ++v)
               for (int k = 0; k < 4; ++k) {
                 double w = wv[v * 4 + size_t(k)], j = jv[v * 4 + size_t(k)];
@@ -526,8 +627,8 @@ private:
             fail(ctx + ": skinned node without JOINTS_0/WEIGHTS_0");
         }
 
-        uint32_t base = uint32_t(mesh.positions.size());
-        for (size_t v = 0; v < vc; ++v) {
+        const uint32_t base = known->second;
+        for (size_t v = 0; fresh && v < vc; ++v) {
           mesh.positions.push_back(glm::vec3(pos[v * 3], pos[v * 3 + 1], pos[v * 3 + 2]));
           mesh.normals.push_back(
               nrm.empty() ? glm::vec3(0) : glm::vec3(nrm[v * 3], nrm[v * 3 + 1], nrm[v * 3 + 2]));
@@ -561,7 +662,7 @@ private:
           mesh.joints.push_back(ids);
           mesh.weights.push_back(ws);
         }
-        if (nrm.empty())
+        if (nrm.empty() && fresh)
           computeNormals(base, idx);
         hasUvs_ = hasUvs_ || !uv.empty();
         if (int image = baseColorImage(prim.material); image >= 0 && !uv.empty())
@@ -620,11 +721,53 @@ private:
                      std::to_string(morphTargets) +
                          " morph targets are not baked yet: the mesh is baked without them",
                      morphTargets);
+    if (duplicatePrimitives)
+      reporter_.warn("duplicate_primitives_dropped",
+                     std::to_string(duplicatePrimitives) +
+                         " primitives repeated another's vertices, indices and material: dropped",
+                     duplicatePrimitives);
     if (missingNormals)
       reporter_.warn("normals_computed",
                      std::to_string(missingNormals) +
                          " primitives had no NORMAL: computed from faces",
                      missingNormals);
+  }
+
+  // What identifies a primitive's vertices: its vertex attributes' accessors and, for a rigid
+  // part, its joint.
+  static std::string vertexKeyOf(const tinygltf::Primitive &prim, const MeshNode &mn) {
+    std::string key = std::to_string(mn.rigid >= 0 ? int(mn.rigidJoint) : -1);
+    for (const auto &[name, accessor] : prim.attributes)
+      key += ";" + name + "=" + std::to_string(accessor);
+    return key;
+  }
+
+  // Vertex and triangle totals from the accessors' declared counts (each distinct primitive
+  // once), checked against the limits before any primitive is read.
+  void checkMeshSize() const {
+    std::set<std::string> vertexSets, primitives;
+    uint64_t vertices = 0, indices = 0;
+    for (const auto &mn : meshNodes_)
+      for (const auto &prim : model_.meshes[size_t(model_.nodes[size_t(mn.node)].mesh)].primitives) {
+        auto pos = prim.attributes.find("POSITION");
+        if (pos == prim.attributes.end())
+          continue; // the reading loop names it
+        const std::string key = vertexKeyOf(prim, mn);
+        const uint64_t vc = accessorCount(pos->second);
+        if (!primitives.insert(key + "|" + std::to_string(prim.indices) + "|" +
+                               std::to_string(prim.material))
+                 .second)
+          continue;
+        if (vertexSets.insert(key).second)
+          vertices += vc;
+        indices += prim.indices >= 0 ? accessorCount(prim.indices) : vc;
+      }
+    if (vertices > limits::kVertices)
+      fail("the meshes hold " + std::to_string(vertices) + " vertices, over the limit of " +
+           std::to_string(limits::kVertices));
+    if (indices / 3 > limits::kTriangles)
+      fail("the meshes hold " + std::to_string(indices / 3) + " triangles, over the limit of " +
+           std::to_string(limits::kTriangles));
   }
 
   void computeNormals(uint32_t base, const std::vector<uint32_t> &idx) {
@@ -671,6 +814,7 @@ private:
       reporter_.warn("diffuse_texture_skipped", "image " + std::to_string(image) + ": " + why +
                                                     ": baked without a diffuse texture");
     };
+    stage_ = "decoding image " + std::to_string(image);
     auto it = encodedImages_.find(image);
     if (it == encodedImages_.end())
       return warn("no image data");
@@ -741,13 +885,13 @@ private:
           out.interpolation = Interpolation::Linear;
         else
           fail(ctx + ": unknown interpolation '" + s.interpolation + "'");
-        out.times = readAccessor(s.input, ctx + " input");
+        out.times = *readAccessor(s.input, ctx + " input");
         if (out.times.empty())
           fail(ctx + ": sampler has no keyframes");
         for (size_t k = 1; k < out.times.size(); ++k)
           if (!(out.times[k] > out.times[k - 1]))
             fail(ctx + " input: key times not strictly increasing at key " + std::to_string(k));
-        out.values = readAccessor(s.output, ctx + " output");
+        out.values = *readAccessor(s.output, ctx + " output");
         size_t comps = out.path == ChannelPath::Rotation ? 4 : 3;
         size_t per = out.interpolation == Interpolation::CubicSpline ? 3 : 1;
         if (out.values.size() != out.times.size() * comps * per)
@@ -768,14 +912,10 @@ private:
                      weightChannels);
   }
 
-  struct MeshNode {
-    int node;
-    int rigid; // node that acts as the joint of a rigid mesh, or -1 when skinned
-    uint16_t rigidJoint = 0;
-  };
-
   std::string path_;
+  std::string stage_; // what the import is doing, for an out-of-memory error
   Reporter &reporter_;
+  std::map<std::pair<int, bool>, std::shared_ptr<const std::vector<double>>> accessorCache_;
   Model model_;
   Character out_;
   int skin_ = -1;

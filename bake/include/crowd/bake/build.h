@@ -2,6 +2,7 @@
 // folder of packs, through the job plan, the content cache and an executor. A character whose
 // job fails is reported and left out; the others are written.
 #pragma once
+#include "crowd/bake/input_files.h"
 #include <string>
 #include <vector>
 
@@ -17,6 +18,7 @@ struct BuildOptions {
   std::string cache;  // default: OUTDIR/.cache (one character: beside OUT, .crowdbake-cache)
   std::string report; // build report JSON; default: OUTDIR/build.report.json (library only)
   ExecutorOptions executor;
+  InputPolicy files; // where manifests' and glTFs' files may resolve, and their size bound
 };
 
 struct CharacterBuild {

@@ -10,14 +10,11 @@
 #include <string>
 #include <vector>
 
+#include "crowd/bake/input_files.h"
 #include "crowd/bake/job.h"
 
 namespace crowd {
 
-// "sha256:HEX" of a file, read in blocks (never whole into memory); also its size.
-using FileHash = Job::FileHash;
-FileHash hashFile(const std::string &path);
-std::string sha256Hex(const std::string &bytes);
 
 // Sets every job's key, in plan order (a job's dependencies come before it). Files are hashed
 // once each.

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "crowd/bake/character.h"
+#include "crowd/bake/input_files.h"
 #include "crowd/bake/report.h"
 
 namespace crowd {
@@ -13,6 +14,8 @@ struct ImportOptions {
   // Mesh to bake, by name. Empty: every mesh bound to the largest skin, merged, plus meshes
   // rigidly parented to its joints (or, without skins, every mesh as a rigid part).
   std::string mesh;
+  // Where external buffers and images may resolve, and how large an input may be.
+  InputPolicy input;
 };
 
 Character importGltf(const std::string &path, const ImportOptions &options, Reporter &reporter);

@@ -3,6 +3,7 @@
 // settings, the keys of the jobs it reads, the baker version) and produces a Part: chunks for
 // the character pack and figures for the build report. Kinds register once in job.cpp.
 #pragma once
+#include "crowd/bake/input_files.h"
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -35,10 +36,6 @@ struct Job {
   std::shared_ptr<const CharacterManifest> character;
   std::string clip, outfit;         // impostor jobs: the pair they draw
   std::vector<std::string> files;   // inputs whose bytes the job reads
-  struct FileHash {
-    std::string hash; // "sha256:HEX"
-    uint64_t size = 0;
-  };
   std::vector<FileHash> hashes;     // per file (set by keyJobs)
   std::vector<size_t> deps;         // jobs whose parts it reads, by index in the plan
   nlohmann::ordered_json settings;  // canonical: everything besides inputs that shapes the part

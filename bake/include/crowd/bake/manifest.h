@@ -3,6 +3,7 @@
 // characters (manifest files relative to it, or inline objects). Every default lives in the
 // bakes' option structs; a manifest only overrides. Errors say "FILE:LINE:COLUMN: /key: what".
 #pragma once
+#include "crowd/bake/input_files.h"
 #include <string>
 #include <utility>
 #include <vector>
@@ -23,6 +24,7 @@ struct CharacterManifest {
   std::vector<std::pair<std::string, std::string>> outfits; // name, glTF path (manifest order)
   std::vector<std::string> clips; // clips to keep; empty: every clip
   std::string mesh;               // the body's mesh to bake (ImportOptions::mesh)
+  InputPolicy input;              // how its glTFs' own files are confined (not a setting)
   AnimBakeOptions anim;
   bool lod = true; // continuous LOD on every sub-mesh ("lod": false turns it off)
   LodOptions lodOptions;
@@ -42,8 +44,9 @@ struct Library {
 };
 
 // A character manifest ({"name", "body", ...}) or a library ({"characters": [...]}).
-Library loadLibrary(const std::string &path);
+Library loadLibrary(const std::string &path, const InputPolicy &policy = {});
 // One manifest from its text (tests); `path` names it in errors and anchors relative paths.
-CharacterManifest parseManifest(const std::string &text, const std::string &path);
+CharacterManifest parseManifest(const std::string &text, const std::string &path,
+                                const InputPolicy &policy = {});
 
 } // namespace crowd

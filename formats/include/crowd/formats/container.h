@@ -8,6 +8,7 @@
 //                u64 offset, u64 size, u32 CRC-32 of the payload, u32 reserved (0)
 //   payloads, each starting at a multiple of kAlignment, zero padding between them.
 #pragma once
+#include "crowd/formats/limits.h"
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -21,7 +22,7 @@ inline constexpr uint32_t kContainerVersion = 1;
 inline constexpr size_t kAlignment = 64;
 inline constexpr size_t kHeaderSize = 32;
 inline constexpr size_t kTableEntrySize = 32;
-inline constexpr uint32_t kMaxChunks = 1024;
+inline constexpr uint32_t kMaxChunks = limits::kChunks;
 
 // A chunk type is four ASCII characters read as a little-endian u32.
 constexpr uint32_t fourcc(const char (&s)[5]) {
@@ -46,6 +47,9 @@ struct ChunkEntry {
 // Writes to PATH.tmp-<pid> then renames over PATH: a failure never leaves a half file and
 // never damages an earlier good one.
 void writeFileAtomic(const std::string &path, std::span<const uint8_t> bytes);
+// Removes every temporary file writeFileAtomic has open and blocks further writes: for a process
+// about to end abruptly (a resource guard), so it leaves nothing half-written behind.
+void abandonPendingWrites();
 
 // Collects chunks in the order added and lays them out deterministically.
 class Writer {

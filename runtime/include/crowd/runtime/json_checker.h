@@ -4,9 +4,12 @@
 // parent's key, which is where a reader would look.
 #pragma once
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <nlohmann/json.hpp>
+
+#include "crowd/formats/limits.h"
 
 namespace crowd::runtime {
 
@@ -28,6 +31,11 @@ private:
   const std::string &text_;
   const std::string &path_;
 };
+
+// Throws naming `path`, line and column where JSON text nests deeper than `limit` arrays and
+// objects. Run before any parser sees untrusted JSON: parsers and the trees they build recurse.
+void checkJsonDepth(std::string_view text, const std::string &path,
+                    int limit = limits::kJsonDepth);
 
 // Line and column (1-based) of byte `offset` in `text`, as "LINE:COLUMN".
 std::string lineColumn(const std::string &text, size_t offset);

@@ -1,0 +1,150 @@
+#include "crowd/bake/input_files.h"
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+#include <openssl/evp.h>
+#include <sys/stat.h>
+
+#include "crowd/formats/error.h"
+
+namespace crowd {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// SHA-256 through OpenSSL's EVP interface, fed in pieces.
+class Sha256 {
+public:
+  Sha256() : ctx_(EVP_MD_CTX_new()) {
+    if (!ctx_ || EVP_DigestInit_ex(ctx_, EVP_sha256(), nullptr) != 1)
+      throw Error("sha256: cannot initialise OpenSSL's digest");
+  }
+  ~Sha256() { EVP_MD_CTX_free(ctx_); }
+  Sha256(const Sha256 &) = delete;
+  Sha256 &operator=(const Sha256 &) = delete;
+  void add(const void *data, size_t size) { EVP_DigestUpdate(ctx_, data, size); }
+  std::string hex() {
+    unsigned char digest[EVP_MAX_MD_SIZE];
+    unsigned int n = 0;
+    EVP_DigestFinal_ex(ctx_, digest, &n);
+    std::string out;
+    char b[3];
+    for (unsigned i = 0; i < n; ++i) {
+      std::snprintf(b, sizeof b, "%02x", digest[i]);
+      out += b;
+    }
+    return out;
+  }
+
+private:
+  EVP_MD_CTX *ctx_;
+};
+
+// True when `p` (absolute, normalised) is `root` or lies below it.
+bool inside(const fs::path &p, const fs::path &root) {
+  const fs::path rel = p.lexically_relative(root);
+  return !rel.empty() && *rel.begin() != "..";
+}
+
+std::string mib(uint64_t bytes) { return std::to_string(bytes >> 20) + " MiB"; }
+
+} // namespace
+
+void InputPolicy::validate() const {
+  if (maxFileBytes == 0)
+    throw Error("max-file-size: must be at least 1 byte");
+  std::error_code ec;
+  if (!assetRoot.empty() && !fs::is_directory(assetRoot, ec))
+    throw Error("asset-root: " + assetRoot + " is not a folder");
+}
+
+std::string resolveNamedInput(const std::string &name, const std::string &namingFile,
+                              const InputPolicy &policy, const std::string &what) {
+  const std::string ctx = namingFile + ": " + what + " '" + name + "'";
+  const std::string widen = " (pass --asset-root DIR to allow a wider folder)";
+  if (name.empty())
+    throw Error(ctx + ": empty path");
+  if (name.find('\0') != std::string::npos)
+    throw Error(ctx + ": contains a NUL byte");
+  if (fs::path(name).is_absolute())
+    throw Error(ctx + ": absolute paths are not allowed; name files relative to " + namingFile);
+  std::error_code ec;
+  const fs::path parent = fs::path(namingFile).parent_path();
+  const fs::path folder = fs::absolute(parent.empty() ? fs::path(".") : parent, ec).lexically_normal();
+  const fs::path rootDir = policy.assetRoot.empty() ? folder : fs::absolute(policy.assetRoot, ec);
+  const fs::path lexical = (folder / name).lexically_normal();
+  const fs::path root = rootDir.lexically_normal();
+  if (!inside(lexical, root))
+    throw Error(ctx + ": leaves the asset folder " + root.string() + widen);
+  // Symlinks are followed only where they stay inside the (also resolved) root.
+  const fs::path real = fs::weakly_canonical(lexical, ec);
+  const fs::path realRoot = fs::weakly_canonical(root, ec);
+  if (ec || !inside(real, realRoot))
+    throw Error(ctx + ": resolves through a link to " + real.string() + ", outside the asset folder " +
+                realRoot.string() + widen);
+  return lexical.string();
+}
+
+uint64_t checkInputFile(const std::string &path, const InputPolicy &policy) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0)
+    throw Error(path + ": cannot open file (" + std::strerror(errno) + ")");
+  if (!S_ISREG(st.st_mode))
+    throw Error(path + ": not a regular file (" +
+                (S_ISDIR(st.st_mode)    ? "a folder"
+                 : S_ISFIFO(st.st_mode) ? "a FIFO"
+                 : S_ISCHR(st.st_mode) || S_ISBLK(st.st_mode) ? "a device"
+                                                             : "not a plain file") +
+                "): nothing read");
+  if (uint64_t(st.st_size) > policy.maxFileBytes)
+    throw Error(path + ": " + mib(uint64_t(st.st_size)) + " is over the input bound of " +
+                mib(policy.maxFileBytes) + " (--max-file-size raises it): nothing read");
+  return uint64_t(st.st_size);
+}
+
+std::vector<uint8_t> readInputFile(const std::string &path, const InputPolicy &policy) {
+  const uint64_t size = checkInputFile(path, policy);
+  std::ifstream f(path, std::ios::binary);
+  if (!f)
+    throw Error(path + ": cannot open file");
+  std::vector<uint8_t> bytes(size);
+  f.read(reinterpret_cast<char *>(bytes.data()), std::streamsize(size));
+  if (uint64_t(f.gcount()) != size)
+    throw Error(path + ": changed while being read");
+  return bytes;
+}
+
+std::string sha256Hex(const std::string &bytes) {
+  Sha256 h;
+  h.add(bytes.data(), bytes.size());
+  return h.hex();
+}
+
+FileHash hashFile(const std::string &path) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec))
+    throw Error(path + ": not a regular file");
+  std::ifstream f(path, std::ios::binary);
+  if (!f)
+    throw Error(path + ": cannot open file");
+  Sha256 h;
+  FileHash out;
+  std::vector<char> block(1 << 20);
+  while (f) {
+    f.read(block.data(), std::streamsize(block.size()));
+    const auto n = size_t(f.gcount());
+    h.add(block.data(), n);
+    out.size += n;
+  }
+  if (f.bad())
+    throw Error(path + ": read error");
+  out.hash = "sha256:" + h.hex();
+  return out;
+}
+
+} // namespace crowd

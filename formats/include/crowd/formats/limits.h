@@ -1,0 +1,37 @@
+// Every size limit of crowdbake and crowdplay, in one place: the decoders, the importer, the
+// option checks and the scene loader read them from here. A limit is checked before anything is
+// allocated or looped over for the count it bounds; raising one is a one-line change here (or,
+// for the per-file byte bound, an option: --max-file-size).
+#pragma once
+#include <cstdint>
+
+namespace crowd::limits {
+
+// Input files (glTF, external buffers and images, manifests, scenes): the default byte bound,
+// checked before a file is read. `--max-file-size` raises it.
+inline constexpr uint64_t kInputFileBytes = uint64_t(1) << 30; // 1 GiB
+// JSON nesting (glTF, manifests, scenes), checked before parsing. A glTF needs about 8 levels.
+inline constexpr int kJsonDepth = 64;
+
+// glTF contents.
+inline constexpr uint64_t kAccessorElements = uint64_t(1) << 24; // per accessor
+inline constexpr uint64_t kTriangles = uint64_t(1) << 22;        // per character, all primitives
+inline constexpr uint64_t kVertices = uint64_t(1) << 22;         // per character
+inline constexpr uint32_t kJoints = 65535;                       // joint ids are 16-bit
+inline constexpr int kImageSide = 8192;                          // decoded diffuse texture
+
+// Animation bakes: frames per clip, and frames x vertices (the exact reference positions the
+// accuracy check keeps, 48 bytes each).
+inline constexpr uint64_t kClipFrames = 65536; // 36 minutes at 30 fps
+inline constexpr uint64_t kFrameVertices = uint64_t(1) << 26;
+
+// Packs: texture sides and element counts a chunk may declare, chunks per container.
+inline constexpr uint32_t kTextureSide = 65536;
+inline constexpr uint64_t kChunkElements = uint64_t(1) << 32;
+inline constexpr uint32_t kChunks = 1024;
+
+// The player: instances in a scene, window and screenshot sides.
+inline constexpr uint64_t kInstances = 1000000;
+inline constexpr int kScreenSide = 16384;
+
+} // namespace crowd::limits

@@ -1,0 +1,436 @@
+#!/usr/bin/env python3
+"""The malformed-input campaign: mutates real characters into a few hundred broken glTF files and
+runs each through every bake command, classifying each run:
+
+  handled   exit 1 (or 2) with one "crowdbake: error:" / "crowdbake: usage:" line on stderr
+  accepted  exit 0: the mutation is harmless to the bake; every such case must be listed, with
+            the reason, in accepted.txt beside this script (and nothing else may be listed)
+  crash     a signal, a sanitizer report, any other exit code or stderr
+  hang      still running after --timeout seconds
+  memory    peak resident memory over --max-rss MiB (or stopped by the --max-memory guard)
+  bad pack  exit 0, but `crowdbake verify` rejects the pack written
+
+Exit 0 when there is no crash, hang, memory or bad-pack case and the accepted cases match accepted.txt.
+
+usage: campaign.py BIN_DIR WORK_DIR [--assets DIR] [--jobs N] [--timeout S] [--max-rss MIB]
+                   [--table FILE.md]
+"""
+import argparse
+import base64
+import concurrent.futures
+import copy
+import json
+import os
+import shutil
+import signal
+import struct
+import subprocess
+import sys
+import threading
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+# --- glTF files ----------------------------------------------------------------------------
+
+def read_glb(path):
+    data = open(path, 'rb').read()
+    json_len = struct.unpack_from('<I', data, 12)[0]
+    doc = json.loads(data[20:20 + json_len])
+    rest = data[20 + json_len:]
+    binary = rest[8:8 + struct.unpack_from('<I', rest, 0)[0]] if len(rest) >= 8 else b''
+    return doc, bytearray(binary)
+
+
+def glb_bytes(doc, binary, text=None):
+    text = (text if text is not None else json.dumps(doc, separators=(',', ':'))).encode()
+    text += b' ' * (-len(text) % 4)
+    binary = bytes(binary) + b'\0' * (-len(binary) % 4)
+    out = struct.pack('<4sII', b'glTF', 2, 12 + 8 + len(text) + (8 + len(binary) if binary else 0))
+    out += struct.pack('<I4s', len(text), b'JSON') + text
+    if binary:
+        out += struct.pack('<I4s', len(binary), b'BIN\0') + binary
+    return out
+
+
+def accessor_offset(doc, index):
+    acc = doc['accessors'][index]
+    view = doc['bufferViews'][acc['bufferView']]
+    return view.get('byteOffset', 0) + acc.get('byteOffset', 0)
+
+
+def set_path(doc, path, value):
+    """Sets doc[path...] (adding the last key where its parent exists) or, with DELETE, removes it."""
+    node = doc
+    for key in path[:-1]:
+        node = node[key]
+    if value is DELETE:
+        del node[path[-1]]
+    else:
+        node[path[-1]] = value
+
+
+def has_path(doc, path):
+    node = doc
+    for key in path:
+        try:
+            node = node[key]
+        except (KeyError, IndexError, TypeError):
+            return False
+    return True
+
+
+DELETE = object()
+
+
+# --- the cases -------------------------------------------------------------------------------
+
+class Case:
+    def __init__(self, name, write):
+        self.name, self.write = name, write  # write(folder) -> input path
+
+
+def glb_case(name, base, mutate):
+    def write(folder):
+        doc, binary = read_glb(base)
+        result = mutate(doc, binary)
+        path = os.path.join(folder, name + '.glb')
+        open(path, 'wb').write(result if isinstance(result, (bytes, bytearray)) else
+                               glb_bytes(doc, binary))
+        return path
+    return Case(name, write)
+
+
+def gltf_case(name, base_dir, base_name, mutate):
+    """A .gltf with external files: the base folder is copied, then mutate(doc, folder)."""
+    def write(folder):
+        shutil.copytree(base_dir, folder, dirs_exist_ok=True)
+        doc = json.load(open(os.path.join(base_dir, base_name)))
+        text = mutate(doc, folder)
+        path = os.path.join(folder, name + '.gltf')
+        open(path, 'w').write(text if isinstance(text, str) else json.dumps(doc))
+        return path
+    return Case(name, write)
+
+
+def build_cases(assets, samples):
+    cases = []
+    rigged = os.path.join(assets, 'RiggedSimple/RiggedSimple.glb')
+    quad = os.path.join(assets, 'quad_skin/quad_skin.glb')
+    fox = os.path.join(assets, 'Fox/Fox.glb')
+    simple = os.path.join(assets, 'SimpleSkin')
+    glbs = [('rigged', rigged), ('quad', quad), ('fox', fox)]
+
+    # Truncations and header lies.
+    for tag, base in glbs:
+        size = os.path.getsize(base)
+        for frac in (0, 0.002, 0.01, 0.05, 0.2, 0.5, 0.8, 0.95, 0.999):
+            cut = int(size * frac)
+            cases.append(glb_case(f'{tag}_truncated_{cut}', base,
+                                  lambda d, b, base=base, cut=cut: open(base, 'rb').read()[:cut]))
+
+        def lie(offset, value, fmt='<I', base=base):
+            def m(d, b):
+                data = bytearray(open(base, 'rb').read())
+                struct.pack_into(fmt, data, offset, value)
+                return data
+            return m
+        json_len = struct.unpack_from('<I', open(base, 'rb').read(), 12)[0]
+        bin_at = 20 + json_len
+        for what, off, value in [('magic', 0, 0x58546c67), ('version1', 4, 1), ('version3', 4, 3),
+                                 ('length_short', 8, 20), ('length_long', 8, size + 4096),
+                                 ('json_length_huge', 12, 0xfffffff0), ('json_length_zero', 12, 0),
+                                 ('json_type', 16, 0x4e4f534b), ('bin_length_huge', bin_at, 0xfffffff0),
+                                 ('bin_type', bin_at + 4, 0x4e4f534a)]:
+            cases.append(glb_case(f'{tag}_header_{what}', base, lie(off, value)))
+
+    # Field mutations: each reference and count a bake follows, set to what lies.
+    targets = [
+        ('acc0_count', ['accessors', 0, 'count']), ('acc0_ctype', ['accessors', 0, 'componentType']),
+        ('acc0_type', ['accessors', 0, 'type']), ('acc0_view', ['accessors', 0, 'bufferView']),
+        ('acc0_offset', ['accessors', 0, 'byteOffset']), ('acc1_count', ['accessors', 1, 'count']),
+        ('view0_length', ['bufferViews', 0, 'byteLength']), ('view0_offset', ['bufferViews', 0, 'byteOffset']),
+        ('view1_stride', ['bufferViews', 1, 'byteStride']), ('view0_buffer', ['bufferViews', 0, 'buffer']),
+        ('buffer0_length', ['buffers', 0, 'byteLength']),
+        ('prim_indices', ['meshes', 0, 'primitives', 0, 'indices']),
+        ('prim_position', ['meshes', 0, 'primitives', 0, 'attributes', 'POSITION']),
+        ('prim_joints', ['meshes', 0, 'primitives', 0, 'attributes', 'JOINTS_0']),
+        ('prim_weights', ['meshes', 0, 'primitives', 0, 'attributes', 'WEIGHTS_0']),
+        ('prim_mode', ['meshes', 0, 'primitives', 0, 'mode']),
+        ('prim_material', ['meshes', 0, 'primitives', 0, 'material']),
+        ('node_mesh', ['nodes', 0, 'mesh']), ('node_children', ['nodes', 0, 'children']),
+        ('skin_joints', ['skins', 0, 'joints']), ('skin_ibm', ['skins', 0, 'inverseBindMatrices']),
+        ('sampler_input', ['animations', 0, 'samplers', 0, 'input']),
+        ('sampler_output', ['animations', 0, 'samplers', 0, 'output']),
+        ('sampler_interp', ['animations', 0, 'samplers', 0, 'interpolation']),
+        ('channel_node', ['animations', 0, 'channels', 0, 'target', 'node']),
+        ('channel_path', ['animations', 0, 'channels', 0, 'target', 'path']),
+        ('scene', ['scene']), ('scene_nodes', ['scenes', 0, 'nodes']),
+    ]
+    values = [('neg', -1), ('huge', 2147483647), ('string', 'x'), ('null', None), ('gone', DELETE)]
+    for tag, base in [('rigged', rigged)]:
+        doc = read_glb(base)[0]
+        for tname, path in targets:
+            for vname, value in values:
+                if not has_path(doc, path[:-1]) or value is DELETE and not has_path(doc, path):
+                    continue  # the mutation would change nothing
+                def m(d, b, path=path, value=value):
+                    set_path(d, path, value if value is DELETE else copy.deepcopy(value))
+                cases.append(glb_case(f'{tag}_{tname}_{vname}', base, m))
+    for tname, path in [('image_view', ['images', 0, 'bufferView']), ('texture_source', ['textures', 0, 'source']),
+                        ('image_mime', ['images', 0, 'mimeType']),
+                        ('material_texture', ['materials', 0, 'pbrMetallicRoughness', 'baseColorTexture', 'index'])]:
+        for vname, value in values:
+            if value is DELETE and not has_path(read_glb(fox)[0], path):
+                continue
+            cases.append(glb_case(f'fox_{tname}_{vname}', fox,
+                                  lambda d, b, path=path, value=value: set_path(d, path, value if value is DELETE else copy.deepcopy(value))))
+
+    # Counts that claim more than the file holds, and work that grows from counts.
+    def rigged_with(fn):
+        return lambda d, b: fn(d, b)
+    for name, fn in [
+        ('count_2p28_position', lambda d, b: d['accessors'][d['meshes'][0]['primitives'][0]['attributes']['POSITION']].update(count=1 << 28)),
+        ('count_2p32_indices', lambda d, b: d['accessors'][0].update(count=1 << 32)),
+        ('count_2p28_ibm', lambda d, b: d['accessors'][d['skins'][0]['inverseBindMatrices']].update(count=1 << 28)),
+        ('count_2p28_times', lambda d, b: d['accessors'][d['animations'][0]['samplers'][0]['input']].update(count=1 << 28)),
+        ('view_length_2p31', lambda d, b: d['bufferViews'][0].update(byteLength=1 << 31)),
+        ('stride_1', lambda d, b: d['bufferViews'][1].update(byteStride=1)),
+        ('joints_70000', lambda d, b: d['skins'][0].update(joints=list(range(70000)))),
+        ('primitives_300_shared', lambda d, b: d['meshes'][0].update(primitives=d['meshes'][0]['primitives'] * 300)),
+        ('primitives_20000_shared', lambda d, b: d['meshes'][0].update(primitives=d['meshes'][0]['primitives'] * 20000)),
+        ('nodes_20000_same_mesh', lambda d, b: (d['nodes'].extend({'mesh': 0} for _ in range(20000)),
+                                                d['scenes'][0]['nodes'].extend(range(len(d['nodes']) - 20000, len(d['nodes']))))),
+        ('accessor_no_view_2p24', lambda d, b: d['accessors'][d['meshes'][0]['primitives'][0]['attributes']['POSITION']].update(count=1 << 24) or
+         d['accessors'][d['meshes'][0]['primitives'][0]['attributes']['POSITION']].pop('bufferView')),
+    ]:
+        cases.append(glb_case(f'rigged_{name}', rigged, rigged_with(fn)))
+
+    def poke_float(accessor_of, index, value):
+        def m(d, b):
+            struct.pack_into('<f', b, accessor_offset(d, accessor_of(d)) + 4 * index, value)
+        return m
+    pos = lambda d: d['meshes'][0]['primitives'][0]['attributes']['POSITION']
+    wts = lambda d: d['meshes'][0]['primitives'][0]['attributes']['WEIGHTS_0']
+    ibm = lambda d: d['skins'][0]['inverseBindMatrices']
+    times = lambda d: d['animations'][0]['samplers'][0]['input']
+    outs = lambda d: d['animations'][0]['samplers'][0]['output']
+    for name, acc, index, value in [('nan_position', pos, 1, float('nan')), ('inf_position', pos, 0, float('inf')),
+                                    ('nan_ibm', ibm, 5, float('nan')), ('nan_time', times, 1, float('nan')),
+                                    ('nan_output', outs, 2, float('nan')), ('huge_position', pos, 2, 3e38),
+                                    ('time_backwards', times, 1, -5.0)]:
+        cases.append(glb_case(f'rigged_{name}', rigged, poke_float(acc, index, value)))
+    if wts(read_glb(rigged)[0]) is not None:
+        doc, _ = read_glb(rigged)
+        if doc['accessors'][wts(doc)]['componentType'] == 5126:
+            cases.append(glb_case('rigged_nan_weight', rigged, poke_float(wts, 0, float('nan'))))
+            cases.append(glb_case('rigged_negative_weight', rigged, poke_float(wts, 0, -1.0)))
+
+    def long_clip(d, b):  # key times stretched into a 3,333 s clip
+        acc = d['accessors'][times(d)]
+        at = accessor_offset(d, times(d))
+        scale = 3333 / acc['max'][0]
+        for i in range(acc['count']):
+            (t,) = struct.unpack_from('<f', b, at + 4 * i)
+            struct.pack_into('<f', b, at + 4 * i, t * scale)
+        acc['max'] = [3333.0]
+    cases.append(glb_case('rigged_clip_3333s', rigged, long_clip))
+
+    # Cycles and broken graphs.
+    for name, fn in [
+        ('self_child', lambda d, b: d['nodes'][0].update(children=[0])),
+        ('two_cycle', lambda d, b: (d['nodes'][0].setdefault('children', []).append(1), d['nodes'][1].setdefault('children', []).append(0))),
+        ('two_parents', lambda d, b: d['nodes'][2].setdefault('children', []).append(d['nodes'][0].get('children', [1])[0])),
+        ('joint_twice', lambda d, b: d['skins'][0]['joints'].append(d['skins'][0]['joints'][0])),
+        ('skeleton_missing', lambda d, b: d['skins'][0].update(skeleton=999)),
+        ('child_missing', lambda d, b: d['nodes'][0].update(children=[999])),
+    ]:
+        cases.append(glb_case(f'rigged_{name}', rigged, fn))
+
+    # URIs of a .gltf with external buffers.
+    def uri(value, prep=None):
+        def m(doc, folder):
+            if prep:
+                prep(folder)
+            doc['buffers'][0]['uri'] = value
+        return m
+    outside = lambda folder: shutil.copy(os.path.join(folder, 'skinGeometry.bin'), os.path.join(folder, '..', 'outside.bin'))
+    def link(target):
+        return lambda folder: os.symlink(target, os.path.join(folder, 'link.bin'))
+    for name, m in [
+        ('uri_traversal', uri('../outside.bin', outside)), ('uri_traversal_percent', uri('%2E%2E/outside.bin', outside)),
+        ('uri_traversal_inner', uri('sub/../../outside.bin', outside)), ('uri_absolute', uri('/etc/hostname')),
+        ('uri_dev_zero', uri('/dev/zero')), ('uri_dev_zero_relative', uri('../../../../../../../../dev/zero')),
+        ('uri_link_out', uri('link.bin', lambda f: (outside(f), link('../outside.bin')(f)))),
+        ('uri_link_dev_zero', uri('link.bin', link('/dev/zero'))),
+        ('uri_link_inside', uri('link.bin', link('skinGeometry.bin'))),
+        ('uri_directory', uri('sub', lambda f: os.mkdir(os.path.join(f, 'sub')))),
+        ('uri_fifo', uri('fifo.bin', lambda f: os.mkfifo(os.path.join(f, 'fifo.bin')))),
+        ('uri_missing', uri('missing.bin')), ('uri_empty', uri('')),
+        ('uri_bad_data', uri('data:application/octet-stream;base64,@@@@')),
+        ('uri_data_short', uri('data:application/octet-stream;base64,' + base64.b64encode(b'\0' * 16).decode())),
+        ('uri_long', uri('a' * 5000 + '.bin')), ('uri_nul', uri('skinGeometry.bin\u0000.x')),
+    ]:
+        cases.append(gltf_case(f'simple_{name}', simple, 'SimpleSkin.gltf', m))
+
+    # Nesting.
+    deep = lambda n: '{"a":' * n + '1' + '}' * n
+    def nested(n):
+        def m(doc, folder):
+            text = json.dumps(doc)
+            return text[:-1] + ', "extras": ' + deep(n) + '}'
+        return m
+    for n in (60, 65, 100000):
+        cases.append(gltf_case(f'simple_nesting_{n}', simple, 'SimpleSkin.gltf', nested(n)))
+    cases.append(glb_case('rigged_nesting_100000', rigged,
+                          lambda d, b: glb_bytes(d, b, json.dumps(d)[:-1] + ', "extras": ' + deep(100000) + '}')))
+    cases.append(glb_case('rigged_nesting_arrays_100000', rigged,
+                          lambda d, b: glb_bytes(d, b, json.dumps(d)[:-1] + ', "extras": ' + '[' * 100000 + ']' * 100000 + '}')))
+    return cases
+
+
+# --- running ---------------------------------------------------------------------------------
+
+def commands(bin_dir, path, out):
+    b = os.path.join(bin_dir, 'crowdbake')
+    guard = ['--max-seconds', '120', '--quiet']
+    return {
+        'anim': [b, 'anim', path, '-o', out + '.anim.crowdpack'] + guard,
+        'lod': [b, 'lod', path, '-o', out + '.lod.crowdpack', '--poses', '2'] + guard,
+        'impostor': [b, 'impostor', path, '-o', out + '.impostor.crowdpack', '--frames', '2',
+                     '--views', '4x2', '--texels', '16'] + guard,
+        'outfits': [b, 'outfits', path, '--outfit', 'self=' + path, '-o', out + '.outfits.crowdpack',
+                    '--frame-step', '16', '--rays', '4'] + guard,
+    }
+
+
+def run_one(argv, timeout, max_rss, max_memory):
+    out_path = argv[4 if argv[1] != 'outfits' else 6]
+    err_path = out_path + '.stderr'
+    argv = argv + ['--max-memory', str(max_memory)]
+    with open(err_path, 'wb') as err:
+        p = subprocess.Popen(argv, stdout=subprocess.DEVNULL, stderr=err, start_new_session=True)
+        timer = threading.Timer(timeout, lambda: os.killpg(p.pid, signal.SIGKILL))
+        timer.start()
+        start = time.monotonic()
+        _, status, usage = os.wait4(p.pid, 0)
+        timer.cancel()
+        p.returncode = status
+        seconds = time.monotonic() - start
+    stderr = open(err_path, 'rb').read().decode(errors='replace')
+    lines = [l for l in stderr.splitlines() if l.strip()]
+    rss = usage.ru_maxrss // 1024
+    if os.WIFSIGNALED(status):
+        outcome = 'hang' if seconds >= timeout else 'crash'
+    elif rss > max_rss or 'over --max-memory' in stderr:
+        outcome = 'memory'
+    elif 'Sanitizer' in stderr or 'runtime error:' in stderr:
+        outcome = 'crash'
+    else:
+        code = os.WEXITSTATUS(status)
+        if code == 0 and not [l for l in lines if not l.startswith('crowdbake: warning')]:
+            # An accepted input must give a pack the reader takes whole.
+            verify = subprocess.run([argv[0], 'verify', out_path], capture_output=True)
+            outcome = 'accepted' if verify.returncode == 0 else 'bad pack'
+        elif code in (1, 2) and len(lines) == 1 and lines[0].startswith(('crowdbake: error:', 'crowdbake: usage:')):
+            outcome = 'handled'
+        else:
+            outcome = 'crash'
+    return outcome, seconds, rss, lines[-1] if lines else ''
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument('bin_dir')
+    ap.add_argument('work')
+    ap.add_argument('--assets', default=os.path.join(HERE, '../../../shared/assets/gltf'))
+    ap.add_argument('--jobs', type=int, default=os.cpu_count() or 2)
+    ap.add_argument('--timeout', type=float, default=60)
+    ap.add_argument('--max-rss', type=int, default=1536, help='MiB (sanitizer builds: raise it)')
+    ap.add_argument('--table', help='write the per-case table (Markdown) here')
+    ap.add_argument('--rotate', action='store_true',
+                    help='each case through anim and one other command in turn (lod, impostor, '
+                         'outfits): half the runs, every command still covered (CI budget)')
+    a = ap.parse_args()
+    if not os.path.isdir(os.path.join(a.assets, 'RiggedSimple')):
+        print(f'campaign: SKIPPED: the shared assets ({a.assets}) are not beside the checkout')
+        return 0
+    shutil.rmtree(a.work, ignore_errors=True)
+    os.makedirs(a.work)
+    cases = build_cases(os.path.abspath(a.assets), None)
+    names = [c.name for c in cases]
+    assert len(names) == len(set(names)), 'case names repeat'
+    runs = []
+    for c in cases:
+        folder = os.path.join(a.work, c.name, 'asset')
+        os.makedirs(folder)
+        path = c.write(folder)
+        chosen = commands(os.path.abspath(a.bin_dir), path, os.path.join(a.work, c.name, 'out'))
+        if a.rotate:
+            other = ('lod', 'impostor', 'outfits')[names.index(c.name) % 3]
+            chosen = {k: v for k, v in chosen.items() if k in ('anim', other)}
+        for command, argv in chosen.items():
+            runs.append((c.name, command, argv))
+    print(f'campaign: {len(cases)} cases, {len(runs)} runs, {a.jobs} at a time', flush=True)
+    results = {}
+    with concurrent.futures.ThreadPoolExecutor(a.jobs) as pool:
+        futures = {pool.submit(run_one, argv, a.timeout, a.max_rss, a.max_rss): (name, cmd)
+                   for name, cmd, argv in runs}
+        for f in concurrent.futures.as_completed(futures):
+            results[futures[f]] = f.result()
+
+    accepted_list = {}
+    for line in open(os.path.join(HERE, 'accepted.txt')):
+        if line.strip() and not line.startswith('#'):
+            name, _, reason = line.partition(':')
+            accepted_list[name.strip()] = reason.strip()
+    totals = {}
+    bad, unlisted = [], set()
+    rows = []
+    for name in names:
+        row = [name]
+        for command in ('anim', 'lod', 'impostor', 'outfits'):
+            if (name, command) not in results:
+                row.append('-')
+                continue
+            outcome, seconds, rss, last = results[(name, command)]
+            totals.setdefault(command, {}).setdefault(outcome, 0)
+            totals[command][outcome] += 1
+            row.append(outcome)
+            if outcome in ('crash', 'hang', 'memory', 'bad pack'):
+                bad.append(f'{outcome}: {name} {command} ({seconds:.1f} s, {rss} MiB): {last}')
+            if outcome == 'accepted' and name not in accepted_list:
+                unlisted.add(name)
+        rows.append(row)
+    accepted_cases = {n for (n, _), r in results.items() if r[0] == 'accepted'}
+    stale = sorted(set(accepted_list) - accepted_cases)
+
+    kinds = ('handled', 'accepted', 'crash', 'hang', 'memory', 'bad pack')
+    print('| command | ' + ' | '.join(kinds) + ' |')
+    print('|---|' + '---|' * len(kinds))
+    for command, t in totals.items():
+        print(f'| {command} | ' + ' | '.join(str(t.get(k, 0)) for k in kinds) + ' |')
+    by_time = sorted(results.items(), key=lambda kv: -kv[1][1])
+    by_rss = sorted(results.items(), key=lambda kv: -kv[1][2])
+    print('slowest runs: ' + ', '.join(f'{k[0]} {k[1]} {r[1]:.1f} s' for k, r in by_time[:5]))
+    print('largest runs: ' + ', '.join(f'{k[0]} {k[1]} {r[2]} MiB' for k, r in by_rss[:3]))
+    print(f'total run time {sum(r[1] for r in results.values()):.0f} s')
+    if a.table:
+        with open(a.table, 'w') as t:
+            t.write('| case | anim | lod | impostor | outfits |\n|---|---|---|---|---|\n')
+            for row in rows:
+                t.write('| ' + ' | '.join(row) + ' |\n')
+    for b in bad:
+        print('FAIL ' + b)
+    for n in sorted(unlisted):
+        print(f'FAIL accepted but not justified in accepted.txt: {n}')
+    for n in stale:  # with --rotate a listed case may not meet the command that accepts it
+        print(f'note: listed in accepted.txt but not accepted in this run: {n}')
+    ok = not bad and not unlisted
+    print('campaign: ' + ('passed' if ok else 'FAILED'))
+    return 0 if ok else 1
+
+
+if __name__ == '__main__':
+    sys.exit(main())
