@@ -137,6 +137,28 @@ uint32_t uploadImpostor(const pack::Impostor &m, unsigned normals, unsigned uvs,
   return levels;
 }
 
+// Every texture of a pack must fit this GL implementation (GL_MAX_TEXTURE_SIZE, array layers):
+// otherwise GL would fail quietly and draw garbage, so it is one error naming the pack.
+void checkTexturesFit(const pack::AnimationPack &p, const pack::Impostor *m,
+                      const std::string &pack) {
+  GLint side = 0, layers = 0;
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &side);
+  glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &layers);
+  auto fit = [&](const char *what, uint64_t w, uint64_t h, uint64_t d = 1) {
+    if (w > uint64_t(side) || h > uint64_t(side) || d > uint64_t(layers))
+      throw Error("pack '" + pack + "': the " + what + " texture is " + std::to_string(w) + "x" +
+                  std::to_string(h) + (d > 1 ? "x" + std::to_string(d) : "") +
+                  ", more than this OpenGL allows (" + std::to_string(side) + " texels a side, " +
+                  std::to_string(layers) + " layers); bake it smaller");
+  };
+  fit("animation", p.animation.width, p.animation.height);
+  fit("skin weight", p.skin.width, p.skin.height);
+  if (p.diffuse)
+    fit("diffuse", p.diffuse->width, p.diffuse->height);
+  if (m)
+    fit("impostor", m->atlasWidth, m->atlasHeight, m->frames);
+}
+
 } // namespace
 
 CrowdRenderer::CrowdRenderer(const std::vector<const pack::AnimationPack *> &packs,
@@ -151,6 +173,7 @@ CrowdRenderer::CrowdRenderer(const std::vector<const pack::AnimationPack *> &pac
     Character *c = characters_.back().get();
     c->pack = &p;
     c->impostor = pi < impostors.size() ? impostors[pi] : nullptr;
+    checkTexturesFit(p, c->impostor, scene.packNames[pi]);
     selection_.addCharacter(p, c->impostor);
     // Clip of each scene clip name in this pack ("" = the first clip).
     std::vector<uint32_t> clipOf;

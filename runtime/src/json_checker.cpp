@@ -1,6 +1,7 @@
 #include "crowd/runtime/json_checker.h"
 
 #include <algorithm>
+#include <cstdio>
 
 #include "crowd/formats/error.h"
 
@@ -88,9 +89,11 @@ double JsonChecker::number(const json &j, const Keys &keys, double lo, double hi
   if (!j.is_number())
     fail(keys, "expected a number");
   double v = j.get<double>();
-  if (!(v >= lo && v <= hi))
-    fail(keys, "value " + std::to_string(v) + " is outside [" + std::to_string(lo) + ", " +
-                   std::to_string(hi) + "]");
+  if (!(v >= lo && v <= hi)) {
+    char text[96];
+    std::snprintf(text, sizeof text, "value %.9g is outside [%.9g, %.9g]", v, lo, hi);
+    fail(keys, text);
+  }
   return v;
 }
 

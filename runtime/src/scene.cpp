@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "crowd/formats/error.h"
+#include "crowd/formats/limits.h"
 #include "crowd/runtime/json_checker.h"
 
 namespace crowd::runtime {
@@ -136,7 +137,8 @@ Scene parseScene(const std::string &text, const std::string &path, size_t instan
               "speed", "seed"});
   std::mt19937_64 rng(
       uint64_t(c.number(in.value("seed", json(1)), {"instances", "seed"}, 0, 1e15)));
-  size_t count = size_t(c.number(in.value("count", json(1)), {"instances", "count"}, 1, 1e6));
+  size_t count = size_t(c.number(in.value("count", json(1)), {"instances", "count"}, 1,
+                                   double(limits::kInstances)));
   if (instanceOverride)
     count = instanceOverride;
   uint32_t pack = 0;

@@ -1,10 +1,11 @@
-// Fuzzes the pack reader: any bytes must give a pack or a crowd::Error, never a crash or UB.
+// Fuzzes the pack reader (animation, impostor and character packs): any bytes must give a pack or a crowd::Error, never a crash or UB.
 // Each input is read twice: as it is, and with its checksums and file size repaired, so the
 // mutations also reach the chunk decoders behind the CRC checks.
 #include <cstdint>
 #include <cstring>
 #include <vector>
 
+#include "crowd/formats/character_pack.h"
 #include "crowd/formats/chunks.h"
 #include "crowd/formats/error.h"
 #include "crowd/formats/impostor.h"
@@ -16,10 +17,10 @@ namespace {
 void readAll(std::vector<uint8_t> bytes) {
   try {
     Reader r(std::move(bytes), "fuzz");
-    if (r.find(kImpostor))
+    if (r.find(kImpostor) && !r.find(kSkeleton))
       loadImpostorPack(r);
     else
-      loadAnimationPack(r);
+      loadCharacterPack(r); // an animation pack, with or without impostor chunks
   } catch (const crowd::Error &) {
   }
 }

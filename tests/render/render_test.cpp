@@ -512,6 +512,30 @@ TEST(Player, BadInputIsOneClearLine) {
   expectOneLineError(run(play + writeScene("key", key) + " --headless"),
                      "/camera/fvo: unknown key 'fvo'");
 
+  // Counts past the limits are errors before anything is allocated.
+  auto many = oneCharacter();
+  many["instances"]["count"] = 1e9;
+  expectOneLineError(run(play + writeScene("many", many) + " --headless"), "/instances/count");
+  EXPECT_EQ(run(play + writeScene("one", oneCharacter()) + " --headless --instances 1000000000")
+                .code,
+            2);
+
+  // A pack whose animation texture is wider than any OpenGL allows (a 1,000 s clip baked into
+  // 65,536-texel rows): one error naming the pack, not a quiet GL error and a garbage frame.
+  test::GltfBuilder longClip;
+  longClip.skinnedQuad();
+  longClip.animation("long", 1, "translation", {0, 1000}, {0, 0, 0, 0, 1, 0});
+  const std::string gltf = longClip.write(work(), "long_clip");
+  ASSERT_EQ(run(std::string(CROWDBAKE) + " anim " + gltf + " -o " + work() +
+                "/wide.crowdpack --clip long --max-width 65536 --quiet")
+                .code,
+            0);
+  auto wide = oneCharacter();
+  wide["packs"][0]["path"] = "wide.crowdpack";
+  wide["instances"]["clip"] = "long";
+  expectOneLineError(run(play + writeScene("wide", wide) + " --headless --frames 1"),
+                     "more than this OpenGL allows");
+
   EXPECT_EQ(run(play + "--frames x").code, 2);
   EXPECT_EQ(run(play).code, 2);
 }

@@ -252,6 +252,23 @@ TEST(Usage, BadUsageExitsTwo) {
   EXPECT_EQ(crowdbake("lod --help").code, 0);
 }
 
+// The resource guard: past --max-memory or --max-seconds a bake stops with one error line naming
+// the limit and leaves nothing behind (no pack, no report, no temporary file). The impostor bake
+// below rasterises 256 views x 64 frames at 256^2 texels, seconds of work, so either limit is
+// crossed at the guard's first sample, whatever the machine's speed.
+TEST(ResourceGuard, StopsPastEitherLimitAndWritesNothing) {
+  std::string dir = crowd::test::tempDir("robust_guard");
+  std::string input = quad().write(dir, "q");
+  const std::string bake = "impostor " + input + " -o " + dir + "/out.crowdpack --report " + dir +
+                           "/out.report.json --frames 64 --texels 256 --quiet ";
+  expectOneLineError(crowdbake(bake + "--max-memory 1"), "over --max-memory 1 MiB");
+  expectOneLineError(crowdbake(bake + "--max-seconds 0.001"), "over --max-seconds 0.001 s");
+  for (const auto &e : fs::directory_iterator(dir))
+    EXPECT_TRUE(e.path().filename().string().rfind("q.", 0) == 0)
+        << "left behind: " << e.path();
+  fs::remove_all(dir);
+}
+
 // A damaged pack fails verify with a message naming what is wrong.
 TEST(DamagedPack, TruncatedAndBitFlippedPacksFailVerify) {
   std::string dir = crowd::test::tempDir("robust_pack");

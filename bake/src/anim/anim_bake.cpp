@@ -75,8 +75,8 @@ pack::AnimationTexture buildTexture(const std::vector<std::vector<glm::dmat4>> &
   t.framesPerRow = std::min(t.framesPerRow, t.frameCount);
   t.width = uint32_t(t.framesPerRow * frameTexels);
   t.height = (t.frameCount + t.framesPerRow - 1) / t.framesPerRow;
-  if (t.height > 65536)
-    throw Error("animation texture would be taller than 65536 rows");
+  if (t.height > limits::kTextureSide)
+    throw Error("animation texture would be taller than " + std::to_string(limits::kTextureSide) + " rows");
   size_t texelCount = size_t(t.width) * t.height;
   std::vector<float> values(texelCount * 4, 0.0f);
   for (uint32_t f = 0; f < t.frameCount; ++f)
@@ -116,8 +116,8 @@ pack::SkinTexture buildSkin(const SkinnedMesh &m, uint32_t maxWidth) {
   uint64_t texels = uint64_t(s.vertexCount) * 2;
   s.width = uint32_t(std::min<uint64_t>(maxWidth & ~1u, texels));
   s.height = uint32_t((texels + s.width - 1) / s.width);
-  if (s.height > 65536)
-    throw Error("skin texture would be taller than 65536 rows");
+  if (s.height > limits::kTextureSide)
+    throw Error("skin texture would be taller than " + std::to_string(limits::kTextureSide) + " rows");
   s.texels.assign(size_t(s.width) * s.height * 4, 0.0f);
   for (size_t v = 0; v < m.vertexCount(); ++v)
     for (int k = 0; k < 4; ++k) {
@@ -132,8 +132,8 @@ pack::SkinTexture buildSkin(const SkinnedMesh &m, uint32_t maxWidth) {
 void AnimBakeOptions::validate() const {
   if (!(fps >= 0 && fps <= 1000))
     throw Error("fps: must be in (0, 1000], or source (0)");
-  if (maxWidth < 2 || maxWidth > 65536)
-    throw Error("max-width: must be in [2, 65536]");
+  if (maxWidth < 2 || maxWidth > limits::kTextureSide)
+    throw Error("max-width: must be in [2, " + std::to_string(limits::kTextureSide) + "]");
   if (threads < 0 || threads > 1024)
     throw Error("threads: must be in [0, 1024]");
   try {

@@ -50,11 +50,17 @@ void keepClips(Character &c, const std::vector<std::string> &names, const std::s
   c.clips = std::move(kept);
 }
 
-Character importBody(const CharacterManifest &m, Reporter &reporter) {
+// A file of the manifest (its body or an outfit), read under the manifest's input policy.
+Character importFile(const CharacterManifest &m, const std::string &file, Reporter &reporter,
+                     const std::string &mesh = "") {
   ImportOptions io;
   io.input = m.input;
-  io.mesh = m.mesh;
-  Character body = importGltf(m.body, io, reporter);
+  io.mesh = mesh;
+  return importGltf(file, io, reporter);
+}
+
+Character importBody(const CharacterManifest &m, Reporter &reporter) {
+  Character body = importFile(m, m.body, reporter, m.mesh);
   keepClips(body, m.clips, m.body);
   return body;
 }
@@ -122,10 +128,8 @@ Part meshJob(const Job &job, const std::vector<const Part *> &, int threads) {
     anim.pack.lod = std::move(lod);
   } else {
     std::vector<OutfitInput> outfits;
-    ImportOptions io;
-    io.input = m.input;
     for (const auto &[name, file] : m.outfits)
-      outfits.push_back({name, importGltf(file, io, reporter)});
+      outfits.push_back({name, importFile(m, file, reporter)});
     OutfitOptions oo = m.outfitOptions;
     oo.anim = m.anim;
     oo.anim.threads = oo.visibility.threads = threads;
@@ -166,9 +170,7 @@ Part impostorJob(const Job &job, const std::vector<const Part *> &, int threads)
   Character c = importBody(m, reporter);
   uint32_t garments = 0;
   if (!job.outfit.empty()) {
-    ImportOptions io;
-    io.input = m.input;
-    OutfitInput o{job.outfit, importGltf(outfitFile(m, job.outfit), io, reporter)};
+    OutfitInput o{job.outfit, importFile(m, outfitFile(m, job.outfit), reporter)};
     garments = uint32_t(o.character.mesh.parts.size());
     c = dressCharacter(c, o, m.outfitOptions.regions, reporter);
   }

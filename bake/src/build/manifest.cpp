@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "crowd/formats/error.h"
+#include "crowd/formats/limits.h"
 #include "crowd/runtime/json_checker.h"
 
 namespace crowd {
@@ -121,7 +122,8 @@ CharacterManifest parse(const JsonChecker &c, const json &j, const Keys &at,
     if (a.contains("fps"))
       m.anim.fps = a["fps"] == "source" ? 0 : c.number(a["fps"], key2("anim", "fps"), 1e-3, 1000);
     if (a.contains("max_width"))
-      m.anim.maxWidth = whole(c, a["max_width"], key2("anim", "max_width"), 2, 65536);
+      m.anim.maxWidth = whole(c, a["max_width"], key2("anim", "max_width"), 2,
+                          limits::kTextureSide);
     if (a.contains("precision"))
       m.anim.precision = c.string(a["precision"], key2("anim", "precision"));
     validate(c, m.anim, k);

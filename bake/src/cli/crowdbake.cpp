@@ -24,6 +24,7 @@
 #include "crowd/formats/character_pack.h"
 #include "crowd/formats/chunks.h"
 #include "crowd/formats/error.h"
+#include "crowd/formats/limits.h"
 #include "crowd/formats/impostor.h"
 #include "crowd/samples/samples.h"
 #include "args.h"
@@ -218,8 +219,9 @@ int cmdAnim(const Args &a, const std::string &command) {
   if (a.get("fps") != "source" && !(opt.fps > 0 && opt.fps <= 1000))
     throw UsageError("--fps must be in (0, 1000], or source");
   double width = number(a, "max-width", 4096);
-  if (width < 2 || width > 65536 || width != std::floor(width))
-    throw UsageError("--max-width must be an integer in [2, 65536]");
+  if (width < 2 || width > crowd::limits::kTextureSide || width != std::floor(width))
+    throw UsageError("--max-width must be an integer in [2, " +
+                     std::to_string(crowd::limits::kTextureSide) + "]");
   opt.maxWidth = uint32_t(width);
   opt.precision = a.get("precision", "float");
   try {

@@ -10,6 +10,7 @@
 #include "crowd/bake/outfit_bake.h"
 #include "crowd/bake/provenance.h"
 #include "crowd/formats/error.h"
+#include "crowd/formats/limits.h"
 
 using nlohmann::ordered_json;
 
@@ -101,7 +102,7 @@ int cmdOutfits(const Args &a) {
   if (!(opt.anim.fps > 0 && opt.anim.fps <= 1000))
     throw UsageError("--fps must be in (0, 1000]");
   vis.fps = opt.anim.fps;
-  opt.anim.maxWidth = whole(a, "max-width", 4096, 2, 65536);
+  opt.anim.maxWidth = whole(a, "max-width", 4096, 2, crowd::limits::kTextureSide);
   opt.anim.precision = a.get("precision", "float");
   opt.anim.threads = vis.threads;
   try {

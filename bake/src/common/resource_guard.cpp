@@ -64,7 +64,7 @@ ResourceGuard::ResourceGuard(const ResourceLimits &limits, std::string what) {
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       if (seconds > maxSeconds) {
         char text[96];
-        std::snprintf(text, sizeof text, "ran %.1f s, over --max-seconds %g s", seconds, maxSeconds);
+        std::snprintf(text, sizeof text, "ran %.2f s, over --max-seconds %g s", seconds, maxSeconds);
         stopProcess(what, text);
       }
     }

@@ -19,6 +19,7 @@
 #include "crowd/formats/chunks.h"
 #include "crowd/formats/error.h"
 #include "crowd/formats/impostor.h"
+#include "crowd/formats/limits.h"
 #include "crowd/runtime/character_types.h"
 #include "crowd/runtime/preview_scene.h"
 #include "crowd/runtime/crowd_renderer.h"
@@ -114,7 +115,7 @@ Options parse(int argc, char **argv) {
     else if (a == "--frames")
       o.frames = int(integer(value(i), "--frames", 1, 1000000));
     else if (a == "--instances")
-      o.instances = size_t(integer(value(i), "--instances", 1, 1000000));
+      o.instances = size_t(integer(value(i), "--instances", 1, long(crowd::limits::kInstances)));
     else if (a == "--screenshot")
       o.screenshot = value(i);
     else if (a == "--stats")
@@ -135,8 +136,8 @@ Options parse(int argc, char **argv) {
       auto x = v.find('x');
       if (x == std::string::npos)
         throw UsageError("--size expects WxH, got '" + v + "'");
-      o.width = int(integer(v.substr(0, x), "--size width", 16, 16384));
-      o.height = int(integer(v.substr(x + 1), "--size height", 16, 16384));
+      o.width = int(integer(v.substr(0, x), "--size width", 16, crowd::limits::kScreenSide));
+      o.height = int(integer(v.substr(x + 1), "--size height", 16, crowd::limits::kScreenSide));
     } else if (a.rfind("--", 0) == 0) {
       throw UsageError("unknown option " + a);
     } else if (o.scene.empty()) {
