@@ -229,5 +229,33 @@ TEST(AnimBake, SourceRatePutsFramesOnTheKeys) {
   EXPECT_FLOAT_EQ(onKeys.pack.clips[0].fps, 4.0f);
   EXPECT_LE(onKeys.accuracy[0].clips[0].maxAtMidframes, 1e-6 * onKeys.diagonal);
   EXPECT_GE(at30.accuracy[0].clips[0].maxAtMidframes, 1e-3 * at30.diagonal);
+  // At any time: frames on the keys stay exact between frames too; at 30 fps the random times
+  // find the cut corner as well, and the any-time figure is the largest of all three.
+  for (const auto &pa : onKeys.accuracy)
+    if (pa.precision.name == "float" || pa.precision.name == "qts")
+      EXPECT_LE(pa.clips[0].maxAnyTime(), 1e-6 * onKeys.diagonal) << pa.precision.name;
+  const ClipAccuracy &a = at30.accuracy[0].clips[0];
+  EXPECT_GE(a.maxAtRandom, 1e-4 * at30.diagonal);
+  EXPECT_GT(a.meanAtRandom, 0.0);
+  EXPECT_EQ(a.maxAnyTime(), std::max({a.maxAtFrames, a.maxAtMidframes, a.maxAtRandom}));
+}
+
+TEST(AnimBake, MillimetresAreAtA18MetreCharacter) {
+  Reporter r;
+  r.quiet = true;
+  // The upright sample humanoid: scaled by its height.
+  AnimBakeOptions one;
+  one.clip = "walk";
+  AnimBakeResult h = bakeAnimation(humanoid(), one, r);
+  EXPECT_FALSE(h.heightIsDiagonal);
+  EXPECT_NEAR(h.mmPerUnit * restExtent(humanoid()).y, 1800.0, 1e-6);
+  // A quad lying flat (no height): scaled by its diagonal.
+  test::GltfBuilder b;
+  b.skinnedQuad();
+  b.j["nodes"][0]["rotation"] = {-0.70710678, 0, 0, 0.70710678}; // its root joint laid flat
+  Character flat = importGltf(b.write(test::tempDir("anim_flat"), "q"), {}, r);
+  AnimBakeResult f = bakeAnimation(flat, {}, r);
+  EXPECT_TRUE(f.heightIsDiagonal);
+  EXPECT_NEAR(f.mmPerUnit * f.diagonal, 1800.0, 1e-6);
 }
 } // namespace

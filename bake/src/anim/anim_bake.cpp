@@ -200,6 +200,11 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
 
   AnimBakeResult result;
   result.diagonal = restDiagonal(c);
+  // A character's height is its extent along +y; a flat or lying asset (under a tenth of its
+  // diagonal tall) is scaled by its diagonal instead.
+  const double height = restExtent(c).y;
+  result.heightIsDiagonal = !(height >= 0.1 * result.diagonal);
+  result.mmPerUnit = kReferenceHeightMm / (result.heightIsDiagonal ? result.diagonal : height);
   auto &pk = result.pack;
 
   pk.skeleton.names.resize(c.jointCount());
@@ -234,46 +239,82 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
   }
 
   pk.skin = buildSkin(c.mesh, options.maxWidth); // the same for every precision
-  // Accuracy of every precision, with the player's interpolation.
-  for (const auto &p : precisions()) {
-    PrecisionAccuracy pa{p, 0, {}};
-    pack::AnimationTexture tex = buildTexture(joints, c.jointCount(), p, options.maxWidth);
-    pa.textureBytes = tex.texels.size();
-    std::vector<double> frameMax(total), frameSum(total), midMax(total), midSum(total);
-    parallelFor(total, options.threads, [&](size_t f) {
-      const pack::Clip &clip = pk.clips[frameList[f].first];
-      uint32_t i = frameList[f].second;
-      for (uint32_t v = 0; v < c.mesh.vertexCount(); ++v) {
-        double e = glm::length(
-            glm::dvec3(runtime::skinVertex(tex, pk.skin, clip, i, 0.0f, v, c.mesh.positions[v])) -
-            reference[f][v]);
-        frameMax[f] = std::max(frameMax[f], e);
-        frameSum[f] += e;
-        if (!midReference[f].empty()) {
-          e = glm::length(
-              glm::dvec3(runtime::skinVertex(tex, pk.skin, clip, i, 0.5f, v, c.mesh.positions[v])) -
-              midReference[f][v]);
-          midMax[f] = std::max(midMax[f], e);
-          midSum[f] += e;
-        }
+  // Accuracy of every precision, with the player's interpolation (runtime/texture_skinning),
+  // at every frame time, every mid-frame time and kRandomTimesPerClip seeded random times.
+  const auto &all = precisions();
+  std::vector<pack::AnimationTexture> textures;
+  for (const auto &p : all)
+    textures.push_back(buildTexture(joints, c.jointCount(), p, options.maxWidth));
+  const size_t np = all.size();
+  const uint32_t vertexCount = uint32_t(c.mesh.vertexCount());
+  // Error of every precision at time `at` of pack clip `ci`, against `exact`, into max[p], sum[p].
+  auto measure = [&](size_t ci, uint32_t frame, float alpha, const std::vector<glm::dvec3> &exact,
+                     double *max, double *sum) {
+    for (size_t p = 0; p < np; ++p)
+      for (uint32_t v = 0; v < vertexCount; ++v) {
+        double e = glm::length(glm::dvec3(runtime::skinVertex(textures[p], pk.skin, pk.clips[ci],
+                                                              frame, alpha, v,
+                                                              c.mesh.positions[v])) -
+                               exact[v]);
+        max[p] = std::max(max[p], e);
+        sum[p] += e;
       }
-    });
-    size_t f = 0;
-    for (const auto &clip : pk.clips) {
-      ClipAccuracy a{clip.name, clip.frameCount, 0, 0, 0, 0};
-      double vc = double(c.mesh.vertexCount());
+  };
+  std::vector<double> frameMax(total * np), frameSum(total * np), midMax(total * np),
+      midSum(total * np);
+  parallelFor(total, options.threads, [&](size_t f) {
+    const size_t ci = frameList[f].first;
+    const uint32_t i = frameList[f].second;
+    measure(ci, i, 0.0f, reference[f], &frameMax[f * np], &frameSum[f * np]);
+    if (!midReference[f].empty())
+      measure(ci, i, 0.5f, midReference[f], &midMax[f * np], &midSum[f * np]);
+  });
+  // Random times: uniform over each clip's duration, from a fixed seed per clip.
+  std::vector<std::pair<size_t, double>> randomTimes; // (clip, seconds into the clip)
+  for (size_t ci = 0; ci < clips.size(); ++ci) {
+    if (clips[ci].count < 2)
+      continue;
+    uint64_t state = 0x9e3779b97f4a7c15ull * (ci + 1);
+    for (uint32_t k = 0; k < kRandomTimesPerClip; ++k) {
+      state = state * 6364136223846793005ull + 1442695040888963407ull; // PCG's LCG step
+      const double u = double(state >> 11) * 0x1.0p-53;
+      randomTimes.push_back({ci, u * clips[ci].step * (clips[ci].count - 1)});
+    }
+  }
+  std::vector<double> randomMax(randomTimes.size() * np), randomSum(randomTimes.size() * np);
+  parallelFor(randomTimes.size(), options.threads, [&](size_t r) {
+    const auto [ci, t] = randomTimes[r];
+    const auto exact =
+        skinPositions(c, jointMatrices(c, clips[ci].clip, clips[ci].start + t));
+    uint32_t frame;
+    float alpha;
+    runtime::frameAt(pk.clips[ci], float(t), frame, alpha);
+    measure(ci, frame, alpha, exact, &randomMax[r * np], &randomSum[r * np]);
+  });
+
+  for (size_t p = 0; p < np; ++p) {
+    PrecisionAccuracy pa{all[p], textures[p].texels.size(), {}};
+    size_t f = 0, r = 0;
+    const double vc = double(vertexCount);
+    for (size_t ci = 0; ci < pk.clips.size(); ++ci) {
+      const pack::Clip &clip = pk.clips[ci];
+      ClipAccuracy a{clip.name, clip.frameCount};
       for (uint32_t i = 0; i < clip.frameCount; ++i, ++f) {
-        a.maxAtFrames = std::max(a.maxAtFrames, frameMax[f]);
-        a.meanAtFrames += frameSum[f] / (vc * clip.frameCount);
-        a.maxAtMidframes = std::max(a.maxAtMidframes, midMax[f]);
+        a.maxAtFrames = std::max(a.maxAtFrames, frameMax[f * np + p]);
+        a.meanAtFrames += frameSum[f * np + p] / (vc * clip.frameCount);
+        a.maxAtMidframes = std::max(a.maxAtMidframes, midMax[f * np + p]);
         if (clip.frameCount > 1)
-          a.meanAtMidframes += midSum[f] / (vc * (clip.frameCount - 1));
+          a.meanAtMidframes += midSum[f * np + p] / (vc * (clip.frameCount - 1));
+      }
+      for (; r < randomTimes.size() && randomTimes[r].first == ci; ++r) {
+        a.maxAtRandom = std::max(a.maxAtRandom, randomMax[r * np + p]);
+        a.meanAtRandom += randomSum[r * np + p] / (vc * kRandomTimesPerClip);
       }
       pa.clips.push_back(a);
     }
-    if (p.name == chosen.name) {
+    if (all[p].name == chosen.name) {
       result.baked = result.accuracy.size();
-      pk.animation = std::move(tex);
+      pk.animation = std::move(textures[p]);
     }
     result.accuracy.push_back(std::move(pa));
   }
@@ -310,7 +351,7 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
       radius = std::max(radius, glm::length(q - centre));
   double slack = 0;
   for (const auto &a : result.accuracy[result.baked].clips)
-    slack = std::max({slack, a.maxAtFrames, a.maxAtMidframes});
+    slack = std::max(slack, a.maxAnyTime());
   radius = (radius + slack) * (1 + 1e-6) + 1e-6 * result.diagonal;
   mesh.boundingSphere = {float(centre.x), float(centre.y), float(centre.z), float(radius)};
   return result;

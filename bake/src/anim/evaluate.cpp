@@ -138,14 +138,16 @@ std::vector<glm::dvec3> skinPositions(const Character &c, const std::vector<glm:
   return out;
 }
 
-double restDiagonal(const Character &c) {
+glm::dvec3 restExtent(const Character &c) {
   auto p = skinPositions(c, jointMatrices(c, nullptr, 0));
   glm::dvec3 lo(INFINITY), hi(-INFINITY);
   for (const auto &q : p) {
     lo = glm::min(lo, q);
     hi = glm::max(hi, q);
   }
-  return glm::length(hi - lo);
+  return p.empty() ? glm::dvec3(0.0) : hi - lo;
 }
+
+double restDiagonal(const Character &c) { return glm::length(restExtent(c)); }
 
 } // namespace crowd

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <map>
 
+#include "crowd/bake/anim_report.h"
 #include "crowd/bake/content_cache.h"
 #include "crowd/bake/import.h"
 #include "crowd/bake/job.h"
@@ -145,11 +146,11 @@ Part meshJob(const Job &job, const std::vector<const Part *> &, int threads) {
     anim = std::move(r.anim);
   }
   const auto &acc = anim.accuracy[anim.baked];
-  for (size_t i = 0; i < acc.clips.size(); ++i)
-    f["clips"].push_back({{"name", acc.clips[i].clip},
-                          {"frames", acc.clips[i].frames},
-                          {"max_error_at_frames", acc.clips[i].maxAtFrames / anim.diagonal},
-                          {"max_error_at_midframes", acc.clips[i].maxAtMidframes / anim.diagonal}});
+  for (const auto &clip : acc.clips) {
+    ordered_json cj = {{"name", clip.clip}, {"frames", clip.frames}};
+    cj.update(clipErrorsJson(clip, anim));
+    f["clips"].push_back(cj);
+  }
   const auto &mesh = anim.pack.mesh;
   f["vertices"] = mesh.vertexCount();
   f["triangles"] = mesh.indices.size() / 3;

@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "crowd/bake/anim_bake.h"
+#include "crowd/bake/anim_report.h"
 #include "crowd/bake/import.h"
 #include "crowd/bake/impostor_bake.h"
 #include "crowd/bake/lod_bake.h"
@@ -172,30 +173,6 @@ int cmdSamples(const Args &a) {
   return 0;
 }
 
-ordered_json accuracyJson(const crowd::PrecisionAccuracy &pa, double diagonal) {
-  ordered_json j;
-  j["precision"] = pa.precision.name;
-  j["encoding"] = crowd::pack::name(pa.precision.encoding);
-  j["texel_format"] = crowd::pack::name(pa.precision.format);
-  j["bytes_per_joint_per_frame"] = pa.precision.bytesPerJointPerFrame();
-  j["texture_bytes"] = pa.textureBytes;
-  for (const auto &c : pa.clips) {
-    ordered_json cj;
-    cj["clip"] = c.clip;
-    cj["frames"] = c.frames;
-    cj["max_error_at_frames"] = c.maxAtFrames / diagonal;
-    cj["mean_error_at_frames"] = c.meanAtFrames / diagonal;
-    cj["max_error_at_midframes"] = c.maxAtMidframes / diagonal;
-    cj["mean_error_at_midframes"] = c.meanAtMidframes / diagonal;
-    cj["max_error_at_frames_model_units"] = c.maxAtFrames;
-    cj["mean_error_at_frames_model_units"] = c.meanAtFrames;
-    cj["max_error_at_midframes_model_units"] = c.maxAtMidframes;
-    cj["mean_error_at_midframes_model_units"] = c.meanAtMidframes;
-    j["clips"].push_back(cj);
-  }
-  return j;
-}
-
 int cmdAnim(const Args &a, const std::string &command) {
   oneInput(a, command.c_str());
   if (!a.options.count("output"))
@@ -289,6 +266,8 @@ int cmdAnim(const Args &a, const std::string &command) {
     r["vertices"] = character.mesh.vertexCount();
     r["triangles"] = character.mesh.indices.size() / 3;
     r["diagonal"] = result.diagonal;
+    r["mm_per_model_unit"] = result.mmPerUnit; // the character scaled to 1.8 m
+    r["scaled_by"] = result.heightIsDiagonal ? "diagonal" : "height";
     r["pack_bytes"] = bytes.size();
     r["precision"] = opt.precision;
     r["time_s"] = {{"import", secs(t1 - t0)},
@@ -306,16 +285,11 @@ int cmdAnim(const Args &a, const std::string &command) {
       cj["fps"] = c.fps;
       cj["start_time"] = c.startTime;
       cj["loop"] = c.loop;
-      cj["max_error_at_frames"] = acc.maxAtFrames / result.diagonal;
-      cj["mean_error_at_frames"] = acc.meanAtFrames / result.diagonal;
-      cj["max_error_at_midframes"] = acc.maxAtMidframes / result.diagonal;
-      cj["mean_error_at_midframes"] = acc.meanAtMidframes / result.diagonal;
-      cj["max_error_at_frames_model_units"] = acc.maxAtFrames;
-      cj["max_error_at_midframes_model_units"] = acc.maxAtMidframes;
+      cj.update(crowd::clipErrorsJson(acc, result));
       r["clips"].push_back(cj);
     }
     for (const auto &pa : result.accuracy)
-      r["precisions"].push_back(accuracyJson(pa, result.diagonal));
+      r["precisions"].push_back(crowd::precisionJson(pa, result));
     if (lodChunk) {
       const auto &l = *lodChunk;
       const uint32_t n = uint32_t(l.collapse.size());

@@ -2,6 +2,7 @@
 // a frame never straddles two rows), writes the skin-weight texture and the mesh, and
 // measures the result against exact glTF evaluation with the player's own skinning math.
 #pragma once
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -35,12 +36,21 @@ struct AnimBakeOptions {
   void validate() const;
 };
 
+// Seeded random times per clip at which the player's pose is measured, besides every frame time
+// and every mid-frame time.
+inline constexpr uint32_t kRandomTimesPerClip = 64;
+// Millimetre figures are scaled to a character this tall (its rest pose's extent along +y).
+inline constexpr double kReferenceHeightMm = 1800;
+
 // Vertex errors of texture skinning against exact evaluation, in model units.
 struct ClipAccuracy {
   std::string clip;
   uint32_t frames = 0;
   double maxAtFrames = 0, meanAtFrames = 0;
   double maxAtMidframes = 0, meanAtMidframes = 0;
+  double maxAtRandom = 0, meanAtRandom = 0; // at kRandomTimesPerClip seeded times
+  // What a user sees: the largest error at any time measured.
+  double maxAnyTime() const { return std::max({maxAtFrames, maxAtMidframes, maxAtRandom}); }
 };
 
 struct PrecisionAccuracy {
@@ -52,6 +62,8 @@ struct PrecisionAccuracy {
 struct AnimBakeResult {
   pack::AnimationPack pack; // provenance is left to the caller
   double diagonal = 0;      // rest-pose bounding-box diagonal: the unit of relative errors
+  double mmPerUnit = 0;     // model units to millimetres, the character kReferenceHeightMm tall
+  bool heightIsDiagonal = false; // flat assets: the diagonal stands for the height
   std::vector<PrecisionAccuracy> accuracy; // every precision; the baked one is `baked`
   size_t baked = 0;
 };

@@ -14,7 +14,9 @@ std::vector<glm::dmat4> jointMatrices(const Character &c, const AnimationClip *c
 // Skinned vertex positions for the given joint matrices.
 std::vector<glm::dvec3> skinPositions(const Character &c, const std::vector<glm::dmat4> &joints);
 
-// Diagonal of the bounding box of the rest-pose skinned mesh: the unit of relative errors.
+// Size of the bounding box of the rest-pose skinned mesh along x, y (glTF's up) and z.
+glm::dvec3 restExtent(const Character &c);
+// Its diagonal: the unit of relative errors.
 double restDiagonal(const Character &c);
 
 } // namespace crowd

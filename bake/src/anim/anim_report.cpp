@@ -1,0 +1,45 @@
+#include "crowd/bake/anim_report.h"
+
+namespace crowd {
+
+using nlohmann::ordered_json;
+
+ordered_json clipErrorsJson(const ClipAccuracy &a, const AnimBakeResult &r) {
+  ordered_json j;
+  j["max_error_any_time_mm"] = a.maxAnyTime() * r.mmPerUnit;
+  j["max_error_any_time"] = a.maxAnyTime() / r.diagonal;
+  const struct {
+    const char *name;
+    double max, mean;
+  } at[] = {{"frames", a.maxAtFrames, a.meanAtFrames},
+            {"midframes", a.maxAtMidframes, a.meanAtMidframes},
+            {"random_times", a.maxAtRandom, a.meanAtRandom}};
+  for (const auto &s : at) {
+    j[std::string("max_error_at_") + s.name] = s.max / r.diagonal;
+    j[std::string("mean_error_at_") + s.name] = s.mean / r.diagonal;
+  }
+  for (const auto &s : at) {
+    j[std::string("max_error_at_") + s.name + "_model_units"] = s.max;
+    j[std::string("mean_error_at_") + s.name + "_model_units"] = s.mean;
+  }
+  return j;
+}
+
+ordered_json precisionJson(const PrecisionAccuracy &pa, const AnimBakeResult &r) {
+  ordered_json j;
+  j["precision"] = pa.precision.name;
+  j["encoding"] = pack::name(pa.precision.encoding);
+  j["texel_format"] = pack::name(pa.precision.format);
+  j["bytes_per_joint_per_frame"] = pa.precision.bytesPerJointPerFrame();
+  j["texture_bytes"] = pa.textureBytes;
+  for (const auto &c : pa.clips) {
+    ordered_json cj;
+    cj["clip"] = c.clip;
+    cj["frames"] = c.frames;
+    cj.update(clipErrorsJson(c, r));
+    j["clips"].push_back(cj);
+  }
+  return j;
+}
+
+} // namespace crowd
