@@ -1,4 +1,5 @@
-// Fuzzes the pack reader (animation, impostor and character packs): any bytes must give a pack or a crowd::Error, never a crash or UB.
+// Fuzzes the pack reader (animation, impostor and character packs): any bytes must give a pack
+// or a crowd::Error, never a crash or UB.
 // Each input is read twice: as it is, and with its checksums and file size repaired, so the
 // mutations also reach the chunk decoders behind the CRC checks.
 #include <cstdint>

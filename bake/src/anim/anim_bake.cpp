@@ -76,7 +76,8 @@ pack::AnimationTexture buildTexture(const std::vector<std::vector<glm::dmat4>> &
   t.width = uint32_t(t.framesPerRow * frameTexels);
   t.height = (t.frameCount + t.framesPerRow - 1) / t.framesPerRow;
   if (t.height > limits::kTextureSide)
-    throw Error("animation texture would be taller than " + std::to_string(limits::kTextureSide) + " rows");
+    throw Error("animation texture would be taller than " +
+                std::to_string(limits::kTextureSide) + " rows");
   size_t texelCount = size_t(t.width) * t.height;
   std::vector<float> values(texelCount * 4, 0.0f);
   for (uint32_t f = 0; f < t.frameCount; ++f)
@@ -117,7 +118,8 @@ pack::SkinTexture buildSkin(const SkinnedMesh &m, uint32_t maxWidth) {
   s.width = uint32_t(std::min<uint64_t>(maxWidth & ~1u, texels));
   s.height = uint32_t((texels + s.width - 1) / s.width);
   if (s.height > limits::kTextureSide)
-    throw Error("skin texture would be taller than " + std::to_string(limits::kTextureSide) + " rows");
+    throw Error("skin texture would be taller than " + std::to_string(limits::kTextureSide) +
+                " rows");
   s.texels.assign(size_t(s.width) * s.height * 4, 0.0f);
   for (size_t v = 0; v < m.vertexCount(); ++v)
     for (int k = 0; k < 4; ++k) {
@@ -247,7 +249,7 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
     textures.push_back(buildTexture(joints, c.jointCount(), p, options.maxWidth));
   const size_t np = all.size();
   const uint32_t vertexCount = uint32_t(c.mesh.vertexCount());
-  // Error of every precision at time `at` of pack clip `ci`, against `exact`, into max[p], sum[p].
+  // Error of every precision at (frame, alpha) of pack clip `ci` against `exact`: max[p], sum[p].
   auto measure = [&](size_t ci, uint32_t frame, float alpha, const std::vector<glm::dvec3> &exact,
                      double *max, double *sum) {
     for (size_t p = 0; p < np; ++p)
@@ -284,8 +286,7 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
   std::vector<double> randomMax(randomTimes.size() * np), randomSum(randomTimes.size() * np);
   parallelFor(randomTimes.size(), options.threads, [&](size_t r) {
     const auto [ci, t] = randomTimes[r];
-    const auto exact =
-        skinPositions(c, jointMatrices(c, clips[ci].clip, clips[ci].start + t));
+    const auto exact = skinPositions(c, jointMatrices(c, clips[ci].clip, clips[ci].start + t));
     uint32_t frame;
     float alpha;
     runtime::frameAt(pk.clips[ci], float(t), frame, alpha);
