@@ -60,6 +60,13 @@ std::string externalBufferAt(const std::string &d, const std::string &uri) {
   return p;
 }
 
+// The same, its buffer URI naming `name`: a symbolic link to `target`.
+std::string externalBufferThroughLink(const std::string &d, const std::string &name,
+                                      const std::string &target) {
+  fs::create_symlink(target, d + "/" + name);
+  return externalBufferAt(d, name);
+}
+
 const std::vector<Case> kCases = {
     {"truncated_glb", "not a readable glTF",
      [](const std::string &d) {
@@ -81,16 +88,12 @@ const std::vector<Case> kCases = {
      [](const std::string &d) { return externalBufferAt(d, "/etc/hostname"); }},
     {"uri_escaping_symlink", "URI 'link.bin': resolves through a link to",
      [](const std::string &d) {
-       fs::create_symlink("../outside.bin", d + "/link.bin");
-       return externalBufferAt(d, "link.bin");
+       return externalBufferThroughLink(d, "link.bin", "../outside.bin");
      }},
     {"uri_dev_zero", "URI '/dev/zero': absolute paths are not allowed",
      [](const std::string &d) { return externalBufferAt(d, "/dev/zero"); }},
     {"uri_symlink_to_dev_zero", "resolves through a link to /dev/zero",
-     [](const std::string &d) {
-       fs::create_symlink("/dev/zero", d + "/zero.bin");
-       return externalBufferAt(d, "zero.bin");
-     }},
+     [](const std::string &d) { return externalBufferThroughLink(d, "zero.bin", "/dev/zero"); }},
     {"uri_fifo", "not a regular file (a FIFO): nothing read",
      [](const std::string &d) {
        mkfifo((d + "/fifo.bin").c_str(), 0600);

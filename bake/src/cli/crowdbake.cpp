@@ -25,8 +25,8 @@
 #include "crowd/formats/character_pack.h"
 #include "crowd/formats/chunks.h"
 #include "crowd/formats/error.h"
-#include "crowd/formats/limits.h"
 #include "crowd/formats/impostor.h"
+#include "crowd/formats/limits.h"
 #include "crowd/samples/samples.h"
 #include "args.h"
 #include "commands.h"
@@ -192,15 +192,15 @@ int cmdAnim(const Args &a, const std::string &command) {
   reporter.quiet = a.has("quiet");
   crowd::AnimBakeOptions opt;
   opt.clip = a.get("clip");
-  opt.fps = a.get("fps") == "source" ? 0 : number(a, "fps", 30);
+  opt.fps = a.get("fps") == "source" ? 0 : number(a, "fps", opt.fps);
   if (a.get("fps") != "source" && !(opt.fps > 0 && opt.fps <= 1000))
     throw UsageError("--fps must be in (0, 1000], or source");
-  double width = number(a, "max-width", 4096);
+  double width = number(a, "max-width", opt.maxWidth);
   if (width < 2 || width > crowd::limits::kTextureSide || width != std::floor(width))
     throw UsageError("--max-width must be an integer in [2, " +
                      std::to_string(crowd::limits::kTextureSide) + "]");
   opt.maxWidth = uint32_t(width);
-  opt.precision = a.get("precision", "float");
+  opt.precision = a.get("precision", opt.precision);
   try {
     crowd::precisionByName(opt.precision);
   } catch (const crowd::Error &e) {

@@ -98,12 +98,12 @@ int cmdOutfits(const Args &a) {
   if (!(opt.minSaving >= 0 && opt.minSaving <= 1))
     throw UsageError("--min-saving must be in [0, 1]");
   const uint32_t check = whole(a, "check", 0, 0, 100000);
-  opt.anim.fps = number(a, "fps", 30);
+  opt.anim.fps = number(a, "fps", opt.anim.fps);
   if (!(opt.anim.fps > 0 && opt.anim.fps <= 1000))
     throw UsageError("--fps must be in (0, 1000]");
   vis.fps = opt.anim.fps;
-  opt.anim.maxWidth = whole(a, "max-width", 4096, 2, crowd::limits::kTextureSide);
-  opt.anim.precision = a.get("precision", "float");
+  opt.anim.maxWidth = whole(a, "max-width", opt.anim.maxWidth, 2, crowd::limits::kTextureSide);
+  opt.anim.precision = a.get("precision", opt.anim.precision);
   opt.anim.threads = vis.threads;
   try {
     precisionByName(opt.anim.precision);
