@@ -20,10 +20,12 @@ size_t BuildResult::failed() const {
   return n;
 }
 
-BuildResult build(const BuildOptions &o) {
-  const auto t0 = std::chrono::steady_clock::now();
-  Library lib = loadLibrary(o.input, o.files);
-  std::string cacheFolder = o.cache;
+BuildPlan planBuild(const BuildOptions &o) {
+  BuildPlan plan;
+  plan.library = loadLibrary(o.input, o.files);
+  const Library &lib = plan.library;
+  std::string &cacheFolder = plan.cache;
+  cacheFolder = o.cache;
   if (lib.single && fs::path(o.output).extension() != ".crowdpack")
     throw Error(o.output + ": a character manifest builds one pack: -o NAME.crowdpack");
   if (!lib.single) {
@@ -37,23 +39,34 @@ BuildResult build(const BuildOptions &o) {
     cacheFolder = lib.single ? (fs::path(o.output).parent_path() / ".crowdbake-cache").string()
                              : (fs::path(o.output) / ".cache").string();
 
-  std::vector<Job> jobs;
-  std::vector<std::pair<size_t, size_t>> ranges; // per character: its jobs [first, last]
   for (const auto &m : lib.characters) {
-    auto plan = planCharacter(std::make_shared<CharacterManifest>(m), jobs.size());
-    ranges.emplace_back(jobs.size(), jobs.size() + plan.size() - 1);
-    jobs.insert(jobs.end(), plan.begin(), plan.end());
+    auto jobs = planCharacter(std::make_shared<CharacterManifest>(m), plan.jobs.size());
+    plan.ranges.emplace_back(plan.jobs.size(), plan.jobs.size() + jobs.size() - 1);
+    plan.jobs.insert(plan.jobs.end(), jobs.begin(), jobs.end());
   }
-  keyJobs(jobs);
-  ContentCache cache(cacheFolder);
-  auto outcomes = executeJobs(jobs, cache, o.executor);
+  keyJobs(plan.jobs);
+  return plan;
+}
 
+BuildResult build(const BuildOptions &o) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const BuildPlan plan = planBuild(o);
+  const auto outcomes = executeJobs(plan.jobs, ContentCache(plan.cache), o.executor);
+  return finishBuild(o, plan, outcomes,
+                     std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+}
+
+BuildResult finishBuild(const BuildOptions &o, const BuildPlan &plan,
+                        const std::vector<JobOutcome> &outcomes, double seconds) {
+  const Library &lib = plan.library;
+  const auto &jobs = plan.jobs;
+  const auto &ranges = plan.ranges;
   BuildResult result;
   ordered_json &r = result.report;
   r["baker_version"] = kBakerVersion;
   r["input"] = o.input;
   r["output"] = o.output;
-  r["cache"] = cacheFolder;
+  r["cache"] = plan.cache;
   size_t run = 0, cached = 0, failed = 0;
   for (size_t c = 0; c < lib.characters.size(); ++c) {
     CharacterBuild cb;
@@ -109,7 +122,7 @@ BuildResult build(const BuildOptions &o) {
   }
   r["jobs"] = {{"total", jobs.size()}, {"run", run}, {"cached", cached}, {"failed", failed}};
   r["characters_failed"] = result.failed();
-  r["time_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r["time_s"] = seconds;
   return result;
 }
 

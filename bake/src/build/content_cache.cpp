@@ -57,13 +57,32 @@ std::optional<Part> ContentCache::load(const std::string &key, std::string &prob
   }
 }
 
-void ContentCache::store(const std::string &key, const Part &part) const {
-  const std::string path = entryPath(key);
+namespace {
+void createParent(const std::string &folder, const std::string &path) {
   std::error_code ec;
   std::filesystem::create_directories(std::filesystem::path(path).parent_path(), ec);
   if (ec)
-    throw Error(folder_ + ": cannot create cache folder: " + ec.message());
+    throw Error(folder + ": cannot create cache folder: " + ec.message());
+}
+} // namespace
+
+void ContentCache::store(const std::string &key, const Part &part) const {
+  const std::string path = entryPath(key);
+  createParent(folder_, path);
   pack::writeFileAtomic(path, partBytes(part));
+}
+
+void ContentCache::recordFailure(const std::string &key, const std::string &error) const {
+  const std::string path = entryPath(key) + ".failed";
+  createParent(folder_, path);
+  pack::writeFileAtomic(path, std::vector<uint8_t>(error.begin(), error.end()));
+}
+
+std::optional<std::string> ContentCache::recordedFailure(const std::string &key) const {
+  const auto bytes = readFile(entryPath(key) + ".failed");
+  if (bytes.empty())
+    return std::nullopt;
+  return std::string(bytes.begin(), bytes.end());
 }
 
 } // namespace crowd

@@ -64,6 +64,11 @@ std::vector<JobOutcome> executeJobs(const std::vector<Job> &jobs, const ContentC
       out[i].cached = true;
       settled[i] = 1;
       out[i].part = std::move(*hit);
+    } else if (auto error = options.recordedFailures ? cache.recordedFailure(jobs[i].key)
+                                                     : std::nullopt) {
+      out[i].failed = true;
+      out[i].error = oneLine(*error);
+      settled[i] = 1;
     }
     out[i].cacheProblem = oneLine(out[i].cacheProblem);
   }

@@ -1,7 +1,10 @@
 // crowdbake build: character manifests and libraries through the job layer (CLI11 options).
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -11,6 +14,7 @@
 #include "crowd/formats/error.h"
 #include "commands.h"
 #include "crowd/bake/build.h"
+#include "crowd/bake/slurm.h"
 
 namespace crowd::cli {
 
@@ -35,10 +39,90 @@ in the cache is not run again. A failing character fails alone: the others are w
 code is 1 and the build report names it.)";
 
 const char *const kExample = R"(
+On a Slurm cluster (--slurm), the same jobs run as job arrays sharing the cache folder, which
+must be on a file system every node sees, like crowdbake itself and the inputs; a last collect
+job writes the packs and the report. --emit-slurm DIR only writes the scripts (DIR/submit.sh
+submits them).
+
 examples:
   crowdbake build soldier.json -o soldier.crowdpack
   crowdbake build library.json -o packs/ --jobs 8 --cache /shared/crowdbake-cache
+  crowdbake build library.json -o /shared/packs --slurm --partition bake --cpus-per-task 8
 )";
+
+const char *const kBuildTaskHelp = R"(usage: crowdbake build-task PLAN STAGE TASK
+       crowdbake build-task PLAN collect
+
+Run by the sbatch scripts that 'crowdbake build --slurm' and '--emit-slurm' write: array task
+TASK of stage STAGE of PLAN (their plan.json) runs its jobs into the shared cache, recording a
+failed job there and going on; 'collect' writes the packs and the build report from the cache.
+)";
+
+size_t parseIndex(const std::string &text, const char *what) {
+  size_t used = 0;
+  int value = -1;
+  try {
+    value = std::stoi(text, &used);
+  } catch (const std::exception &) {
+  }
+  if (used != text.size() || value < 0)
+    throw UsageError(std::string(what) + ": '" + text + "' is not a number >= 0");
+  return size_t(value);
+}
+
+// One line per character and the totals, from a build report.
+void printSummary(const nlohmann::ordered_json &r, const std::string &reportPath) {
+  for (const auto &c : r["characters"]) {
+    const std::string name = c["name"];
+    if (c["status"] != "ok") {
+      std::fprintf(stderr, "crowdbake: %s: FAILED: %s\n", name.c_str(),
+                   c["error"].get<std::string>().c_str());
+      continue;
+    }
+    std::fprintf(stderr, "crowdbake: %s: %zu jobs (%zu run, %zu cached), %.1f s, %llu bytes -> %s\n",
+                 name.c_str(), c["jobs"].size(), c["jobs_run"].get<size_t>(),
+                 c["jobs_cached"].get<size_t>(), c["bake_s"].get<double>(),
+                 c["pack_bytes"].get<unsigned long long>(), c["pack"].get<std::string>().c_str());
+  }
+  const auto &j = r["jobs"];
+  std::fprintf(stderr, "crowdbake: %zu jobs: %zu run, %zu cached, %zu failed; %.1f s%s%s\n",
+               j["total"].get<size_t>(), j["run"].get<size_t>(), j["cached"].get<size_t>(),
+               j["failed"].get<size_t>(), r["time_s"].get<double>(),
+               reportPath.empty() ? "" : "; report ", reportPath.c_str());
+}
+
+// Writes the Slurm scripts and, with `submit`, runs them and waits for the collect job.
+int slurmBuild(const BuildOptions &o, const SlurmOptions &slurm, bool submit, bool quiet) {
+  namespace fs = std::filesystem;
+  const std::string summary = writeSlurmScripts(o, slurm);
+  if (!quiet)
+    std::fprintf(stderr, "%s", summary.c_str());
+  if (!submit)
+    return 0;
+  fs::remove(o.report);
+  const fs::path folder = fs::absolute(slurm.folder);
+  const std::string command = "WAIT=1 '" + (folder / "submit.sh").string() + "' >/dev/null" +
+                              (quiet ? " 2>/dev/null" : "");
+  const int status = std::system(command.c_str());
+  std::ifstream f(o.report);
+  if (!f) {
+    if (status == -1 || !WIFEXITED(status) || WEXITSTATUS(status) == 127)
+      throw Error("cannot run sbatch (Debian: slurm-client): " + (folder / "submit.sh").string());
+    std::ifstream log(folder / "logs" / "submit.log");
+    std::string line, last;
+    while (std::getline(log, line))
+      last = line.empty() ? last : line;
+    throw Error("the Slurm build wrote no report: " + (last.empty() ? "see" : last + "; see") +
+                " " + (folder / "logs").string());
+  }
+  const auto report = nlohmann::ordered_json::parse(f);
+  if (!quiet) {
+    std::fprintf(stderr, "crowdbake: on Slurm, 'cached' counts the parts the array tasks wrote "
+                         "(their logs: %s/logs)\n", folder.c_str());
+    printSummary(report, o.report);
+  }
+  return report["characters_failed"].get<size_t>() > 0 ? 1 : 0;
+}
 
 } // namespace
 
@@ -60,6 +144,19 @@ int cmdBuild(int argc, char **argv) {
   app.add_option("--report", o.report,
                  "build report JSON (default for a library: OUTDIR/build.report.json)");
   app.add_flag("-q,--quiet", quiet, "no progress on stderr");
+  SlurmOptions slurm;
+  bool useSlurm = false;
+  app.add_flag("--slurm", useSlurm,
+               "run the jobs on a Slurm cluster (sbatch job arrays) and wait for the packs");
+  app.add_option("--emit-slurm", slurm.folder,
+                 "write the plan and sbatch scripts into DIR (DIR/submit.sh submits them); "
+                 "with --slurm, where they go (default: OUTDIR/.slurm, or OUT.slurm)");
+  app.add_option("--partition", slurm.partition, "Slurm partition (default: the cluster's)");
+  app.add_option("--jobs-per-task", slurm.jobsPerTask,
+                 "jobs each Slurm array task runs (Slurm adds about a second per task)")
+      ->capture_default_str();
+  app.add_option("--cpus-per-task", slurm.cpusPerTask, "Slurm CPUs per task: a job's threads")
+      ->capture_default_str();
   ResourceLimits limits;
   double maxFileMiB = double(o.files.maxFileBytes >> 20);
   app.add_option("--asset-root", o.files.assetRoot,
@@ -88,29 +185,53 @@ int cmdBuild(int argc, char **argv) {
   } catch (const Error &e) {
     throw UsageError(e.what());
   }
-  ResourceGuard guard(limits, "crowdbake build " + o.input);
-  BuildResult r = build(o);
-  std::string report = o.report;
-  if (report.empty() && std::filesystem::is_directory(o.output)) // a library's folder
-    report = (std::filesystem::path(o.output) / "build.report.json").string();
-  if (!report.empty())
-    writeJson(report, r.report);
-  if (!quiet) {
-    for (const auto &c : r.characters) {
-      if (c.failed)
-        std::fprintf(stderr, "crowdbake: %s: FAILED: %s\n", c.name.c_str(), c.error.c_str());
-      else
-        std::fprintf(stderr, "crowdbake: %s: %zu jobs (%zu run, %zu cached), %.1f s, %llu bytes -> %s\n",
-                     c.name.c_str(), c.jobs, c.run, c.cached, c.seconds,
-                     (unsigned long long)c.bytes, c.pack.c_str());
+  namespace fs = std::filesystem;
+  const bool library = fs::path(o.output).extension() != ".crowdpack";
+  const bool onSlurm = useSlurm || !slurm.folder.empty();
+  if (onSlurm && slurm.folder.empty())
+    slurm.folder = library ? (fs::path(o.output) / ".slurm").string() : o.output + ".slurm";
+  if (o.report.empty())
+    o.report = library ? (fs::path(o.output) / "build.report.json").string()
+               : onSlurm ? (fs::path(slurm.folder) / "build.report.json").string()
+                         : "";
+  if (onSlurm) {
+    slurm.crowdbake = fs::read_symlink("/proc/self/exe").string();
+    try {
+      slurm.validate();
+    } catch (const Error &e) {
+      throw UsageError(e.what());
     }
-    const auto &j = r.report["jobs"];
-    std::fprintf(stderr, "crowdbake: %zu jobs: %zu run, %zu cached, %zu failed; %.1f s%s%s\n",
-                 j["total"].get<size_t>(), j["run"].get<size_t>(), j["cached"].get<size_t>(),
-                 j["failed"].get<size_t>(), r.report["time_s"].get<double>(),
-                 report.empty() ? "" : "; report ", report.c_str());
   }
+  ResourceGuard guard(limits, "crowdbake build " + o.input);
+  if (onSlurm)
+    return slurmBuild(o, slurm, useSlurm, quiet);
+  BuildResult r = build(o);
+  if (!o.report.empty())
+    writeJson(o.report, r.report);
+  if (!quiet)
+    printSummary(r.report, o.report);
   return r.failed() ? 1 : 0;
+}
+
+int cmdBuildTask(int argc, char **argv) {
+  if (argc == 3 && (std::string(argv[2]) == "--help" || std::string(argv[2]) == "-h")) {
+    std::cout << kBuildTaskHelp;
+    return 0;
+  }
+  if (argc != 4 && argc != 5)
+    throw UsageError("crowdbake build-task PLAN STAGE TASK | PLAN collect (see --help)");
+  const std::string plan = argv[2], what = argv[3];
+  if (what == "collect" && argc == 4) {
+    const BuildOptions o = slurmCollectOptions(plan);
+    BuildResult r = build(o);
+    writeJson(o.report, r.report);
+    printSummary(r.report, o.report);
+    return r.failed() ? 1 : 0;
+  }
+  if (argc != 5)
+    throw UsageError("crowdbake build-task PLAN STAGE TASK | PLAN collect (see --help)");
+  runSlurmTask(plan, parseIndex(what, "STAGE"), parseIndex(argv[4], "TASK"));
+  return 0;
 }
 
 } // namespace crowd::cli

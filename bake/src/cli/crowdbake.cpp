@@ -41,7 +41,8 @@ const char *kTopHelp = R"(crowdbake: bake glTF characters into crowdpack files f
 usage: crowdbake <command> [options]
 
 commands:
-  build     character manifests and libraries into character packs (jobs, content cache)
+  build     character manifests and libraries into character packs (jobs, content cache),
+            locally or on a Slurm cluster
   samples   write the bundled sample characters (humanoid and three outfits) as .glb
   anim      bake animation textures, skin weights and mesh from a glTF character
   lod       anim, plus continuous LOD: the mesh ordered for edge-collapse cuts at any vertex count
@@ -718,6 +719,8 @@ int main(int argc, char **argv) {
     }
     if (command == "build")
       return cmdBuild(argc, argv);
+    if (command == "build-task")
+      return cmdBuildTask(argc, argv);
     if (!kHelp.count(command) && command != "outfits")
       throw UsageError("unknown command '" + command + "' (see crowdbake --help)");
     for (int i = 2; i < argc; ++i)

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "crowd/bake/executor.h"
+#include "crowd/bake/manifest.h"
 
 namespace crowd {
 
@@ -37,5 +38,17 @@ struct BuildResult {
 };
 
 BuildResult build(const BuildOptions &options);
+
+// The steps of build(), which a farm runs apart (slurm.h): the jobs of every character, keyed,
+// and where the cache is; then the packs and the report from the jobs' outcomes.
+struct BuildPlan {
+  Library library;
+  std::vector<Job> jobs;
+  std::vector<std::pair<size_t, size_t>> ranges; // per character: its jobs [first, last]
+  std::string cache;
+};
+BuildPlan planBuild(const BuildOptions &options);
+BuildResult finishBuild(const BuildOptions &options, const BuildPlan &plan,
+                        const std::vector<JobOutcome> &outcomes, double seconds);
 
 } // namespace crowd

@@ -29,6 +29,10 @@ public:
   std::optional<Part> load(const std::string &key, std::string &problem) const;
   void store(const std::string &key, const Part &part) const;
   std::string entryPath(const std::string &key) const;
+  // A farm task's failed job, as one line beside where its part would be: the task goes on and
+  // the collect step reports it (executor option recordedFailures) instead of running it again.
+  void recordFailure(const std::string &key, const std::string &error) const;
+  std::optional<std::string> recordedFailure(const std::string &key) const;
 
 private:
   std::string folder_;

@@ -16,6 +16,9 @@ struct ExecutorOptions {
   // Progress on stderr: "bar" redraws one line with counts and ETA (a terminal), "lines" prints
   // a line per finished job, "none" prints nothing.
   std::string progress = "lines";
+  // A job with no part in the cache but a failure recorded there by a farm task fails with
+  // that error instead of running (the collect step of a Slurm build).
+  bool recordedFailures = false;
 };
 
 struct JobOutcome {
