@@ -1,118 +1,66 @@
 #include "args.h"
 
-#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <unistd.h>
-
-#include "crowd/formats/error.h"
 
 namespace crowd::cli {
 
-Args parse(int argc, char **argv, const std::set<std::string> &valued,
-           const std::set<std::string> &flags) {
-  Args a;
-  for (int i = 2; i < argc; ++i) {
-    std::string s = argv[i];
-    if (s == "-o")
-      s = "--output";
-    if (s.rfind("--", 0) == 0) {
-      std::string key = s.substr(2), value;
-      bool inlineValue = false;
-      if (auto eq = key.find('='); eq != std::string::npos) {
-        value = key.substr(eq + 1);
-        key = key.substr(0, eq);
-        inlineValue = true;
-      }
-      if (valued.count(key)) {
-        if (!inlineValue) {
-          if (i + 1 >= argc)
-            throw UsageError("option --" + key + " needs a value");
-          value = argv[++i];
-        }
-        a.options[key] = value;
-        a.lists[key].push_back(value);
-      } else if (flags.count(key) && !inlineValue) {
-        a.flags.insert(key);
-      } else {
-        throw UsageError("unknown option " + s);
-      }
-    } else {
-      a.positional.push_back(s);
-    }
-  }
-  return a;
-}
-
-double number(const Args &a, const std::string &key, double def) {
-  if (!a.options.count(key))
-    return def;
-  const std::string &s = a.options.at(key);
+bool parseArgs(CLI::App &app, int argc, char **argv) {
   try {
-    size_t used = 0;
-    double v = std::stod(s, &used);
-    if (used != s.size())
-      throw std::invalid_argument(s);
-    return v;
-  } catch (const std::exception &) {
-    throw UsageError("--" + key + " expects a number, got '" + s + "'");
+    app.parse(argc - 1, argv + 1);
+  } catch (const CLI::CallForHelp &) {
+    std::cout << app.help();
+    return false;
+  } catch (const CLI::ParseError &e) {
+    throw UsageError(std::string(e.what()) + " (see " + app.get_name() + " --help)");
   }
+  return true;
 }
 
-void oneInput(const Args &a, const char *command) {
-  if (a.positional.size() != 1)
-    throw UsageError(std::string(command) + " takes exactly one input (see crowdbake " + command +
-                     " --help)");
+void example(CLI::App &app, const std::string &text) {
+  app.footer("\nexample:\n  " + text + "\n");
 }
 
-bool progressWanted(const Args &a) { return !a.has("quiet") && isatty(2); }
-
-uint32_t whole(const Args &a, const std::string &key, double def, double lo, double hi) {
-  double v = number(a, key, def);
-  if (v < lo || v > hi || v != std::floor(v))
-    throw UsageError("--" + key + " must be an integer in [" + std::to_string(int64_t(lo)) + ", " +
-                     std::to_string(int64_t(hi)) + "]");
-  return uint32_t(v);
+void InputArgs::add(CLI::App &app) {
+  const char *group = "Untrusted input (every file read)";
+  app.add_option("--asset-root", policy.assetRoot,
+                 "files named by glTFs and manifests (buffers, images, bodies) must resolve "
+                 "inside DIR (default: the naming file's own folder); '..' leaving it, absolute "
+                 "paths, links out of it and non-regular files are errors")
+      ->group(group);
+  app.add_option("--max-file-size", maxFileMiB_,
+                 "largest input file read, in MiB, checked before reading")
+      ->capture_default_str()
+      ->group(group);
+  app.add_option("--max-memory", limits.maxMemoryMiB,
+                 "stop with an error past this resident memory, in MiB (0: 3/4 of RAM)")
+      ->capture_default_str()
+      ->group(group);
+  app.add_option("--max-seconds", limits.maxSeconds,
+                 "stop with an error after this many seconds; either limit writes nothing")
+      ->capture_default_str()
+      ->group(group);
 }
 
-const std::set<std::string> kInputOptions = {"asset-root", "max-file-size", "max-memory",
-                                             "max-seconds"};
-
-const char *kInputHelp = R"(
-untrusted input (every file a bake reads):
-  --asset-root DIR     files a glTF names (buffers, images) must resolve inside DIR (default:
-                       the glTF's own folder); '..' leaving it, absolute paths, links out of
-                       it and non-regular files (devices, FIFOs, folders) are errors
-  --max-file-size MIB  largest input file read (default 1024 MiB), checked before reading
-  --max-memory MIB     stop with an error past this resident memory (default: 3/4 of RAM)
-  --max-seconds S      stop with an error after S seconds (default 3600); either limit
-                       writes nothing
-)";
-
-crowd::InputPolicy inputPolicy(const Args &a) {
-  crowd::InputPolicy p;
-  p.assetRoot = a.get("asset-root");
-  if (a.options.count("max-file-size"))
-    p.maxFileBytes = uint64_t(whole(a, "max-file-size", 1024, 1, 1 << 22)) << 20;
-  try {
-    p.validate();
-  } catch (const crowd::Error &e) {
-    throw UsageError(e.what());
-  }
-  return p;
+void InputArgs::finish() {
+  if (!(maxFileMiB_ >= 1 && maxFileMiB_ <= double(1 << 22)))
+    throw UsageError("--max-file-size: must be in [1, " + std::to_string(1 << 22) + "] MiB");
+  policy.maxFileBytes = uint64_t(maxFileMiB_) << 20;
+  validated(policy);
+  validated(limits);
 }
 
-crowd::ResourceLimits resourceLimits(const Args &a) {
-  crowd::ResourceLimits r;
-  r.maxMemoryMiB = uint64_t(number(a, "max-memory", 0));
-  r.maxSeconds = number(a, "max-seconds", r.maxSeconds);
-  try {
-    r.validate();
-  } catch (const crowd::Error &e) {
-    throw UsageError(e.what());
-  }
-  return r;
+void BakeArgs::add(CLI::App &app) {
+  app.add_option("INPUT", input, "the glTF character (.glb or .gltf)")->required();
+  app.add_option("-o,--output", output, "pack to write (written atomically)")->required();
+  app.add_option("--report", report, "write the bake's figures as JSON to FILE");
+  app.add_flag("-q,--quiet", quiet, "no warnings or progress on stderr");
+  files.add(app);
 }
+
+bool BakeArgs::progress() const { return !quiet && isatty(2); }
 
 void writeJson(const std::string &path, const nlohmann::ordered_json &j) {
   std::string tmp = path + ".tmp";

@@ -1,17 +1,17 @@
-// Command-line parsing shared by crowdbake's sub-commands: options with values (repeatable ones
-// gather every value), flags, positional inputs, numbers, and the JSON report writer.
+// Command-line pieces shared by crowdbake's sub-commands (CLI11): parsing with --help, the
+// options every bake takes (one input, -o, --report, --quiet and the untrusted-input limits),
+// option structs checked by their own validate(), and the JSON report writer.
 #pragma once
-#include <map>
-#include <set>
 #include <stdexcept>
 #include <string>
-#include <vector>
 
+#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include "crowd/bake/input_files.h"
 #include "crowd/bake/report.h"
 #include "crowd/bake/resource_guard.h"
+#include "crowd/formats/error.h"
 
 namespace crowd::cli {
 
@@ -20,34 +20,44 @@ struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-struct Args {
-  std::vector<std::string> positional;
-  std::map<std::string, std::string> options; // the last value of each
-  std::map<std::string, std::vector<std::string>> lists; // every value, in order
-  std::set<std::string> flags;
-  bool has(const std::string &k) const { return options.count(k) || flags.count(k); }
-  std::string get(const std::string &k, const std::string &def = "") const {
-    auto it = options.find(k);
-    return it == options.end() ? def : it->second;
+// Parses argv[2..] into `app`. False when --help was asked for (printed on stdout); a parse
+// error throws UsageError.
+bool parseArgs(CLI::App &app, int argc, char **argv);
+
+// "example: ..." under a command's options.
+void example(CLI::App &app, const std::string &text);
+
+// An option struct's validate(), its error as a usage error (the field named).
+template <class Options> void validated(const Options &options) {
+  try {
+    options.validate();
+  } catch (const Error &e) {
+    throw UsageError(e.what());
   }
+}
+
+// --asset-root, --max-file-size, --max-memory, --max-seconds: where and how much a command that
+// reads untrusted input may read, and the resource guard's limits.
+struct InputArgs {
+  InputPolicy policy;
+  ResourceLimits limits;
+  void add(CLI::App &app);
+  void finish(); // after parsing: validates both (usage errors)
+
+private:
+  double maxFileMiB_ = double(policy.maxFileBytes >> 20);
 };
 
-// argv[2..]: `valued` options take a value (--key VALUE or --key=VALUE), `flags` none; -o is
-// --output.
-Args parse(int argc, char **argv, const std::set<std::string> &valued,
-           const std::set<std::string> &flags);
-double number(const Args &a, const std::string &key, double def);
-// An integer option in [lo, hi].
-uint32_t whole(const Args &a, const std::string &key, double def, double lo, double hi);
-void oneInput(const Args &a, const char *command);
-bool progressWanted(const Args &a); // stderr is a terminal and --quiet is not given
+// What every bake command takes besides its own options.
+struct BakeArgs {
+  std::string input, output, report;
+  bool quiet = false;
+  InputArgs files;
+  void add(CLI::App &app);
+  bool progress() const; // stderr is a terminal and --quiet is not given
+};
+
 void writeJson(const std::string &path, const nlohmann::ordered_json &j); // atomically
-// Options of every command that reads untrusted input: --asset-root DIR, --max-file-size MIB,
-// --max-memory MIB, --max-seconds S; their help text, and the structs they fill.
-extern const std::set<std::string> kInputOptions;
-extern const char *kInputHelp;
-crowd::InputPolicy inputPolicy(const Args &a);
-crowd::ResourceLimits resourceLimits(const Args &a);
 
 // The reporter's warnings for a --report file: [{code, message, count}, ...].
 nlohmann::ordered_json warningsJson(const Reporter &reporter);

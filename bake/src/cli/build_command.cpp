@@ -157,34 +157,13 @@ int cmdBuild(int argc, char **argv) {
       ->capture_default_str();
   app.add_option("--cpus-per-task", slurm.cpusPerTask, "Slurm CPUs per task: a job's threads")
       ->capture_default_str();
-  ResourceLimits limits;
-  double maxFileMiB = double(o.files.maxFileBytes >> 20);
-  app.add_option("--asset-root", o.files.assetRoot,
-                 "files named by manifests and glTFs must resolve inside DIR (default: the "
-                 "naming file's own folder)");
-  app.add_option("--max-file-size", maxFileMiB, "largest input file read, in MiB")
-      ->capture_default_str()
-      ->check(CLI::Range(1.0, double(1 << 22)));
-  app.add_option("--max-memory", limits.maxMemoryMiB,
-                 "stop with an error past this resident memory, in MiB (0: 3/4 of RAM)")
-      ->capture_default_str();
-  app.add_option("--max-seconds", limits.maxSeconds, "stop with an error after this many seconds")
-      ->capture_default_str();
-  try {
-    app.parse(argc - 1, argv + 1);
-  } catch (const CLI::CallForHelp &) {
-    std::cout << app.help();
+  InputArgs files;
+  files.add(app);
+  if (!parseArgs(app, argc, argv))
     return 0;
-  } catch (const CLI::ParseError &e) {
-    throw UsageError(e.what());
-  }
+  files.finish();
+  o.files = files.policy;
   o.executor.progress = quiet ? "none" : isatty(2) ? "bar" : "lines";
-  o.files.maxFileBytes = uint64_t(maxFileMiB) << 20;
-  try {
-    o.files.validate();
-  } catch (const Error &e) {
-    throw UsageError(e.what());
-  }
   namespace fs = std::filesystem;
   const bool library = fs::path(o.output).extension() != ".crowdpack";
   const bool onSlurm = useSlurm || !slurm.folder.empty();
@@ -202,7 +181,7 @@ int cmdBuild(int argc, char **argv) {
       throw UsageError(e.what());
     }
   }
-  ResourceGuard guard(limits, "crowdbake build " + o.input);
+  ResourceGuard guard(files.limits, "crowdbake build " + o.input);
   if (onSlurm)
     return slurmBuild(o, slurm, useSlurm, quiet);
   BuildResult r = build(o);

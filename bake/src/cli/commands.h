@@ -4,9 +4,9 @@
 
 namespace crowd::cli {
 
-extern const char *const kOutfitsHelp;
-int cmdOutfits(const Args &a);
-int cmdBuild(int argc, char **argv); // parses its own options (CLI11)
+// Each parses its own options (CLI11) from argv[2..].
+int cmdOutfits(int argc, char **argv);
+int cmdBuild(int argc, char **argv);
 int cmdBuildTask(int argc, char **argv); // a Slurm array task or collect job of a build
 
 } // namespace crowd::cli

@@ -7,9 +7,7 @@
 #include <iostream>
 #include <map>
 #include <optional>
-#include <set>
 #include <sstream>
-#include <unistd.h>
 
 #include <OpenImageIO/imageio.h>
 #include <nlohmann/json.hpp>
@@ -59,41 +57,15 @@ example:
   crowdbake samples --out s && crowdbake anim s/humanoid.glb -o h.crowdpack --report r.json
 )";
 
-const std::map<std::string, std::string> kHelp = {
-    {"samples", R"(usage: crowdbake samples --out DIR
+const char *const kSamplesHelp = R"(Writes humanoid.glb, outfit_dress.glb, outfit_jumper_skirt.glb and outfit_shirt_trousers.glb
+into DIR. The output is deterministic: the same bytes on every run.)";
 
-Writes humanoid.glb, outfit_dress.glb, outfit_jumper_skirt.glb and outfit_shirt_trousers.glb
-into DIR. The output is deterministic: the same bytes on every run.
-
-example:
-  crowdbake samples --out samples_out
-)"},
-    {"anim", R"(usage: crowdbake anim IN.glb|IN.gltf -o OUT.crowdpack [options]
-
-Samples every clip's joint matrices (global joint transform x inverse bind) into one animation
+const char *const kAnimHelp = R"(Samples every clip's joint matrices (global joint transform x inverse bind) into one animation
 texture, stores skin weights (2 texels per vertex) and the mesh, then checks the texture against
-exact evaluation of the glTF with the player's interpolation and reports the error.
+exact evaluation of the glTF with the player's interpolation (at frames, mid-frames and random
+times) and reports the error.)";
 
-options:
-  -o, --output FILE    pack to write (written atomically)
-  --clip NAME          bake only this clip (default: every clip)
-  --mesh NAME          bake only this mesh (default: every mesh bound to the largest skin)
-  --fps N|source       sampling rate, frames per second (default 30); "source" uses each
-                       clip's own key rate, so baked frames sit on the keys
-  --max-width N        texture width limit in texels (default 4096)
-  --precision P        float (3 RGBA32F texels per joint, default), half (3 RGBA16F),
-                       qts (2 RGBA32F: quaternion, translation, uniform scale), qts-half
-  --threads N          worker threads (default: all cores); output never depends on it
-  --lod                add continuous LOD (as crowdbake lod does)
-  --report FILE.json   write timings, sizes, warnings and per-clip errors
-  --quiet              no warnings or progress on stderr
-
-example:
-  crowdbake anim humanoid.glb -o humanoid.crowdpack --fps 30 --report report.json
-)"},
-    {"lod", R"(usage: crowdbake lod IN.glb|IN.gltf -o OUT.crowdpack [anim options] [--floor F] [--poses N]
-
-Bakes what crowdbake anim bakes, with the mesh ordered for continuous LOD: the full edge-collapse
+const char *const kLodHelp = R"(Bakes what crowdbake anim bakes, with the mesh ordered for continuous LOD: the full edge-collapse
 sequence down to a floor, so a renderer can draw any vertex count v by taking each sub-mesh's
 first triangles (their count for v is stored) and following indices through the collapse map
 until they are below v. Collapses run on a welded half-edge mesh (OpenMesh) by quadric cost
@@ -101,121 +73,111 @@ summed over the bind pose and poses sampled from every clip (skinning-aware);
 a UV or normal seam vertex collapses only along its seam, a boundary vertex only along its
 boundary; no cut has a degenerate triangle or one turned more than 75 degrees from its
 full-detail normal. No new vertices. Non-manifold, duplicate and zero-area triangles are
-repaired and reported.
+repaired and reported.)";
 
-options:
-  --floor F            stop at this share of the triangles (default 0.02), or where no legal
-                       collapse is left
-  --poses N            animation poses in the collapse cost, spread over all clips (default
-                       16); 0: the bind pose alone (pose-agnostic)
-  (and every option of crowdbake anim)
-
-example:
-  crowdbake lod humanoid.glb -o humanoid.crowdpack --report report.json
-)"},
-    {"impostor", R"(usage: crowdbake impostor IN.glb -o OUT.crowdpack [options]
-
-For sampled frames of a clip, renders the character from azimuths x elevations over the upper
+const char *const kImpostorHelp = R"(For sampled frames of a clip, renders the character from azimuths x elevations over the upper
 hemisphere with the deterministic rasterizer: object-space normals (RGB) with the region
 (sub-mesh) id + 1 in alpha, each view cropped to its silhouette, dilated (empty texels copy
 their nearest covered neighbour, region 0) and shelf-packed into one atlas per frame, with a
 16-bit UV map and a best impostor plane per view. crowdplay draws the pack for instances of
-this clip past the distance where a texel covers a pixel (scene file: "impostor" in a pack).
+this clip past the distance where a texel covers a pixel (scene file: "impostor" in a pack).)";
 
-options:
-  -o, --output FILE    pack to write (written atomically)
-  --clip NAME          clip to sample (default: the first)
-  --mesh NAME          mesh to bake (default: every mesh bound to the largest skin)
-  --frames N           frames sampled evenly over the clip (default 16)
-  --views AxE          azimuths x elevations (default 32x8)
-  --texels N           a full view's size before cropping (default 128)
-  --mirror             store azimuths 0..A/2 only: the others are mirrors of the views half a
-                       clip later (a walk); the report's mirror IoU says what that costs
-  --threads N          worker threads (default: all cores); output never depends on it
-  --report FILE.json   occupancy, bytes per frame (packed and naive), mirroring, time, and the
-                       accuracy against the true render at and between the views (frame 0)
-  --quiet              no warnings on stderr
+const char *const kInspectHelp =
+    "Lists the chunk table, provenance, joints, clips, texture sizes and bytes.";
+const char *const kVerifyHelp = R"(Validates the container (magic, version, sizes, checksums) and every chunk and
+cross-reference. Exit code 0 when the pack is sound, 1 with the first problem otherwise.)";
+const char *const kExportHelp = R"(Writes the pack's textures through OpenImageIO: float textures as OpenEXR (animation.exr,
+skin.exr), the diffuse texture when the pack has one (diffuse.png), and preview.png: the mesh
+skinned from the animation texture a quarter of the way into the first clip, seen from the
+front, one tint per sub-mesh. An impostor pack gives per frame its normals, UVs and regions.)";
 
-example:
-  crowdbake impostor humanoid.glb -o humanoid_impostor.crowdpack --clip walk --frames 16
-)"},
-    {"inspect", R"(usage: crowdbake inspect PACK [--json]
+// One pack as the only positional argument.
+void addPack(CLI::App &app, std::string &pack) {
+  app.add_option("PACK", pack, "a .crowdpack file")->required();
+}
 
-Lists the chunk table, provenance, joints, clips, texture sizes and bytes.
-
-example:
-  crowdbake inspect humanoid.crowdpack --json
-)"},
-    {"verify", R"(usage: crowdbake verify PACK
-
-Validates the container (magic, version, sizes, checksums) and every chunk and
-cross-reference. Exit code 0 when the pack is sound, 1 with the first problem otherwise.
-
-example:
-  crowdbake verify humanoid.crowdpack
-)"},
-    {"export", R"(usage: crowdbake export PACK --images DIR
-
-Writes the pack's textures through OpenImageIO: float textures as OpenEXR
-(animation.exr, skin.exr), the diffuse texture when the pack has one (diffuse.png), and preview.png: the mesh skinned from the animation texture a quarter
-of the way into the first clip, seen from the front, one tint per sub-mesh.
-
-example:
-  crowdbake export humanoid.crowdpack --images textures/
-)"},
-};
-
-int cmdSamples(const Args &a) {
-  if (!a.positional.empty() || !a.options.count("out"))
-    throw UsageError("samples needs --out DIR");
-  crowd::samples::writeSamples(a.get("out"));
+int cmdSamples(int argc, char **argv) {
+  CLI::App app(kSamplesHelp, "crowdbake samples");
+  example(app, "crowdbake samples --out samples_out");
+  std::string out;
+  app.add_option("--out", out, "folder to write the samples into")->required();
+  if (!parseArgs(app, argc, argv))
+    return 0;
+  crowd::samples::writeSamples(out);
   for (const auto &f : crowd::samples::kFiles)
-    std::cout << a.get("out") << "/" << f << "\n";
+    std::cout << out << "/" << f << "\n";
   return 0;
 }
 
-int cmdAnim(const Args &a, const std::string &command) {
-  oneInput(a, command.c_str());
-  if (!a.options.count("output"))
-    throw UsageError(command + " needs -o OUT.crowdpack");
-  const bool lod = command == "lod" || a.has("lod");
+int cmdAnim(int argc, char **argv, const std::string &command) {
+  const bool lodCommand = command == "lod";
+  CLI::App app(lodCommand ? kLodHelp : kAnimHelp, "crowdbake " + command);
+  example(app, lodCommand ? "crowdbake lod humanoid.glb -o humanoid.crowdpack --report r.json"
+                          : "crowdbake anim humanoid.glb -o humanoid.crowdpack --fps 30 --report r.json");
+  BakeArgs b;
+  b.add(app);
+  crowd::AnimBakeOptions opt;
+  crowd::ImportOptions io;
   crowd::LodOptions lodOpt;
-  lodOpt.floorFraction = number(a, "floor", 0.02);
-  if (!(lodOpt.floorFraction >= 0 && lodOpt.floorFraction <= 1))
-    throw UsageError("--floor must be in [0, 1]");
-  double poses = number(a, "poses", 16);
-  if (!(poses >= 0 && poses <= 1024 && poses == std::floor(poses)))
-    throw UsageError("--poses must be an integer in [0, 1024]");
-  lodOpt.poses = uint32_t(poses);
+  std::string fpsText = CLI::detail::to_string(opt.fps);
+  bool lodFlag = false;
+  app.add_option("--clip", opt.clip, "bake only this clip (default: every clip)");
+  app.add_option("--mesh", io.mesh, "bake only this mesh (default: every mesh bound to the largest skin)");
+  app.add_option("--fps", fpsText,
+                 "sampling rate, frames per second; \"source\" uses each clip's own key rate, "
+                 "so baked frames sit on the keys")
+      ->capture_default_str();
+  app.add_option("--max-width", opt.maxWidth, "texture width limit in texels")->capture_default_str();
+  app.add_option("--precision", opt.precision,
+                 "float (3 RGBA32F texels per joint), half (3 RGBA16F), qts (2 RGBA32F: "
+                 "quaternion, translation, uniform scale) or qts-half")
+      ->capture_default_str();
+  app.add_option("--threads", opt.threads, "worker threads (0: all cores); output never depends on it")
+      ->capture_default_str();
+  CLI::Option *lodOption = nullptr;
+  if (!lodCommand)
+    lodOption = app.add_flag("--lod", lodFlag, "add continuous LOD (as crowdbake lod does)");
+  const char *lodGroup = lodCommand ? "Options" : "LOD (with --lod)";
+  auto *floorOpt = app.add_option("--floor", lodOpt.floorFraction,
+                                  "stop collapsing at this share of the triangles, or where no legal "
+                                  "collapse is left")
+                       ->capture_default_str()
+                       ->group(lodGroup);
+  auto *posesOpt = app.add_option("--poses", lodOpt.poses,
+                                  "animation poses in the collapse cost, spread over all clips; 0: "
+                                  "the bind pose alone")
+                       ->capture_default_str()
+                       ->group(lodGroup);
+  if (lodOption) {
+    floorOpt->needs(lodOption);
+    posesOpt->needs(lodOption);
+  }
+  if (!parseArgs(app, argc, argv))
+    return 0;
+  b.files.finish();
+  const bool lod = lodCommand || lodFlag;
+  if (fpsText == "source") {
+    opt.fps = 0;
+  } else {
+    try {
+      size_t used = 0;
+      opt.fps = std::stod(fpsText, &used);
+      if (used != fpsText.size() || !(opt.fps > 0))
+        throw std::invalid_argument(fpsText);
+    } catch (const std::exception &) {
+      throw UsageError("--fps: expects a number > 0 or source, got '" + fpsText + "'");
+    }
+  }
+  validated(opt);
+  validated(lodOpt);
+  io.input = b.files.policy;
+  crowd::ResourceGuard guard(b.files.limits, "crowdbake " + command + " " + b.input);
   using Clock = std::chrono::steady_clock;
   auto t0 = Clock::now();
   crowd::Reporter reporter;
-  reporter.quiet = a.has("quiet");
-  crowd::AnimBakeOptions opt;
-  opt.clip = a.get("clip");
-  opt.fps = a.get("fps") == "source" ? 0 : number(a, "fps", opt.fps);
-  if (a.get("fps") != "source" && !(opt.fps > 0 && opt.fps <= 1000))
-    throw UsageError("--fps must be in (0, 1000], or source");
-  double width = number(a, "max-width", opt.maxWidth);
-  if (width < 2 || width > crowd::limits::kTextureSide || width != std::floor(width))
-    throw UsageError("--max-width must be an integer in [2, " +
-                     std::to_string(crowd::limits::kTextureSide) + "]");
-  opt.maxWidth = uint32_t(width);
-  opt.precision = a.get("precision", opt.precision);
-  try {
-    crowd::precisionByName(opt.precision);
-  } catch (const crowd::Error &e) {
-    throw UsageError(e.what());
-  }
-  double threads = number(a, "threads", 0);
-  if (threads < 0 || threads > 1024)
-    throw UsageError("--threads must be in [0, 1024]");
-  opt.threads = int(threads);
-  const std::string input = a.positional[0];
-  crowd::ImportOptions io;
-  io.mesh = a.get("mesh");
-  io.input = inputPolicy(a);
-  bool progress = progressWanted(a);
+  reporter.quiet = b.quiet;
+  const std::string &input = b.input;
+  const bool progress = b.progress();
   if (progress)
     std::fprintf(stderr, "crowdbake: importing %s\n", input.c_str());
   crowd::Character character = crowd::importGltf(input, io, reporter);
@@ -253,15 +215,15 @@ int cmdAnim(const Args &a, const std::string &command) {
                                      {"lod-poses", std::to_string(lodOpt.poses)}});
   result.pack.provenance = crowd::makeProvenance(character.sourceFiles, settings);
   std::vector<uint8_t> bytes = crowd::pack::packBytes(result.pack);
-  crowd::pack::writeFileAtomic(a.get("output"), bytes);
+  crowd::pack::writeFileAtomic(b.output, bytes);
   auto t3 = Clock::now();
 
-  if (a.options.count("report")) {
+  if (!b.report.empty()) {
     auto secs = [](auto d) { return std::chrono::duration<double>(d).count(); };
     ordered_json r;
     r["command"] = command;
     r["input"] = input;
-    r["output"] = a.get("output");
+    r["output"] = b.output;
     r["baker_version"] = crowd::kBakerVersion;
     r["joints"] = character.jointCount();
     r["vertices"] = character.mesh.vertexCount();
@@ -315,26 +277,35 @@ int cmdAnim(const Args &a, const std::string &command) {
       r["lod"] = lj;
     }
     r["warnings"] = warningsJson(reporter);
-    writeJson(a.get("report"), r);
+    writeJson(b.report, r);
   }
   if (progress)
-    std::fprintf(stderr, "crowdbake: wrote %s (%zu bytes)\n", a.get("output").c_str(),
+    std::fprintf(stderr, "crowdbake: wrote %s (%zu bytes)\n", b.output.c_str(),
                  bytes.size());
   return 0;
 }
 
-int cmdImpostor(const Args &a) {
-  oneInput(a, "impostor");
-  if (!a.options.count("output"))
-    throw UsageError("impostor needs -o OUT.crowdpack");
-  auto t0 = std::chrono::steady_clock::now();
+int cmdImpostor(int argc, char **argv) {
+  CLI::App app(kImpostorHelp, "crowdbake impostor");
+  example(app, "crowdbake impostor humanoid.glb -o walk_impostor.crowdpack --clip walk --frames 16");
+  BakeArgs b;
+  b.add(app);
   crowd::ImpostorOptions opt;
-  opt.clip = a.get("clip");
-  opt.frames = whole(a, "frames", 16, 1, 4096);
-  opt.texels = whole(a, "texels", 128, 4, 4096);
-  opt.threads = int(whole(a, "threads", 0, 0, 1024));
-  opt.mirror = a.has("mirror");
-  std::string views = a.get("views", "32x8");
+  crowd::ImportOptions io;
+  std::string views = std::to_string(opt.azimuths) + "x" + std::to_string(opt.elevations);
+  app.add_option("--clip", opt.clip, "clip to sample (default: the first)");
+  app.add_option("--mesh", io.mesh, "mesh to bake (default: every mesh bound to the largest skin)");
+  app.add_option("--frames", opt.frames, "frames sampled evenly over the clip")->capture_default_str();
+  app.add_option("--views", views, "azimuths x elevations")->capture_default_str();
+  app.add_option("--texels", opt.texels, "a full view's size before cropping")->capture_default_str();
+  app.add_flag("--mirror", opt.mirror,
+               "store azimuths 0..A/2 only: the others are mirrors of the views half a clip "
+               "later (a walk); the report's mirror IoU says what that costs");
+  app.add_option("--threads", opt.threads, "worker threads (0: all cores); output never depends on it")
+      ->capture_default_str();
+  if (!parseArgs(app, argc, argv))
+    return 0;
+  b.files.finish();
   auto x = views.find('x');
   try {
     if (x == std::string::npos)
@@ -344,12 +315,13 @@ int cmdImpostor(const Args &a) {
   } catch (const std::exception &) {
     throw UsageError("--views expects AxE, e.g. 32x8, got '" + views + "'");
   }
+  validated(opt);
+  io.input = b.files.policy;
+  crowd::ResourceGuard guard(b.files.limits, "crowdbake impostor " + b.input);
+  auto t0 = std::chrono::steady_clock::now();
   crowd::Reporter reporter;
-  reporter.quiet = a.has("quiet");
-  crowd::ImportOptions io;
-  io.mesh = a.get("mesh");
-  io.input = inputPolicy(a);
-  crowd::Character character = crowd::importGltf(a.positional[0], io, reporter);
+  reporter.quiet = b.quiet;
+  crowd::Character character = crowd::importGltf(b.input, io, reporter);
   crowd::ImpostorBakeResult r = crowd::bakeImpostor(character, opt, reporter);
   crowd::pack::ImpostorPack pk;
   pk.impostor = std::move(r.impostor);
@@ -362,13 +334,13 @@ int cmdImpostor(const Args &a) {
                                                     {"texels", std::to_string(opt.texels)},
                                                     {"mirror", opt.mirror ? "yes" : "no"}});
   std::vector<uint8_t> bytes = crowd::pack::packBytes(pk);
-  crowd::pack::writeFileAtomic(a.get("output"), bytes);
+  crowd::pack::writeFileAtomic(b.output, bytes);
   double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  if (a.options.count("report")) {
+  if (!b.report.empty()) {
     ordered_json j;
     j["command"] = "impostor";
-    j["input"] = a.positional[0];
-    j["output"] = a.get("output");
+    j["input"] = b.input;
+    j["output"] = b.output;
     j["clip"] = pk.impostor.clip;
     j["frames"] = opt.frames;
     j["views"] = views;
@@ -402,7 +374,7 @@ int cmdImpostor(const Args &a) {
     j["pack_bytes"] = bytes.size();
     j["time_s"] = seconds;
     j["warnings"] = warningsJson(reporter);
-    writeJson(a.get("report"), j);
+    writeJson(b.report, j);
   }
   return 0;
 }
@@ -447,11 +419,18 @@ std::string hex32(uint32_t v) {
   return b;
 }
 
-int cmdInspect(const Args &a) {
-  oneInput(a, "inspect");
-  auto reader = crowd::pack::Reader::open(a.positional[0]);
+int cmdInspect(int argc, char **argv) {
+  std::string path;
+  bool asJson = false;
+  CLI::App app(kInspectHelp, "crowdbake inspect");
+  example(app, "crowdbake inspect humanoid.crowdpack --json");
+  addPack(app, path);
+  app.add_flag("--json", asJson, "print JSON instead of text");
+  if (!parseArgs(app, argc, argv))
+    return 0;
+  auto reader = crowd::pack::Reader::open(path);
   if (!reader.find(crowd::pack::kSkeleton) && reader.find(crowd::pack::kImpostor)) {
-    inspectImpostor(reader, a.has("json"));
+    inspectImpostor(reader, asJson);
     return 0;
   }
   auto character = crowd::pack::loadCharacterPack(reader);
@@ -459,7 +438,7 @@ int cmdInspect(const Args &a) {
   using namespace crowd::pack;
   const auto &t = p.animation;
   ordered_json j;
-  j["file"] = std::filesystem::path(a.positional[0]).filename().string();
+  j["file"] = std::filesystem::path(path).filename().string();
   j["bytes"] = reader.fileSize();
   j["pack_checksum"] = hex32(crc32(reader.fileBytes()));
   j["container_version"] = reader.version();
@@ -542,7 +521,7 @@ int cmdInspect(const Args &a) {
                               {"atlas_width", m.atlasWidth},
                               {"atlas_height", m.atlasHeight},
                               {"bytes", m.atlases.size() + m.uvAtlases.size() * 2}});
-  if (a.has("json")) {
+  if (asJson) {
     std::cout << j.dump(2) << "\n";
     return 0;
   }
@@ -607,18 +586,23 @@ int cmdInspect(const Args &a) {
   return 0;
 }
 
-int cmdVerify(const Args &a) {
-  oneInput(a, "verify");
-  auto reader = crowd::pack::Reader::open(a.positional[0]);
+int cmdVerify(int argc, char **argv) {
+  std::string path;
+  CLI::App app(kVerifyHelp, "crowdbake verify");
+  example(app, "crowdbake verify humanoid.crowdpack");
+  addPack(app, path);
+  if (!parseArgs(app, argc, argv))
+    return 0;
+  auto reader = crowd::pack::Reader::open(path);
   if (!reader.find(crowd::pack::kSkeleton) && reader.find(crowd::pack::kImpostor)) {
     auto m = crowd::pack::loadImpostorPack(reader).impostor;
-    std::cout << "ok: " << a.positional[0] << " (impostor, " << m.frames << " frames x "
+    std::cout << "ok: " << path << " (impostor, " << m.frames << " frames x "
               << m.views.size() / m.frames << " views, " << reader.fileSize() << " bytes)\n";
     return 0;
   }
   auto c = crowd::pack::loadCharacterPack(reader);
   const auto &p = c.body;
-  std::cout << "ok: " << a.positional[0] << " (" << reader.chunks().size() << " chunks, "
+  std::cout << "ok: " << path << " (" << reader.chunks().size() << " chunks, "
             << reader.fileSize() << " bytes, " << p.skeleton.jointCount() << " joints, "
             << p.clips.size() << " clips"
             << (p.outfits ? ", " + std::to_string(p.outfits->outfits.size()) + " outfits" : "")
@@ -637,12 +621,15 @@ void writeImage(const std::string &path, int width, int height, int channels, OI
                        ": cannot write image: " + (out ? out->geterror() : OIIO::geterror()));
 }
 
-int cmdExport(const Args &a) {
-  oneInput(a, "export");
-  if (!a.options.count("images"))
-    throw UsageError("export needs --images DIR");
-  auto reader = crowd::pack::Reader::open(a.positional[0]);
-  std::string dir = a.get("images");
+int cmdExport(int argc, char **argv) {
+  std::string path, dir;
+  CLI::App app(kExportHelp, "crowdbake export");
+  example(app, "crowdbake export humanoid.crowdpack --images textures/");
+  addPack(app, path);
+  app.add_option("--images", dir, "folder to write the images into")->required();
+  if (!parseArgs(app, argc, argv))
+    return 0;
+  auto reader = crowd::pack::Reader::open(path);
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec)
@@ -717,47 +704,24 @@ int main(int argc, char **argv) {
       std::cout << kTopHelp;
       return 0;
     }
-    if (command == "build")
-      return cmdBuild(argc, argv);
-    if (command == "build-task")
-      return cmdBuildTask(argc, argv);
-    if (!kHelp.count(command) && command != "outfits")
-      throw UsageError("unknown command '" + command + "' (see crowdbake --help)");
-    for (int i = 2; i < argc; ++i)
-      if (std::string(argv[i]) == "--help" || std::string(argv[i]) == "-h") {
-        std::cout << (command == "outfits" ? kOutfitsHelp : kHelp.at(command));
-        if (command == "anim" || command == "lod" || command == "impostor" || command == "outfits")
-          std::cout << kInputHelp;
-        return 0;
-      }
-    if (command == "samples")
-      return cmdSamples(parse(argc, argv, {"out"}, {}));
-    // The bakes read untrusted input: each runs under the resource guard.
-    auto bake = [&](std::set<std::string> valued, const std::set<std::string> &flags,
-                    auto &&run) {
-      valued.insert(kInputOptions.begin(), kInputOptions.end());
-      const Args a = parse(argc, argv, valued, flags);
-      crowd::ResourceGuard guard(resourceLimits(a),
-                                 "crowdbake " + command +
-                                     (a.positional.empty() ? "" : " " + a.positional[0]));
-      return run(a);
+    // One function per command; each parses its own options (CLI11). The bakes read untrusted
+    // input and run under the resource guard.
+    const std::map<std::string, int (*)(int, char **)> commands = {
+        {"build", cmdBuild},
+        {"build-task", cmdBuildTask},
+        {"samples", cmdSamples},
+        {"anim", [](int c, char **v) { return cmdAnim(c, v, "anim"); }},
+        {"lod", [](int c, char **v) { return cmdAnim(c, v, "lod"); }},
+        {"impostor", cmdImpostor},
+        {"outfits", cmdOutfits},
+        {"inspect", cmdInspect},
+        {"verify", cmdVerify},
+        {"export", cmdExport},
     };
-    if (command == "anim" || command == "lod")
-      return bake({"output", "clip", "mesh", "fps", "max-width", "precision", "threads", "report",
-                   "floor", "poses"},
-                  {"quiet", "lod"}, [&](const Args &a) { return cmdAnim(a, command); });
-    if (command == "impostor")
-      return bake({"output", "clip", "mesh", "frames", "views", "texels", "threads", "report"},
-                  {"quiet", "mirror"}, cmdImpostor);
-    if (command == "outfits")
-      return bake({"output", "outfit", "frame-step", "rays", "points", "ring", "min-saving",
-                   "check", "regions", "fps", "precision", "max-width", "threads", "report"},
-                  {"quiet", "no-ground"}, cmdOutfits);
-    if (command == "inspect")
-      return cmdInspect(parse(argc, argv, {}, {"json"}));
-    if (command == "verify")
-      return cmdVerify(parse(argc, argv, {}, {}));
-    return cmdExport(parse(argc, argv, {"images"}, {}));
+    auto it = commands.find(command);
+    if (it == commands.end())
+      throw UsageError("unknown command '" + command + "' (see crowdbake --help)");
+    return it->second(argc, argv);
   } catch (const UsageError &e) {
     std::fprintf(stderr, "crowdbake: usage: %s\n", e.what());
     return 2;

@@ -16,51 +16,17 @@ using nlohmann::ordered_json;
 
 namespace crowd::cli {
 
-const char *const kOutfitsHelp = R"(usage: crowdbake outfits BODY.glb --outfit A.glb [--outfit B.glb ...] -o OUT.crowdpack [options]
+namespace {
 
-The "tagged" method of clothed crowds: the body template keeps its sub-meshes (one per
+const char *const kDescription = R"(The "tagged" method of clothed crowds: the body template keeps its sub-meshes (one per
 material); each outfit's garments, skinned to the same skeleton (joints matched by name), are
 added. For each outfit and body sub-mesh the bake decides, over every frame of every clip, whether
 the sub-mesh is visible, hidden (never drawn with that outfit) or partial (drawn through an
 outfit-specific copy holding only its visible faces). A body face is hidden only if, in every
 tested frame, rays from points on it over its whole outward hemisphere all hit the garments or
 the body. Alpha-masked or blended garments never hide anything. crowdplay draws the pack with an
-outfit per character (scene file: "outfit").
+outfit per character (scene file: "outfit").)";
 
-options:
-  --outfit [NAME=]FILE   an outfit (repeatable); its name defaults to the file name without
-                         extension and without an "outfit_" prefix
-  -o, --output FILE      pack to write (written atomically)
-  --frame-step K         test every K-th frame of each clip (default 1: every frame)
-  --rays N               azimuths on the lowest ring (1 degree up) of the directions each face
-                         casts over its outward hemisphere; N/3 rings, denser near the horizon
-                         (default 24: 139 directions)
-  --points N             points per face rays leave from: 1 (centroid) or 4 (default)
-  --no-ground            rays that go below the body's lowest point escape too (default: a
-                         ground plane there occludes them, as no camera looks from below it)
-  --regions R            body sub-meshes: material (one per glTF material, default) or joint
-                         (each material split by the joint weighing most on each face: finer
-                         regions, so fewer faces go into outfit-specific copies)
-  --ring N               keep faces within N vertex steps of a visible face (default 1; 0: off)
-  --min-saving F         write an outfit-specific copy of a partial sub-mesh only when it leaves
-                         out at least this share of its faces (default 0.1); otherwise draw the
-                         sub-mesh whole
-  --check K              after baking, prove no hole opens: render every outfit naively and
-                         culled from the 32x8 impostor views and 16 player-like views at every
-                         K-th frame of every clip and compare pixels (default 0: no check); a
-                         differing pixel fails the bake
-  --fps F, --precision P, --max-width N   the animation texture, as in crowdbake anim
-  --threads N            worker threads (default: all cores); output never depends on it
-  --report FILE.json     per outfit and sub-mesh coverage, faces stored by the naive, pre-fitted
-                         and tagged methods (and extrapolated to 10 outfits), check results, times
-  --quiet                no warnings or progress on stderr
-
-example:
-  crowdbake outfits humanoid.glb --outfit outfit_dress.glb --outfit outfit_jumper_skirt.glb \
-      -o clothed.crowdpack --check 4 --report clothed.json
-)";
-
-namespace {
 
 std::pair<std::string, std::string> nameAndFile(const std::string &arg) {
   if (auto eq = arg.find('='); eq != std::string::npos && eq > 0)
@@ -73,58 +39,84 @@ std::pair<std::string, std::string> nameAndFile(const std::string &arg) {
 
 } // namespace
 
-int cmdOutfits(const Args &a) {
-  oneInput(a, "outfits");
-  if (!a.options.count("output"))
-    throw UsageError("outfits needs -o OUT.crowdpack");
-  if (!a.lists.count("outfit"))
-    throw UsageError("outfits needs at least one --outfit FILE");
-  using Clock = std::chrono::steady_clock;
-  const auto t0 = Clock::now();
+int cmdOutfits(int argc, char **argv) {
+  CLI::App app(kDescription, "crowdbake outfits");
+  example(app, "crowdbake outfits humanoid.glb --outfit outfit_dress.glb --outfit "
+               "outfit_jumper_skirt.glb -o clothed.crowdpack --check 4 --report clothed.json");
+  BakeArgs b;
+  b.add(app);
   OutfitOptions opt;
   auto &vis = opt.visibility;
-  vis.frameStep = whole(a, "frame-step", 1, 1, 100000);
-  vis.rays = whole(a, "rays", 32, 1, 4096);
-  vis.points = whole(a, "points", 4, 1, 4);
-  vis.ground = !a.has("no-ground");
-  opt.regions = a.get("regions", "material");
-  if (opt.regions != "material" && opt.regions != "joint")
-    throw UsageError("--regions must be material or joint");
-  if (vis.points != 1 && vis.points != 4)
-    throw UsageError("--points must be 1 or 4");
-  vis.ring = whole(a, "ring", 1, 0, 64);
-  vis.threads = int(whole(a, "threads", 0, 0, 1024));
-  opt.minSaving = number(a, "min-saving", 0.1);
-  if (!(opt.minSaving >= 0 && opt.minSaving <= 1))
-    throw UsageError("--min-saving must be in [0, 1]");
-  const uint32_t check = whole(a, "check", 0, 0, 100000);
-  opt.anim.fps = number(a, "fps", opt.anim.fps);
-  if (!(opt.anim.fps > 0 && opt.anim.fps <= 1000))
-    throw UsageError("--fps must be in (0, 1000]");
+  std::vector<std::string> outfitArgs;
+  uint32_t check = 0;
+  bool noGround = !vis.ground;
+  app.add_option("--outfit", outfitArgs,
+                 "[NAME=]FILE: an outfit (repeatable); its name defaults to the file name "
+                 "without extension and without an \"outfit_\" prefix")
+      ->required();
+  app.add_option("--frame-step", vis.frameStep, "test every K-th frame of each clip")
+      ->capture_default_str();
+  app.add_option("--rays", vis.rays,
+                 "azimuths on the lowest ring (1 degree up) of the directions each face casts "
+                 "over its outward hemisphere; N/3 rings, denser near the horizon (24: 139 "
+                 "directions)")
+      ->capture_default_str();
+  app.add_option("--points", vis.points, "points per face rays leave from: 1 (centroid) or 4")
+      ->capture_default_str();
+  app.add_flag("--no-ground", noGround,
+               "rays that go below the body's lowest point escape too (default: a ground plane "
+               "there occludes them, as no camera looks from below it)");
+  app.add_option("--regions", opt.regions,
+                 "body sub-meshes: material (one per glTF material) or joint (each material "
+                 "split by the joint weighing most on each face: finer regions, so fewer faces "
+                 "go into outfit-specific copies)")
+      ->capture_default_str();
+  app.add_option("--ring", vis.ring, "keep faces within N vertex steps of a visible face (0: off)")
+      ->capture_default_str();
+  app.add_option("--min-saving", opt.minSaving,
+                 "write an outfit-specific copy of a partial sub-mesh only when it leaves out at "
+                 "least this share of its faces; otherwise draw the sub-mesh whole")
+      ->capture_default_str();
+  app.add_option("--check", check,
+                 "after baking, prove no hole opens: render every outfit naively and culled from "
+                 "the 32x8 impostor views and 16 player-like views at every K-th frame of every "
+                 "clip and compare pixels (0: no check); a differing pixel fails the bake")
+      ->capture_default_str();
+  app.add_option("--fps", opt.anim.fps, "animation sampling rate, as in crowdbake anim")
+      ->capture_default_str();
+  app.add_option("--precision", opt.anim.precision, "animation texture precision, as in crowdbake anim")
+      ->capture_default_str();
+  app.add_option("--max-width", opt.anim.maxWidth, "texture width limit in texels")
+      ->capture_default_str();
+  app.add_option("--threads", vis.threads, "worker threads (0: all cores); output never depends on it")
+      ->capture_default_str();
+  if (!parseArgs(app, argc, argv))
+    return 0;
+  b.files.finish();
+  vis.ground = !noGround;
   vis.fps = opt.anim.fps;
-  opt.anim.maxWidth = whole(a, "max-width", opt.anim.maxWidth, 2, crowd::limits::kTextureSide);
-  opt.anim.precision = a.get("precision", opt.anim.precision);
   opt.anim.threads = vis.threads;
-  try {
-    precisionByName(opt.anim.precision);
-  } catch (const Error &e) {
-    throw UsageError(e.what());
-  }
+  validated(opt);
+  if (check > 100000)
+    throw UsageError("--check: must be in [0, 100000]");
+  ResourceGuard guard(b.files.limits, "crowdbake outfits " + b.input);
+  using Clock = std::chrono::steady_clock;
+  const auto t0 = Clock::now();
   Reporter reporter;
-  reporter.quiet = a.has("quiet");
-  const bool progress = progressWanted(a);
+  reporter.quiet = b.quiet;
+  const bool progress = b.progress();
   auto say = [&](const std::string &s) {
     if (progress)
       std::fprintf(stderr, "crowdbake: %s\n", s.c_str());
   };
 
   ImportOptions io;
-  io.input = inputPolicy(a);
-  say("importing " + a.positional[0]);
-  Character body = importGltf(a.positional[0], io, reporter);
+  io.input = b.files.policy;
+  say("importing " + b.input);
+  Character body = importGltf(b.input, io, reporter);
   std::vector<OutfitInput> outfits;
   std::vector<std::string> sources = body.sourceFiles;
-  for (const auto &arg : a.lists.at("outfit")) {
+  for (const auto &arg : outfitArgs) {
     auto [name, file] = nameAndFile(arg);
     for (const auto &o : outfits)
       if (o.name == name)
@@ -183,7 +175,7 @@ int cmdOutfits(const Args &a) {
                   " (try --ring 2, more --rays, or --frame-step 1)");
     }
   const auto bytes = pack::packBytes(pack);
-  pack::writeFileAtomic(a.get("output"), bytes);
+  pack::writeFileAtomic(b.output, bytes);
 
   const double n = double(outfits.size());
   const double body0 = r.bodyTriangles;
@@ -203,14 +195,14 @@ int cmdOutfits(const Args &a) {
     say("hole check '" + o.name + "': " + std::to_string(o.differingPixels) +
         " differing pixels in " + std::to_string(o.images) + " images; recall " +
         std::to_string(o.recall()));
-  say("wrote " + a.get("output") + " (" + std::to_string(bytes.size()) + " bytes)");
+  say("wrote " + b.output + " (" + std::to_string(bytes.size()) + " bytes)");
 
-  if (a.options.count("report")) {
+  if (!b.report.empty()) {
     auto secs = [](auto d) { return std::chrono::duration<double>(d).count(); };
     ordered_json j;
     j["command"] = "outfits";
-    j["body"] = a.positional[0];
-    j["output"] = a.get("output");
+    j["body"] = b.input;
+    j["output"] = b.output;
     j["pack_bytes"] = bytes.size();
     j["body_faces"] = r.bodyTriangles;
     j["body_faces_hidden_without_outfit"] = r.bareHiddenFaces;
@@ -263,7 +255,7 @@ int cmdOutfits(const Args &a) {
                    {"hole_check", secs(t3 - t2)},
                    {"total", secs(Clock::now() - t0)}};
     j["warnings"] = warningsJson(reporter);
-    writeJson(a.get("report"), j);
+    writeJson(b.report, j);
   }
   return 0;
 }
