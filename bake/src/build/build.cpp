@@ -82,9 +82,8 @@ BuildResult finishBuild(const BuildOptions &o, const BuildPlan &plan,
       cb.seconds += out.seconds;
       if (out.failed && cb.error.empty())
         cb.error = jobs[i].label() + ": " + out.error;
-      ordered_json jj{{"kind", jobs[i].kind},     {"label", jobs[i].label()},
-                      {"key", jobs[i].key},       {"cached", out.cached},
-                      {"failed", out.failed},     {"seconds", out.seconds}};
+      ordered_json jj{{"kind", jobs[i].kind}, {"label", jobs[i].label()}, {"key", jobs[i].key},
+                      {"cached", out.cached}, {"failed", out.failed},     {"seconds", out.seconds}};
       if (out.failed)
         jj["error"] = out.error;
       if (!out.cacheProblem.empty())

@@ -64,15 +64,16 @@ std::vector<JobOutcome> executeJobs(const std::vector<Job> &jobs, const ContentC
       out[i].cached = true;
       settled[i] = 1;
       out[i].part = std::move(*hit);
-    } else if (auto error = options.recordedFailures ? cache.recordedFailure(jobs[i].key)
-                                                     : std::nullopt) {
+    } else if (auto error =
+                   options.recordedFailures ? cache.recordedFailure(jobs[i].key) : std::nullopt) {
       out[i].failed = true;
       out[i].error = oneLine(*error);
       settled[i] = 1;
     }
     out[i].cacheProblem = oneLine(out[i].cacheProblem);
   }
-  const int workers = std::max(1, std::min(resolveThreads(options.workers), int(std::max<size_t>(n, 1))));
+  const int workers =
+      std::max(1, std::min(resolveThreads(options.workers), int(std::max<size_t>(n, 1))));
   const int threadsPerJob = std::max(1, resolveThreads(0) / workers);
   std::mutex mutex;
   std::condition_variable wake;
@@ -93,8 +94,8 @@ std::vector<JobOutcome> executeJobs(const std::vector<Job> &jobs, const ContentC
       const double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
       const double perJob = baked ? bakeSeconds / double(baked) : 0;
       const double eta = perJob * double(n - finished) / workers;
-      std::fprintf(stderr, "\r\033[K[%zu/%zu] %zu cached, %zu failed, %s elapsed%s  %s",
-                   finished, n, cachedCount, failedCount, duration(elapsed).c_str(),
+      std::fprintf(stderr, "\r\033[K[%zu/%zu] %zu cached, %zu failed, %s elapsed%s  %s", finished,
+                   n, cachedCount, failedCount, duration(elapsed).c_str(),
                    baked ? (", ETA " + duration(eta)).c_str() : "", jobs[i].label().c_str());
       if (finished == n)
         std::fprintf(stderr, "\n");

@@ -64,8 +64,8 @@ ordered_json readPlan(const std::string &path) {
   try {
     ordered_json plan = ordered_json::parse(f);
     if (plan.at("baker_version") != kBakerVersion)
-      throw Error("written by baker " + plan.at("baker_version").get<std::string>() +
-                  ", this is " + kBakerVersion);
+      throw Error("written by baker " + plan.at("baker_version").get<std::string>() + ", this is " +
+                  kBakerVersion);
     return plan;
   } catch (const Error &e) {
     throw Error(path + ": " + e.what());
@@ -163,7 +163,8 @@ std::string writeSlurmScripts(const BuildOptions &build, const SlurmOptions &slu
             "  exec sbatch --parsable --wait \"${dep[@]}\" collect.sbatch\nfi\n"
             "sbatch --parsable \"${dep[@]}\" collect.sbatch\n";
   writeText(folder + "/submit.sh", submit.str(), true);
-  summary << "collect.sbatch: writes the packs and the report " << o.report << "\nsubmit.sh: submits them in order (afterok)\n";
+  summary << "collect.sbatch: writes the packs and the report " << o.report
+          << "\nsubmit.sh: submits them in order (afterok)\n";
   return summary.str();
 }
 
@@ -192,7 +193,7 @@ void runSlurmTask(const std::string &planPath, int stage, int task) {
     const Job &job = plan.jobs[mine[k]];
     if (job.key != keys[k])
       throw Error(job.label() + ": its inputs changed since the Slurm scripts were written: "
-                  "write them again");
+                                "write them again");
     std::string problem;
     if (cache.load(job.key, problem)) {
       std::printf("crowdbake: %s: cached\n", job.label().c_str());
@@ -228,8 +229,7 @@ void runSlurmTask(const std::string &planPath, int stage, int task) {
       c = c == '\n' ? ' ' : c;
     if (!error.empty())
       cache.recordFailure(job.key, error);
-    const double s =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::printf("crowdbake: %s: %s\n", job.label().c_str(),
                 error.empty() ? (std::to_string(s).substr(0, 5) + " s").c_str()
                               : ("FAILED: " + error).c_str());

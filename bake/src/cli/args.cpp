@@ -19,9 +19,7 @@ bool parseArgs(CLI::App &app, int argc, char **argv) {
   return true;
 }
 
-void example(CLI::App &app, const std::string &text) {
-  app.footer("\nexample:\n  " + text + "\n");
-}
+void example(CLI::App &app, const std::string &text) { app.footer("\nexample:\n  " + text + "\n"); }
 
 void InputArgs::add(CLI::App &app) {
   const char *group = "Untrusted input (every file read)";

@@ -10,19 +10,19 @@
 #include <CLI/CLI.hpp>
 
 #include "args.h"
-#include "crowd/bake/resource_guard.h"
-#include "crowd/formats/error.h"
 #include "commands.h"
 #include "crowd/bake/build.h"
+#include "crowd/bake/resource_guard.h"
 #include "crowd/bake/slurm.h"
+#include "crowd/formats/error.h"
 
 namespace crowd::cli {
 
 namespace {
 
-const char *const kDescription = R"(Builds characters into character packs: one pack per character holding everything the
-player draws (animation, skin weights, mesh with continuous LOD on every sub-mesh, outfits and
-their visibility, impostors for each listed (clip, outfit) pair).
+const char *const kDescription = R"(Builds characters into character packs: one pack per character
+holding everything the player draws (animation, skin weights, mesh with continuous LOD on every
+sub-mesh, outfits and their visibility, impostors for each listed (clip, outfit) pair).
 
 INPUT is a character manifest, e.g.
   {"name": "soldier", "body": "Soldier.glb"}
@@ -79,7 +79,8 @@ void printSummary(const nlohmann::ordered_json &r, const std::string &reportPath
                    c["error"].get<std::string>().c_str());
       continue;
     }
-    std::fprintf(stderr, "crowdbake: %s: %zu jobs (%zu run, %zu cached), %.1f s, %llu bytes -> %s\n",
+    std::fprintf(stderr,
+                 "crowdbake: %s: %zu jobs (%zu run, %zu cached), %.1f s, %llu bytes -> %s\n",
                  name.c_str(), c["jobs"].size(), c["jobs_run"].get<size_t>(),
                  c["jobs_cached"].get<size_t>(), c["bake_s"].get<double>(),
                  c["pack_bytes"].get<unsigned long long>(), c["pack"].get<std::string>().c_str());
@@ -101,8 +102,8 @@ int slurmBuild(const BuildOptions &o, const SlurmOptions &slurm, bool submit, bo
     return 0;
   fs::remove(o.report);
   const fs::path folder = fs::absolute(slurm.folder);
-  const std::string command = "WAIT=1 '" + (folder / "submit.sh").string() + "' >/dev/null" +
-                              (quiet ? " 2>/dev/null" : "");
+  const std::string command =
+      "WAIT=1 '" + (folder / "submit.sh").string() + "' >/dev/null" + (quiet ? " 2>/dev/null" : "");
   const int status = std::system(command.c_str());
   std::ifstream f(o.report);
   if (!f) {
@@ -117,8 +118,10 @@ int slurmBuild(const BuildOptions &o, const SlurmOptions &slurm, bool submit, bo
   }
   const auto report = nlohmann::ordered_json::parse(f);
   if (!quiet) {
-    std::fprintf(stderr, "crowdbake: on Slurm, 'cached' counts the parts the array tasks wrote "
-                         "(their logs: %s/logs)\n", folder.c_str());
+    std::fprintf(stderr,
+                 "crowdbake: on Slurm, 'cached' counts the parts the array tasks wrote "
+                 "(their logs: %s/logs)\n",
+                 folder.c_str());
     printSummary(report, o.report);
   }
   return report["characters_failed"].get<size_t>() > 0 ? 1 : 0;
@@ -170,7 +173,7 @@ int cmdBuild(int argc, char **argv) {
   if (onSlurm && slurm.folder.empty())
     slurm.folder = library ? (fs::path(o.output) / ".slurm").string() : o.output + ".slurm";
   if (o.report.empty())
-    o.report = library ? (fs::path(o.output) / "build.report.json").string()
+    o.report = library   ? (fs::path(o.output) / "build.report.json").string()
                : onSlurm ? (fs::path(slurm.folder) / "build.report.json").string()
                          : "";
   if (onSlurm) {

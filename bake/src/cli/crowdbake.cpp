@@ -12,6 +12,8 @@
 #include <OpenImageIO/imageio.h>
 #include <nlohmann/json.hpp>
 
+#include "args.h"
+#include "commands.h"
 #include "crowd/bake/anim_bake.h"
 #include "crowd/bake/anim_report.h"
 #include "crowd/bake/import.h"
@@ -26,8 +28,6 @@
 #include "crowd/formats/impostor.h"
 #include "crowd/formats/limits.h"
 #include "crowd/samples/samples.h"
-#include "args.h"
-#include "commands.h"
 
 using nlohmann::ordered_json;
 using namespace crowd::cli;
@@ -57,39 +57,43 @@ example:
   crowdbake samples --out s && crowdbake anim s/humanoid.glb -o h.crowdpack --report r.json
 )";
 
-const char *const kSamplesHelp = R"(Writes humanoid.glb, outfit_dress.glb, outfit_jumper_skirt.glb and outfit_shirt_trousers.glb
-into DIR. The output is deterministic: the same bytes on every run.)";
+const char *const kSamplesHelp = R"(Writes humanoid.glb, outfit_dress.glb, outfit_jumper_skirt.glb
+and outfit_shirt_trousers.glb into DIR. The output is deterministic: the same bytes on every
+run.)";
 
-const char *const kAnimHelp = R"(Samples every clip's joint matrices (global joint transform x inverse bind) into one animation
-texture, stores skin weights (2 texels per vertex) and the mesh, then checks the texture against
-exact evaluation of the glTF with the player's interpolation (at frames, mid-frames and random
-times) and reports the error.)";
+const char *const kAnimHelp = R"(Samples every clip's joint matrices (global joint transform x
+inverse bind) into one animation texture, stores skin weights (2 texels per vertex) and the
+mesh, then checks the texture against exact evaluation of the glTF with the player's
+interpolation (at frames, mid-frames and random times) and reports the error.)";
 
-const char *const kLodHelp = R"(Bakes what crowdbake anim bakes, with the mesh ordered for continuous LOD: the full edge-collapse
-sequence down to a floor, so a renderer can draw any vertex count v by taking each sub-mesh's
-first triangles (their count for v is stored) and following indices through the collapse map
-until they are below v. Collapses run on a welded half-edge mesh (OpenMesh) by quadric cost
-summed over the bind pose and poses sampled from every clip (skinning-aware);
-a UV or normal seam vertex collapses only along its seam, a boundary vertex only along its
-boundary; no cut has a degenerate triangle or one turned more than 75 degrees from its
-full-detail normal. No new vertices. Non-manifold, duplicate and zero-area triangles are
-repaired and reported.)";
+const char *const kLodHelp = R"(Bakes what crowdbake anim bakes, with the mesh ordered for
+continuous LOD: the full edge-collapse sequence down to a floor, so a renderer can draw any
+vertex count v by taking each sub-mesh's first triangles (their count for v is stored) and
+following indices through the collapse map until they are below v. Collapses run on a welded
+half-edge mesh (OpenMesh) by quadric cost summed over the bind pose and poses sampled from every
+clip (skinning-aware); a UV or normal seam vertex collapses only along its seam, a boundary
+vertex only along its boundary; no cut has a degenerate triangle or one turned more than 75
+degrees from its full-detail normal. No new vertices. Non-manifold, duplicate and zero-area
+triangles are repaired and reported.)";
 
-const char *const kImpostorHelp = R"(For sampled frames of a clip, renders the character from azimuths x elevations over the upper
-hemisphere with the deterministic rasterizer: object-space normals (RGB) with the region
-(sub-mesh) id + 1 in alpha, each view cropped to its silhouette, dilated (empty texels copy
-their nearest covered neighbour, region 0) and shelf-packed into one atlas per frame, with a
-16-bit UV map and a best impostor plane per view. crowdplay draws the pack for instances of
-this clip past the distance where a texel covers a pixel (scene file: "impostor" in a pack).)";
+const char *const kImpostorHelp = R"(For sampled frames of a clip, renders the character from
+azimuths x elevations over the upper hemisphere with the deterministic rasterizer: object-space
+normals (RGB) with the region (sub-mesh) id + 1 in alpha, each view cropped to its silhouette,
+dilated (empty texels copy their nearest covered neighbour, region 0) and shelf-packed into one
+atlas per frame, with a 16-bit UV map and a best impostor plane per view. crowdplay draws the
+pack for instances of this clip past the distance where a texel covers a pixel (scene file:
+"impostor" in a pack).)";
 
 const char *const kInspectHelp =
     "Lists the chunk table, provenance, joints, clips, texture sizes and bytes.";
-const char *const kVerifyHelp = R"(Validates the container (magic, version, sizes, checksums) and every chunk and
-cross-reference. Exit code 0 when the pack is sound, 1 with the first problem otherwise.)";
-const char *const kExportHelp = R"(Writes the pack's textures through OpenImageIO: float textures as OpenEXR (animation.exr,
-skin.exr), the diffuse texture when the pack has one (diffuse.png), and preview.png: the mesh
-skinned from the animation texture a quarter of the way into the first clip, seen from the
-front, one tint per sub-mesh. An impostor pack gives per frame its normals, UVs and regions.)";
+const char *const kVerifyHelp = R"(Validates the container (magic, version, sizes, checksums) and
+every chunk and cross-reference. Exit code 0 when the pack is sound, 1 with the first problem
+otherwise.)";
+const char *const kExportHelp = R"(Writes the pack's textures through OpenImageIO: float textures as
+OpenEXR (animation.exr, skin.exr), the diffuse texture when the pack has one (diffuse.png), and
+preview.png: the mesh skinned from the animation texture a quarter of the way into the first
+clip, seen from the front, one tint per sub-mesh. An impostor pack gives per frame its normals,
+UVs and regions.)";
 
 // One pack as the only positional argument.
 void addPack(CLI::App &app, std::string &pack) {
@@ -112,8 +116,9 @@ int cmdSamples(int argc, char **argv) {
 int cmdAnim(int argc, char **argv, const std::string &command) {
   const bool lodCommand = command == "lod";
   CLI::App app(lodCommand ? kLodHelp : kAnimHelp, "crowdbake " + command);
-  example(app, lodCommand ? "crowdbake lod humanoid.glb -o humanoid.crowdpack --report r.json"
-                          : "crowdbake anim humanoid.glb -o humanoid.crowdpack --fps 30 --report r.json");
+  example(app, lodCommand
+                   ? "crowdbake lod humanoid.glb -o humanoid.crowdpack --report r.json"
+                   : "crowdbake anim humanoid.glb -o humanoid.crowdpack --fps 30 --report r.json");
   BakeArgs b;
   b.add(app);
   crowd::AnimBakeOptions opt;
@@ -122,27 +127,31 @@ int cmdAnim(int argc, char **argv, const std::string &command) {
   std::string fpsText = CLI::detail::to_string(opt.fps);
   bool lodFlag = false;
   app.add_option("--clip", opt.clip, "bake only this clip (default: every clip)");
-  app.add_option("--mesh", io.mesh, "bake only this mesh (default: every mesh bound to the largest skin)");
+  app.add_option("--mesh", io.mesh,
+                 "bake only this mesh (default: every mesh bound to the largest skin)");
   app.add_option("--fps", fpsText,
                  "sampling rate, frames per second; \"source\" uses each clip's own key rate, "
                  "so baked frames sit on the keys")
       ->capture_default_str();
-  app.add_option("--max-width", opt.maxWidth, "texture width limit in texels")->capture_default_str();
+  app.add_option("--max-width", opt.maxWidth, "texture width limit in texels")
+      ->capture_default_str();
   app.add_option("--precision", opt.precision,
                  "float (3 RGBA32F texels per joint), half (3 RGBA16F), qts (2 RGBA32F: "
                  "quaternion, translation, uniform scale) or qts-half")
       ->capture_default_str();
-  app.add_option("--threads", opt.threads, "worker threads (0: all cores); output never depends on it")
+  app.add_option("--threads", opt.threads,
+                 "worker threads (0: all cores); output never depends on it")
       ->capture_default_str();
   CLI::Option *lodOption = nullptr;
   if (!lodCommand)
     lodOption = app.add_flag("--lod", lodFlag, "add continuous LOD (as crowdbake lod does)");
   const char *lodGroup = lodCommand ? "Options" : "LOD (with --lod)";
-  auto *floorOpt = app.add_option("--floor", lodOpt.floorFraction,
-                                  "stop collapsing at this share of the triangles, or where no legal "
-                                  "collapse is left")
-                       ->capture_default_str()
-                       ->group(lodGroup);
+  auto *floorOpt =
+      app.add_option("--floor", lodOpt.floorFraction,
+                     "stop collapsing at this share of the triangles, or where no legal "
+                     "collapse is left")
+          ->capture_default_str()
+          ->group(lodGroup);
   auto *posesOpt = app.add_option("--poses", lodOpt.poses,
                                   "animation poses in the collapse cost, spread over all clips; 0: "
                                   "the bind pose alone")
@@ -280,14 +289,14 @@ int cmdAnim(int argc, char **argv, const std::string &command) {
     writeJson(b.report, r);
   }
   if (progress)
-    std::fprintf(stderr, "crowdbake: wrote %s (%zu bytes)\n", b.output.c_str(),
-                 bytes.size());
+    std::fprintf(stderr, "crowdbake: wrote %s (%zu bytes)\n", b.output.c_str(), bytes.size());
   return 0;
 }
 
 int cmdImpostor(int argc, char **argv) {
   CLI::App app(kImpostorHelp, "crowdbake impostor");
-  example(app, "crowdbake impostor humanoid.glb -o walk_impostor.crowdpack --clip walk --frames 16");
+  example(app,
+          "crowdbake impostor humanoid.glb -o walk_impostor.crowdpack --clip walk --frames 16");
   BakeArgs b;
   b.add(app);
   crowd::ImpostorOptions opt;
@@ -295,13 +304,16 @@ int cmdImpostor(int argc, char **argv) {
   std::string views = std::to_string(opt.azimuths) + "x" + std::to_string(opt.elevations);
   app.add_option("--clip", opt.clip, "clip to sample (default: the first)");
   app.add_option("--mesh", io.mesh, "mesh to bake (default: every mesh bound to the largest skin)");
-  app.add_option("--frames", opt.frames, "frames sampled evenly over the clip")->capture_default_str();
+  app.add_option("--frames", opt.frames, "frames sampled evenly over the clip")
+      ->capture_default_str();
   app.add_option("--views", views, "azimuths x elevations")->capture_default_str();
-  app.add_option("--texels", opt.texels, "a full view's size before cropping")->capture_default_str();
+  app.add_option("--texels", opt.texels, "a full view's size before cropping")
+      ->capture_default_str();
   app.add_flag("--mirror", opt.mirror,
                "store azimuths 0..A/2 only: the others are mirrors of the views half a clip "
                "later (a walk); the report's mirror IoU says what that costs");
-  app.add_option("--threads", opt.threads, "worker threads (0: all cores); output never depends on it")
+  app.add_option("--threads", opt.threads,
+                 "worker threads (0: all cores); output never depends on it")
       ->capture_default_str();
   if (!parseArgs(app, argc, argv))
     return 0;
@@ -496,11 +508,12 @@ int cmdInspect(int argc, char **argv) {
   if (p.lod) {
     const uint32_t n = uint32_t(m.vertexCount());
     const uint64_t floorTriangles = p.lod->totalTriangles(p.lod->floorVertices);
-    j["lod"] = {{"vertices", n},
-                {"floor_vertices", p.lod->floorVertices},
-                {"floor_triangles", floorTriangles},
-                {"bytes", (p.lod->collapse.size() + p.lod->error.size() +
-                           p.lod->triangleCounts.size()) * 4}};
+    j["lod"] = {
+        {"vertices", n},
+        {"floor_vertices", p.lod->floorVertices},
+        {"floor_triangles", floorTriangles},
+        {"bytes",
+         (p.lod->collapse.size() + p.lod->error.size() + p.lod->triangleCounts.size()) * 4}};
   }
   if (p.outfits) {
     j["outfits"]["body_sub_meshes"] = p.outfits->bodySubMeshes;
@@ -512,15 +525,16 @@ int cmdInspect(int argc, char **argv) {
     }
   }
   for (const auto &m : character.impostors)
-    j["impostors"].push_back({{"clip", m.clip},
-                              {"outfit", m.outfit},
-                              {"frames", m.frames},
-                              {"views", std::to_string(m.azimuths) + "x" + std::to_string(m.elevations)},
-                              {"texels", m.texels},
-                              {"mirrored", m.mirrored},
-                              {"atlas_width", m.atlasWidth},
-                              {"atlas_height", m.atlasHeight},
-                              {"bytes", m.atlases.size() + m.uvAtlases.size() * 2}});
+    j["impostors"].push_back(
+        {{"clip", m.clip},
+         {"outfit", m.outfit},
+         {"frames", m.frames},
+         {"views", std::to_string(m.azimuths) + "x" + std::to_string(m.elevations)},
+         {"texels", m.texels},
+         {"mirrored", m.mirrored},
+         {"atlas_width", m.atlasWidth},
+         {"atlas_height", m.atlasHeight},
+         {"bytes", m.atlases.size() + m.uvAtlases.size() * 2}});
   if (asJson) {
     std::cout << j.dump(2) << "\n";
     return 0;
@@ -565,8 +579,8 @@ int cmdInspect(int argc, char **argv) {
       << " vertices, " << j["lod"]["floor_triangles"] << " triangles; " << j["lod"]["bytes"]
       << " bytes\n";
   if (p.outfits) {
-    o << "outfits: " << p.outfits->outfits.size() << ", over the first "
-      << p.outfits->bodySubMeshes << " sub-meshes (the body)\n";
+    o << "outfits: " << p.outfits->outfits.size() << ", over the first " << p.outfits->bodySubMeshes
+      << " sub-meshes (the body)\n";
     for (const auto &outfit : p.outfits->outfits) {
       o << "  " << outfit.name << ": draws";
       for (uint32_t s : outfit.subMeshes)
@@ -602,9 +616,8 @@ int cmdVerify(int argc, char **argv) {
   }
   auto c = crowd::pack::loadCharacterPack(reader);
   const auto &p = c.body;
-  std::cout << "ok: " << path << " (" << reader.chunks().size() << " chunks, "
-            << reader.fileSize() << " bytes, " << p.skeleton.jointCount() << " joints, "
-            << p.clips.size() << " clips"
+  std::cout << "ok: " << path << " (" << reader.chunks().size() << " chunks, " << reader.fileSize()
+            << " bytes, " << p.skeleton.jointCount() << " joints, " << p.clips.size() << " clips"
             << (p.outfits ? ", " + std::to_string(p.outfits->outfits.size()) + " outfits" : "")
             << (c.impostors.empty() ? "" : ", " + std::to_string(c.impostors.size()) + " impostors")
             << ")\n";

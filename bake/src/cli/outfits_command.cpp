@@ -18,15 +18,14 @@ namespace crowd::cli {
 
 namespace {
 
-const char *const kDescription = R"(The "tagged" method of clothed crowds: the body template keeps its sub-meshes (one per
-material); each outfit's garments, skinned to the same skeleton (joints matched by name), are
-added. For each outfit and body sub-mesh the bake decides, over every frame of every clip, whether
-the sub-mesh is visible, hidden (never drawn with that outfit) or partial (drawn through an
-outfit-specific copy holding only its visible faces). A body face is hidden only if, in every
-tested frame, rays from points on it over its whole outward hemisphere all hit the garments or
-the body. Alpha-masked or blended garments never hide anything. crowdplay draws the pack with an
-outfit per character (scene file: "outfit").)";
-
+const char *const kDescription = R"(The "tagged" method of clothed crowds: the body template keeps
+its sub-meshes (one per material); each outfit's garments, skinned to the same skeleton (joints
+matched by name), are added. For each outfit and body sub-mesh the bake decides, over every
+frame of every clip, whether the sub-mesh is visible, hidden (never drawn with that outfit) or
+partial (drawn through an outfit-specific copy holding only its visible faces). A body face is
+hidden only if, in every tested frame, rays from points on it over its whole outward hemisphere
+all hit the garments or the body. Alpha-masked or blended garments never hide anything.
+crowdplay draws the pack with an outfit per character (scene file: "outfit").)";
 
 std::pair<std::string, std::string> nameAndFile(const std::string &arg) {
   if (auto eq = arg.find('='); eq != std::string::npos && eq > 0)
@@ -84,11 +83,13 @@ int cmdOutfits(int argc, char **argv) {
       ->capture_default_str();
   app.add_option("--fps", opt.anim.fps, "animation sampling rate, as in crowdbake anim")
       ->capture_default_str();
-  app.add_option("--precision", opt.anim.precision, "animation texture precision, as in crowdbake anim")
+  app.add_option("--precision", opt.anim.precision,
+                 "animation texture precision, as in crowdbake anim")
       ->capture_default_str();
   app.add_option("--max-width", opt.anim.maxWidth, "texture width limit in texels")
       ->capture_default_str();
-  app.add_option("--threads", vis.threads, "worker threads (0: all cores); output never depends on it")
+  app.add_option("--threads", vis.threads,
+                 "worker threads (0: all cores); output never depends on it")
       ->capture_default_str();
   if (!parseArgs(app, argc, argv))
     return 0;
@@ -223,14 +224,14 @@ int cmdOutfits(int argc, char **argv) {
                                     {"kept_whole", s.keptWhole}});
       j["outfits"].push_back(oj);
     }
-    j["faces_stored"] = {{"naive", r.naiveFaces},
-                         {"prefitted", r.prefittedFaces},
-                         {"tagged", r.taggedFaces},
-                         {"outfit_specific", r.specificFaces},
-                         {"outfit_specific_share", double(r.specificFaces) / double(r.taggedFaces)},
-                         {"tagged_over_naive", double(r.taggedFaces) / double(r.naiveFaces)},
-                         {"tagged_over_prefitted",
-                          double(r.taggedFaces) / double(r.prefittedFaces)}};
+    j["faces_stored"] = {
+        {"naive", r.naiveFaces},
+        {"prefitted", r.prefittedFaces},
+        {"tagged", r.taggedFaces},
+        {"outfit_specific", r.specificFaces},
+        {"outfit_specific_share", double(r.specificFaces) / double(r.taggedFaces)},
+        {"tagged_over_naive", double(r.taggedFaces) / double(r.naiveFaces)},
+        {"tagged_over_prefitted", double(r.taggedFaces) / double(r.prefittedFaces)}};
     // Figure 6 of the seed: storage as outfits are added, from these outfits' means.
     for (int k = 1; k <= 10; ++k)
       j["extrapolated"].push_back({{"outfits", k},
