@@ -1,6 +1,7 @@
 #include "crowd/runtime/json_checker.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cstdio>
 
 #include "crowd/formats/error.h"
@@ -56,10 +57,47 @@ json JsonChecker::parse() const {
   }
 }
 
+namespace {
+
+// Where element `index` of the array whose key starts at `key` begins, or npos.
+size_t elementStart(const std::string &text, size_t key, size_t index) {
+  size_t i = text.find(':', text.find('"', key + 1));
+  i = i == std::string::npos ? i : text.find_first_not_of(" \t\r\n", i + 1);
+  if (i == std::string::npos || text[i] != '[')
+    return std::string::npos;
+  int depth = 0;
+  bool inString = false;
+  for (size_t n = 0, j = i + 1; j < text.size(); ++j) {
+    const char c = text[j];
+    if (inString) {
+      j += c == '\\';
+      inString = c != '"';
+    } else if (c == '"' || c == '[' || c == '{' || c == ',' || c == ']' || c == '}') {
+      if (depth == 0 && c != ',' && c != ']' && c != '}' && n == index)
+        return j;
+      inString = c == '"';
+      depth += c == '[' || c == '{';
+      depth -= c == ']' || c == '}';
+      if (depth < 0)
+        return std::string::npos;
+      n += depth == 0 && c == ',';
+    } else if (depth == 0 && n == index && !std::isspace(static_cast<unsigned char>(c))) {
+      return j; // a number, true, false or null
+    }
+  }
+  return std::string::npos;
+}
+
+} // namespace
+
 void JsonChecker::fail(const Keys &keys, const std::string &what) const {
   size_t pos = 0;
   for (const auto &k : keys) {
-    size_t found = text_.find("\"" + k + "\"", pos);
+    // An all-digit key after an array's key is an element index; otherwise a key to find.
+    const bool index = !k.empty() && std::all_of(k.begin(), k.end(), ::isdigit);
+    size_t found = index ? elementStart(text_, pos, std::stoul(k)) : std::string::npos;
+    if (found == std::string::npos)
+      found = text_.find("\"" + k + "\"", pos);
     if (found == std::string::npos)
       break;
     pos = found;

@@ -25,6 +25,10 @@ printf '{"name": "a", "body": "s/humanoid.glb",\n  "clips": "walk"}\n' > type.js
 expect_error 'type.json:2:3: /clips: expected a list' "$bin/crowdbake" build type.json -o a.crowdpack
 printf '{"name": "a", "body": "s/humanoid.glb", "clips": ["sprint"]}\n' > clip.json
 expect_error "no clip named 'sprint'" "$bin/crowdbake" build clip.json -o a.crowdpack
+# In a library, an inline character's error points at that character, not the first one.
+printf '{"characters": [\n  {"name": "a", "body": "s/humanoid.glb"},\n  {"name": "b", "body": "gone.glb"}]}\n' > inline.json
+expect_error 'inline.json:3:17: /characters/1/body: .*gone.glb: cannot open file' \
+  "$bin/crowdbake" build inline.json -o lib
 
 # A library: two good characters (one with impostors), one whose body is not glTF.
 head -c 300 s/humanoid.glb > broken.glb

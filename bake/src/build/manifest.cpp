@@ -97,8 +97,9 @@ CharacterManifest parse(const JsonChecker &c, const json &j, const Keys &at,
   m.name = c.string(j["name"], key("name"));
   for (char ch : m.name)
     if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '_' && ch != '-' && ch != '.')
-      c.fail(key("name"), "'" + m.name + "' may hold only letters, digits, '_', '-' and '.' "
-                                         "(it names the pack file)");
+      c.fail(key("name"), "'" + m.name +
+                              "' may hold only letters, digits, '_', '-' and '.' "
+                              "(it names the pack file)");
   m.input = policy;
   m.body = inputFile(c, j["body"], key("body"), policy);
   if (j.contains("outfits")) {
@@ -122,8 +123,8 @@ CharacterManifest parse(const JsonChecker &c, const json &j, const Keys &at,
     if (a.contains("fps"))
       m.anim.fps = a["fps"] == "source" ? 0 : c.number(a["fps"], key2("anim", "fps"), 1e-3, 1000);
     if (a.contains("max_width"))
-      m.anim.maxWidth = whole(c, a["max_width"], key2("anim", "max_width"), 2,
-                          limits::kTextureSide);
+      m.anim.maxWidth =
+          whole(c, a["max_width"], key2("anim", "max_width"), 2, limits::kTextureSide);
     if (a.contains("precision"))
       m.anim.precision = c.string(a["precision"], key2("anim", "precision"));
     validate(c, m.anim, k);
@@ -190,7 +191,8 @@ CharacterManifest parse(const JsonChecker &c, const json &j, const Keys &at,
     }
     for (const auto &clip : m.impostorClips)
       if (!m.clips.empty() && std::find(m.clips.begin(), m.clips.end(), clip) == m.clips.end())
-        c.fail(key2("impostor", "clips"), "clip '" + clip + "' is not among the character's \"clips\"");
+        c.fail(key2("impostor", "clips"),
+               "clip '" + clip + "' is not among the character's \"clips\"");
     if (im.contains("frames"))
       m.impostor.frames = whole(c, im["frames"], key2("impostor", "frames"), 1, 4096);
     if (im.contains("texels"))
@@ -228,19 +230,22 @@ nlohmann::ordered_json CharacterManifest::canonical() const {
     j["outfits"].push_back(outfit);
   if (!outfits.empty()) {
     const auto &v = outfitOptions.visibility;
-    j["visibility"] = {{"frame_step", v.frameStep}, {"rays", v.rays},
-                       {"points", v.points},        {"ring", v.ring},
-                       {"ground", v.ground},        {"regions", outfitOptions.regions},
+    j["visibility"] = {{"frame_step", v.frameStep},
+                       {"rays", v.rays},
+                       {"points", v.points},
+                       {"ring", v.ring},
+                       {"ground", v.ground},
+                       {"regions", outfitOptions.regions},
                        {"min_saving", outfitOptions.minSaving}};
   }
   if (!impostorClips.empty())
-    j["impostor"] = {{"clips", impostorClips},
-                     {"outfits", impostorOutfits},
-                     {"frames", impostor.frames},
-                     {"views", std::to_string(impostor.azimuths) + "x" +
-                                   std::to_string(impostor.elevations)},
-                     {"texels", impostor.texels},
-                     {"mirror", impostor.mirror}};
+    j["impostor"] = {
+        {"clips", impostorClips},
+        {"outfits", impostorOutfits},
+        {"frames", impostor.frames},
+        {"views", std::to_string(impostor.azimuths) + "x" + std::to_string(impostor.elevations)},
+        {"texels", impostor.texels},
+        {"mirror", impostor.mirror}};
   return j;
 }
 
@@ -267,19 +272,21 @@ Library loadLibrary(const std::string &path, const InputPolicy &policy) {
   const json &list = j["characters"];
   if (!list.is_array() || list.empty())
     c.fail({"characters"}, "expected a non-empty list of manifest files or objects");
-  for (const auto &entry : list) {
+  for (size_t i = 0; i < list.size(); ++i) {
+    const json &entry = list[i];
+    const Keys at = {"characters", std::to_string(i)};
     if (entry.is_string()) {
-      const std::string file = inputFile(c, entry, {"characters"}, policy);
+      const std::string file = inputFile(c, entry, at, policy);
       const std::string sub = readText(file, policy);
       JsonChecker sc(sub, file);
       const json sj = sc.parse();
       if (sj.is_object() && sj.contains("characters"))
-        c.fail({"characters"}, "'" + file + "' is a library, not a character manifest");
+        c.fail(at, "'" + file + "' is a library, not a character manifest");
       lib.characters.push_back(parse(sc, sj, {}, policy));
     } else if (entry.is_object()) {
-      lib.characters.push_back(parse(c, entry, {"characters"}, policy));
+      lib.characters.push_back(parse(c, entry, at, policy));
     } else {
-      c.fail({"characters"}, "expected a manifest file name or an inline manifest object");
+      c.fail(at, "expected a manifest file name or an inline manifest object");
     }
   }
   std::set<std::string> seen;
