@@ -93,9 +93,15 @@ void printSummary(const nlohmann::ordered_json &r, const std::string &reportPath
 }
 
 // Writes the Slurm scripts and, with `submit`, runs them and waits for the collect job.
-int slurmBuild(const BuildOptions &o, const SlurmOptions &slurm, bool submit, bool quiet) {
+// The guard bounds the planning here, not the wait for the cluster.
+int slurmBuild(const BuildOptions &o, const SlurmOptions &slurm, const ResourceLimits &limits,
+               bool submit, bool quiet) {
   namespace fs = std::filesystem;
-  const std::string summary = writeSlurmScripts(o, slurm);
+  std::string summary;
+  {
+    ResourceGuard guard(limits, "crowdbake build " + o.input);
+    summary = writeSlurmScripts(o, slurm);
+  }
   if (!quiet)
     std::fprintf(stderr, "%s", summary.c_str());
   if (!submit)
@@ -184,9 +190,9 @@ int cmdBuild(int argc, char **argv) {
       throw UsageError(e.what());
     }
   }
-  ResourceGuard guard(files.limits, "crowdbake build " + o.input);
   if (onSlurm)
-    return slurmBuild(o, slurm, useSlurm, quiet);
+    return slurmBuild(o, slurm, files.limits, useSlurm, quiet);
+  ResourceGuard guard(files.limits, "crowdbake build " + o.input);
   BuildResult r = build(o);
   if (!o.report.empty())
     writeJson(o.report, r.report);
