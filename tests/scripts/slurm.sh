@@ -3,7 +3,8 @@
 # library built through job arrays gives the same pack bytes as the local build; a failing
 # character is recorded by its task and reported by the collect job; --emit-slurm writes
 # scripts without submitting; a stopped cluster is one clear error. Exit 77 (skip) with the
-# reason where the daemons cannot start.
+# reason where the daemons cannot start. The bakes are kept small: under the sanitizers every
+# one of them runs three times.
 set -euo pipefail
 bin=$1 work=$2
 here=$(cd "$(dirname "$0")" && pwd)
@@ -22,9 +23,11 @@ cat > library.json <<'JSON'
   {"name": "walker", "body": "s/humanoid.glb", "clips": ["walk"],
    "impostor": {"clips": ["walk"], "frames": 2, "views": "4x2", "texels": 16}},
   {"name": "broken", "body": "broken.glb"},
-  {"name": "runner", "body": "s/humanoid.glb", "clips": ["run", "idle"], "lod": {"floor": 0.1}},
+  {"name": "runner", "body": "s/humanoid.glb", "clips": ["run", "idle"],
+   "lod": {"floor": 0.1, "poses": 2}},
   {"name": "dressed", "body": "s/humanoid.glb", "clips": ["walk"],
-   "outfits": {"dress": "s/outfit_dress.glb"}, "lod": {"poses": 4},
+   "outfits": {"dress": "s/outfit_dress.glb"}, "lod": false,
+   "visibility": {"frame_step": 8, "rays": 8},
    "impostor": {"clips": ["walk"], "outfits": ["dress"], "frames": 2, "views": "4x2", "texels": 16}}
 ]}
 JSON
