@@ -58,6 +58,20 @@ void BakeArgs::add(CLI::App &app) {
   files.add(app);
 }
 
+void addTextureOptions(CLI::App &app, AnimBakeOptions &anim) {
+  app.add_option("--max-width", anim.maxWidth, "texture width limit in texels")
+      ->capture_default_str();
+  app.add_option("--precision", anim.precision,
+                 "float (3 RGBA32F texels per joint), half (3 RGBA16F), qts (2 RGBA32F: "
+                 "quaternion, translation, uniform scale) or qts-half")
+      ->capture_default_str();
+}
+
+void addThreads(CLI::App &app, int &threads) {
+  app.add_option("--threads", threads, "worker threads (0: all cores); output never depends on it")
+      ->capture_default_str();
+}
+
 bool BakeArgs::progress() const { return !quiet && isatty(2); }
 
 void writeJson(const std::string &path, const nlohmann::ordered_json &j) {

@@ -8,6 +8,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "crowd/bake/anim_bake.h"
 #include "crowd/bake/input_files.h"
 #include "crowd/bake/report.h"
 #include "crowd/bake/resource_guard.h"
@@ -56,6 +57,11 @@ struct BakeArgs {
   void add(CLI::App &app);
   bool progress() const; // stderr is a terminal and --quiet is not given
 };
+
+// --max-width and --precision of the animation texture (anim, lod, outfits).
+void addTextureOptions(CLI::App &app, AnimBakeOptions &anim);
+// --threads of any bake.
+void addThreads(CLI::App &app, int &threads);
 
 void writeJson(const std::string &path, const nlohmann::ordered_json &j); // atomically
 

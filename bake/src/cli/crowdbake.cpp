@@ -133,15 +133,8 @@ int cmdAnim(int argc, char **argv, const std::string &command) {
                  "sampling rate, frames per second; \"source\" uses each clip's own key rate, "
                  "so baked frames sit on the keys")
       ->capture_default_str();
-  app.add_option("--max-width", opt.maxWidth, "texture width limit in texels")
-      ->capture_default_str();
-  app.add_option("--precision", opt.precision,
-                 "float (3 RGBA32F texels per joint), half (3 RGBA16F), qts (2 RGBA32F: "
-                 "quaternion, translation, uniform scale) or qts-half")
-      ->capture_default_str();
-  app.add_option("--threads", opt.threads,
-                 "worker threads (0: all cores); output never depends on it")
-      ->capture_default_str();
+  addTextureOptions(app, opt);
+  addThreads(app, opt.threads);
   CLI::Option *lodOption = nullptr;
   if (!lodCommand)
     lodOption = app.add_flag("--lod", lodFlag, "add continuous LOD (as crowdbake lod does)");
@@ -312,9 +305,7 @@ int cmdImpostor(int argc, char **argv) {
   app.add_flag("--mirror", opt.mirror,
                "store azimuths 0..A/2 only: the others are mirrors of the views half a clip "
                "later (a walk); the report's mirror IoU says what that costs");
-  app.add_option("--threads", opt.threads,
-                 "worker threads (0: all cores); output never depends on it")
-      ->capture_default_str();
+  addThreads(app, opt.threads);
   if (!parseArgs(app, argc, argv))
     return 0;
   b.files.finish();

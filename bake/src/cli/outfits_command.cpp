@@ -83,14 +83,8 @@ int cmdOutfits(int argc, char **argv) {
       ->capture_default_str();
   app.add_option("--fps", opt.anim.fps, "animation sampling rate, as in crowdbake anim")
       ->capture_default_str();
-  app.add_option("--precision", opt.anim.precision,
-                 "animation texture precision, as in crowdbake anim")
-      ->capture_default_str();
-  app.add_option("--max-width", opt.anim.maxWidth, "texture width limit in texels")
-      ->capture_default_str();
-  app.add_option("--threads", vis.threads,
-                 "worker threads (0: all cores); output never depends on it")
-      ->capture_default_str();
+  addTextureOptions(app, opt.anim);
+  addThreads(app, vis.threads);
   if (!parseArgs(app, argc, argv))
     return 0;
   b.files.finish();
