@@ -31,6 +31,9 @@ void main() {
   if (v_flip == 1) n.x = -n.x;
   n = normalize(vec3(dot(v_rows0, n), dot(v_rows1, n), dot(v_rows2, n)));
   float diffuse = max(dot(n, u_lightDirection), 0.0);
-  vec3 albedo = colours[int(v_palette) * u_subMeshCount + min(region, u_subMeshCount) - 1].rgb * textured;
+  // As on the geometry: A of the region's colour says how much the texture applies (garments of a
+  // clothed pack are not textured).
+  vec4 colour = colours[int(v_palette) * u_subMeshCount + min(region, u_subMeshCount) - 1];
+  vec3 albedo = colour.rgb * mix(vec3(1.0), textured, colour.a);
   o_colour = vec4(albedo * (0.25 + 0.75 * diffuse), 1.0);
 }

@@ -149,8 +149,7 @@ uint64_t chooseLevels(std::span<Visible> visible, std::span<const LodLevels> lad
   return total;
 }
 
-void CrowdSelection::addCharacter(const pack::AnimationPack &pack,
-                                  const pack::Impostor *impostor) {
+void CrowdSelection::addCharacter(const pack::AnimationPack &pack, const pack::Impostor *impostor) {
   Character c;
   const auto &b = pack.mesh.boundingSphere;
   c.radius = b[3];
@@ -200,7 +199,7 @@ CrowdSelection::Result CrowdSelection::select(const FrameView &view, const DrawO
       if (hybrid && c.eligible[i]) {
         const glm::vec3 e = view.eye - c.centres[i];
         const double d2 = double(glm::dot(e, e));
-        c.far[i] = c.far[i] ? d2 > in2 : d2 > out2;
+        c.far[i] = options.allImpostors || (c.far[i] ? d2 > in2 : d2 > out2);
       } else {
         c.far[i] = 0;
       }
@@ -221,6 +220,15 @@ CrowdSelection::Result CrowdSelection::select(const FrameView &view, const DrawO
                  ? options.budget - 2 * uint64_t(r.impostors)
                  : 1;
   r.triangles = chooseLevels(visible_, ladders, budget) + 2 * uint64_t(r.impostors);
+  if (options.detail > 0 && !naive) {
+    r.triangles = 2 * uint64_t(r.impostors);
+    for (auto &v : visible_) {
+      const auto &ladder = ladders[v.character];
+      const double share = std::min(options.detail, 1.0) * double(ladder.triangles.back());
+      v.level = ladder.finestWithin[size_t(share)];
+      r.triangles += ladder.triangles[v.level];
+    }
+  }
   // Counting sort by level: runEnds counts, then holds where each run starts, then where it ends.
   for (auto &c : characters)
     std::fill(c.runEnds.begin(), c.runEnds.end(), 0u);

@@ -2,7 +2,8 @@
 // baked (against the CPU reference), draw calls do not grow with instances, a small scene matches
 // its golden screenshot within a tolerance, culling changes no pixel, budgeted LOD keeps the
 // budget and the picture, impostors stand in for the geometry at the switch (with hysteresis),
-// clothed characters drawn tagged match the naive draw, and bad input fails with one clear line.
+// clothed characters drawn tagged match the naive draw, a character pack previews (its clothed
+// impostor coloured as its geometry), and bad input fails with one clear line.
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -476,6 +477,62 @@ TEST(Player, ClothedCharactersDrawWhatTheirOutfitLeavesVisible) {
   EXPECT_LE(differing, covered / 1000);
 }
 
+// A character pack previewed without a scene: --clip/--outfit narrow the row, --impostors draws
+// the impostor at any distance and --detail fixes the level. The impostor of a clothed pair must
+// colour each region as the geometry does: garments untextured (it once textured them with the
+// body's skin), so the mean colour of the covered pixels agrees.
+TEST(Player, PreviewsACharacterPackAndItsClothedImpostorMatchesTheGeometry) {
+  const std::string manifest = work() + "/villager.json", pack = work() + "/villager.crowdpack";
+  std::ofstream(manifest) << R"({"name": "villager", "body": "humanoid.glb", "clips": ["walk"],
+    "outfits": {"shirt": "outfit_shirt_trousers.glb"}, "lod": {"poses": 2},
+    "visibility": {"regions": "joint", "frame_step": 8, "ring": 2},
+    "impostor": {"clips": ["walk"], "outfits": ["shirt"], "frames": 4, "views": "8x4", "texels": 96}})";
+  auto bake = run(std::string(CROWDBAKE) + " build " + manifest + " -o " + pack + " --quiet");
+  ASSERT_EQ(bake.code, 0) << bake.err;
+  const std::string play = std::string(CROWDPLAY) + " " + pack + " --headless --frames 1 " +
+                           "--size 240x320 --clip walk --outfit shirt ";
+  std::map<std::string, Image> img;
+  std::map<std::string, nlohmann::json> stats;
+  for (const std::string flags : {"--geometry", "--impostors", "--geometry --detail 0.1"}) {
+    const std::string name = work() + "/preview_" + std::to_string(img.size());
+    auto r = run(play + flags + " --screenshot " + name + ".png --stats " + name + ".json");
+    ASSERT_EQ(r.code, 0) << r.err;
+    img[flags] = readPng(name + ".png");
+    stats[flags] = summaryOf(name + ".json")["summary"];
+  }
+  // One pair: the near instance and the far one.
+  EXPECT_EQ(stats["--geometry"]["instances"], 2);
+  EXPECT_EQ(stats["--impostors"]["impostors"], 2);
+  EXPECT_EQ(stats["--geometry"]["impostors"], 0);
+  EXPECT_LT(stats["--geometry --detail 0.1"]["triangles"].get<double>(),
+            0.2 * stats["--geometry"]["triangles"].get<double>());
+  auto meanColour = [](const Image &im) {
+    glm::dvec3 sum(0);
+    size_t n = 0;
+    for (size_t i = 0; i < im.rgb.size() / 3; ++i)
+      if (!isBackground(im, i))
+        sum += glm::dvec3(im.rgb[i * 3], im.rgb[i * 3 + 1], im.rgb[i * 3 + 2]), ++n;
+    return std::make_pair(sum / double(std::max<size_t>(n, 1)), n);
+  };
+  const auto [geometry, geometryPixels] = meanColour(img["--geometry"]);
+  const auto [impostor, impostorPixels] = meanColour(img["--impostors"]);
+  std::printf("clothed preview: mean colour geometry (%.0f %.0f %.0f) over %zu pixels, impostor "
+              "(%.0f %.0f %.0f) over %zu\n",
+              geometry.r, geometry.g, geometry.b, geometryPixels, impostor.r, impostor.g,
+              impostor.b, impostorPixels);
+  EXPECT_GT(geometryPixels, 3000u);
+  EXPECT_NEAR(double(impostorPixels), double(geometryPixels), 0.15 * double(geometryPixels));
+  for (int k = 0; k < 3; ++k)
+    EXPECT_NEAR(impostor[k], geometry[k], 8.0) << "channel " << k;
+
+  auto wrong = run(std::string(CROWDPLAY) + " " + pack + " --headless --outfit cape");
+  test::expectOneLineError(wrong, "crowdplay", "the pack has no outfit 'cape' (outfits: shirt)");
+  EXPECT_EQ(run(std::string(CROWDPLAY) + " " + writeScene("one_pick", oneCharacter()) +
+                " --headless --clip walk")
+                .code,
+            2);
+}
+
 void expectOneLineError(const CliRun &r, const std::string &needle) {
   test::expectOneLineError(r, "crowdplay", needle);
 }
@@ -516,9 +573,8 @@ TEST(Player, BadInputIsOneClearLine) {
   auto many = oneCharacter();
   many["instances"]["count"] = 1e9;
   expectOneLineError(run(play + writeScene("many", many) + " --headless"), "/instances/count");
-  EXPECT_EQ(run(play + writeScene("one", oneCharacter()) + " --headless --instances 1000000000")
-                .code,
-            2);
+  EXPECT_EQ(
+      run(play + writeScene("one", oneCharacter()) + " --headless --instances 1000000000").code, 2);
 
   // A pack whose animation texture is wider than any OpenGL allows (a 1,000 s clip baked into
   // 65,536-texel rows): one error naming the pack, not a quiet GL error and a garbage frame.

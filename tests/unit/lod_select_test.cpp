@@ -113,7 +113,7 @@ TEST(LodSelect, ChoiceFitsTheBudgetAndFavoursTheNear) {
     // passes share what that leaves (measured: 96.2% used at the worst of these budgets).
     EXPECT_GE(double(total), 0.95 * double(budget)) << budget;
   }
-  EXPECT_EQ(chooseLevels(visible, ladders, 0), full); // no budget: full detail
+  EXPECT_EQ(chooseLevels(visible, ladders, 0), full);            // no budget: full detail
   EXPECT_EQ(chooseLevels(visible, ladders, floors / 2), floors); // floors exceed: all at floor
   for (const auto &v : visible)
     EXPECT_EQ(v.level, 0u);
@@ -157,4 +157,33 @@ TEST(LodSelect, SelectionCullsAndSortsByLevel) {
   // No culling: everyone drawn.
   o.cull = false;
   EXPECT_EQ(s.select(view, o).visible, 200u);
+}
+
+TEST(LodSelect, AFixedDetailOverridesTheBudget) {
+  const auto &p = lodPack();
+  const auto ladder = lodLevels(p);
+  CrowdSelection s;
+  s.addCharacter(p, nullptr);
+  for (int i = 0; i < 20; ++i)
+    s.addInstance({0.5f * float(i - 10), 0, 0}, 0, false);
+  FrameView view;
+  view.eye = {0, 1.6f, 10};
+  view.viewProjection = viewProjection(view.eye, {0, 1, 0});
+  view.fovY = glm::radians(50.0);
+  DrawOptions o;
+  o.budget = 100; // far below even the coarsest level
+  for (double detail : {1.0, 0.5, 0.1}) {
+    o.detail = detail;
+    const auto r = s.select(view, o);
+    ASSERT_EQ(r.visible, 20u);
+    const uint64_t each = r.triangles / 20;
+    EXPECT_EQ(each * 20, r.triangles) << "every instance at one level";
+    EXPECT_LE(double(each), detail * double(ladder.triangles.back()));
+    // The finest level within the share: the next one up would pass it.
+    const auto at = std::find(ladder.triangles.begin(), ladder.triangles.end(), each);
+    ASSERT_NE(at, ladder.triangles.end());
+    if (at + 1 != ladder.triangles.end()) {
+      EXPECT_GT(double(at[1]), detail * double(ladder.triangles.back()));
+    }
+  }
 }

@@ -2,14 +2,17 @@
 // window, or headless (offscreen, fixed time step) for screenshots, stats and benchmarks.
 // GLFW must not pull in GL headers of its own: libepoxy provides them.
 #define GLFW_INCLUDE_NONE
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <string>
 
+#include <CLI/CLI.hpp>
 #include <GLFW/glfw3.h>
 #include <OpenImageIO/imageio.h>
 #include <epoxy/gl.h>
@@ -21,134 +24,137 @@
 #include "crowd/formats/impostor.h"
 #include "crowd/formats/limits.h"
 #include "crowd/runtime/character_types.h"
-#include "crowd/runtime/preview_scene.h"
 #include "crowd/runtime/crowd_renderer.h"
+#include "crowd/runtime/preview_scene.h"
 #include "crowd/runtime/scene.h"
 
 namespace {
 
-const char *kHelp = R"(usage: crowdplay SCENE.json [options]
+const char *kAbout = R"(crowdplay: draws a scene's crowd from baked packs, or previews one pack
 
-Draws the scene's crowd from baked packs with skinned instancing (one instanced multi-draw per
-sub-mesh per character type). Instances outside the view are culled by a sphere that holds the
-character at every frame. Under a triangle budget (--budget, or "budget" in the scene), each
-visible instance of a pack with LOD (crowdbake lod) gets a level of detail: the budget is
-shared by weights from projected area and distance. Where a scene pack names an impostor pack,
-instances playing the impostor's clip draw as impostors once one impostor texel is no bigger
-than a pixel (all of a type in one more instanced draw). In a clothed pack (crowdbake outfits)
-each instance wears the outfit the scene gives it ("outfit": a name, a list, or {name: weight})
-and draws only the body parts it leaves visible: each frame, a render queue per sub-mesh holds
-the visible instances that draw it, one instanced draw each. Without --headless a window
-opens: drag with the left mouse button to orbit, scroll to zoom, W/A/S/D to move, Esc to quit;
-the title shows frame time, visible instances, triangles against the budget and draw calls.
+usage: crowdplay SCENE.json [options]
+       crowdplay PACK.crowdpack [options]
 
-options:
-  --headless           render offscreen (run under xvfb-run -a where there is no display)
-  --frames N           frames to render headless (default 60), at a fixed 1/30 s step
-  --size WxH           image size (default 1280x720)
-  --instances K        override the scene's instance count (its placement rule stays)
-  --screenshot FILE    write the last frame as PNG
-  --stats FILE         write per-frame frame_ms, gpu_ms, cull_select_ms, draw_calls,
-                       instances, visible, impostors, triangles (an impostor counts two) and
-                       their means under "summary" (with the budget); vertices: vertex
-                       shader invocations, where the driver counts them
-  --budget N           triangles a frame (0: none, full detail; default: the scene's)
-  --no-cull            draw instances outside the view too (the reference for culling)
-  --naive              one draw per instance per sub-mesh, instance data in uniforms (no
-                       culling, LOD or impostors)
-  --geometry           instanced geometry only: no impostors (the baseline of the hybrid)
-  --whole-body         clothed packs: draw the whole body under the garments (the naive
-                       method, for comparison) instead of each outfit's visible sub-meshes
-  --time SECONDS       scene time of the first frame (default 0)
-  --step SECONDS       headless time step between frames (default 1/30)
+Skinned instancing: one instanced multi-draw per sub-mesh per character type. Instances outside
+the view are culled by a sphere that holds the character at every frame. Under a triangle budget
+(--budget, or "budget" in the scene), each visible instance of a pack with LOD gets a level of
+detail: the budget is shared by weights from projected area and distance. Instances playing a
+clip that has an impostor (a character pack's, or the impostor pack a scene names) draw as
+impostors once one impostor texel is no bigger than a pixel (all of a type in one more instanced
+draw). In a clothed pack each instance wears the outfit the scene gives it ("outfit": a name, a
+list, or {name: weight}) and draws only the body parts it leaves visible, through a render queue
+per sub-mesh.
 
-example:
-  xvfb-run -a crowdplay samples/scenes/demo.json --headless --frames 120 --screenshot a.png --stats s.json
-)";
+A pack given without a scene file is previewed: every (clip, outfit) pair in a row framed by the
+pack's bounding sphere, the same row far behind (where impostors take over), and a turntable
+camera. --clip and --outfit narrow the row.
 
-struct UsageError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
+Without --headless a window opens: drag with the left mouse button to orbit, scroll to zoom,
+W/A/S/D to move, Esc to quit. Keys: C next clip, O next outfit (pack previews), L next level of
+detail (auto, 100%, 50%, 25%, 10%, 5%), I next drawing (hybrid, geometry only, impostors only).
+The title shows the choice, frame time, visible instances, triangles against the budget and draw
+calls.)";
 
 struct Options {
-  std::string scene, screenshot, stats;
+  std::string scene, screenshot, stats, clip, outfit;
   bool headless = false;
   crowd::runtime::DrawOptions draw;
   long budget = -1; // -1: the scene's
   int frames = 60, width = 1280, height = 720;
   size_t instances = 0;
   double startTime = 0, step = 1.0 / 30.0;
+  bool previewPack() const { return std::filesystem::path(scene).extension() == ".crowdpack"; }
 };
 
-Options parse(int argc, char **argv) {
-  Options o;
-  auto value = [&](int &i) {
-    if (i + 1 >= argc)
-      throw UsageError(std::string(argv[i]) + " needs a value");
-    return std::string(argv[++i]);
-  };
-  auto integer = [&](const std::string &s, const char *what, long lo, long hi) {
-    try {
-      size_t used = 0;
-      long v = std::stol(s, &used);
-      if (used == s.size() && v >= lo && v <= hi)
-        return v;
-    } catch (const std::exception &) {
-    }
-    throw UsageError(std::string(what) + " expects an integer in [" + std::to_string(lo) + ", " +
-                     std::to_string(hi) + "], got '" + s + "'");
-  };
-  for (int i = 1; i < argc; ++i) {
-    std::string a = argv[i];
-    if (a == "--headless")
-      o.headless = true;
-    else if (a == "--naive")
-      o.draw.path = crowd::runtime::DrawPath::Naive;
-    else if (a == "--geometry")
-      o.draw.path = crowd::runtime::DrawPath::Instanced;
-    else if (a == "--no-cull")
-      o.draw.cull = false;
-    else if (a == "--whole-body")
-      o.draw.wholeBody = true;
-    else if (a == "--budget")
-      o.budget = integer(value(i), "--budget", 0, 1000000000000L);
-    else if (a == "--frames")
-      o.frames = int(integer(value(i), "--frames", 1, 1000000));
-    else if (a == "--instances")
-      o.instances = size_t(integer(value(i), "--instances", 1, long(crowd::limits::kInstances)));
-    else if (a == "--screenshot")
-      o.screenshot = value(i);
-    else if (a == "--stats")
-      o.stats = value(i);
-    else if (a == "--time" || a == "--step") {
-      std::string v = value(i);
-      double seconds;
-      try {
-        seconds = std::stod(v);
-      } catch (const std::exception &) {
-        throw UsageError(a + " expects seconds, got '" + v + "'");
-      }
-      if (!std::isfinite(seconds) || (a == "--step" && seconds < 0))
-        throw UsageError(a + " expects finite, non-negative seconds, got '" + v + "'");
-      (a == "--time" ? o.startTime : o.step) = seconds;
-    } else if (a == "--size") {
-      std::string v = value(i);
-      auto x = v.find('x');
-      if (x == std::string::npos)
-        throw UsageError("--size expects WxH, got '" + v + "'");
-      o.width = int(integer(v.substr(0, x), "--size width", 16, crowd::limits::kScreenSide));
-      o.height = int(integer(v.substr(x + 1), "--size height", 16, crowd::limits::kScreenSide));
-    } else if (a.rfind("--", 0) == 0) {
-      throw UsageError("unknown option " + a);
-    } else if (o.scene.empty()) {
-      o.scene = a;
-    } else {
-      throw UsageError("one scene file only");
-    }
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// False when --help was asked for (printed on stdout).
+bool parse(int argc, char **argv, Options &o) {
+  CLI::App app(kAbout, "crowdplay");
+  app.add_option("SCENE", o.scene, "a scene (.json) or a pack to preview (.crowdpack)")->required();
+  app.add_flag("--headless", o.headless,
+               "render offscreen at a fixed time step (run under xvfb-run -a without a display)");
+  app.add_option("--frames", o.frames, "frames to render headless")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1000000));
+  std::string size = "1280x720";
+  app.add_option("--size", size, "image size, WxH")->capture_default_str();
+  app.add_option("--instances", o.instances,
+                 "override the scene's instance count (its placement rule stays)")
+      ->check(CLI::Range(size_t(1), size_t(crowd::limits::kInstances)));
+  app.add_option("--screenshot", o.screenshot, "write the last headless frame as PNG");
+  app.add_option("--stats", o.stats,
+                 "write per-frame frame_ms, gpu_ms, cull_select_ms, draw_calls, instances, "
+                 "visible, impostors, triangles (an impostor counts two) and vertices (vertex "
+                 "shader invocations, where the driver counts them), and their means under "
+                 "\"summary\", as JSON");
+  app.add_option("--budget", o.budget,
+                 "triangles a frame (0: none, full detail; default: the scene's)")
+      ->check(CLI::Range(0L, 1000000000000L));
+  app.add_option("--detail", o.draw.detail,
+                 "every geometry instance at this share of its full detail's triangles, "
+                 "whatever the budget (0: chosen under the budget)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
+  app.add_flag_callback(
+      "--no-cull", [&] { o.draw.cull = false; },
+      "draw instances outside the view too (the reference for culling)");
+  auto *naive = app.add_flag_callback(
+      "--naive", [&] { o.draw.path = crowd::runtime::DrawPath::Naive; },
+      "one draw per instance per sub-mesh, instance data in uniforms (no culling, LOD or "
+      "impostors)");
+  auto *geometry = app.add_flag_callback(
+      "--geometry", [&] { o.draw.path = crowd::runtime::DrawPath::Instanced; },
+      "instanced geometry only: no impostors (the baseline of the hybrid)");
+  auto *impostors = app.add_flag("--impostors", o.draw.allImpostors,
+                                 "every instance that has an impostor draws as one, at any "
+                                 "distance");
+  naive->excludes(geometry, impostors);
+  geometry->excludes(impostors);
+  app.add_flag("--whole-body", o.draw.wholeBody,
+               "clothed packs: draw the whole body under the garments (the naive method, for "
+               "comparison) instead of each outfit's visible sub-meshes");
+  app.add_option("--clip", o.clip, "pack previews: show this clip only");
+  app.add_option("--outfit", o.outfit, "pack previews: show this outfit only");
+  app.add_option("--time", o.startTime, "scene time of the first frame, in seconds")
+      ->capture_default_str();
+  app.add_option("--step", o.step, "headless time step between frames, in seconds")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 3600.0));
+  app.footer("\nexamples:\n  xvfb-run -a crowdplay samples/scenes/demo.json --headless --frames "
+             "120 --screenshot a.png --stats s.json\n  crowdplay out/library/humanoid.crowdpack "
+             "--clip walk --outfit dress\n");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp &) {
+    std::cout << app.help();
+    return false;
+  } catch (const CLI::ParseError &e) {
+    throw UsageError(std::string(e.what()) + " (see crowdplay --help)");
   }
-  if (o.scene.empty())
-    throw UsageError("no scene file (see crowdplay --help)");
-  return o;
+  if (!std::isfinite(o.startTime))
+    throw UsageError("--time: expects finite seconds");
+  const auto x = size.find('x');
+  auto side = [&](const std::string &v) {
+    int n = 0;
+    auto [end, ec] = std::from_chars(v.data(), v.data() + v.size(), n);
+    if (ec != std::errc() || end != v.data() + v.size() || n < 16 ||
+        n > int(crowd::limits::kScreenSide))
+      throw UsageError("--size expects WxH, each in [16, " +
+                       std::to_string(crowd::limits::kScreenSide) + "], got '" + size + "'");
+    return n;
+  };
+  if (x == std::string::npos)
+    throw UsageError("--size expects WxH, got '" + size + "'");
+  o.width = side(size.substr(0, x));
+  o.height = side(size.substr(x + 1));
+  if (!o.previewPack() && !(o.clip.empty() && o.outfit.empty()))
+    throw UsageError("--clip and --outfit preview a pack (a .crowdpack), not a scene");
+  if (o.previewPack() && o.instances)
+    throw UsageError("--instances changes a scene's count; a pack preview has one per pair");
+  return true;
 }
 
 crowd::runtime::FrameView frameView(const crowd::runtime::Camera &cam, double t, int width,
@@ -312,14 +318,83 @@ int headless(const Options &o, crowd::runtime::CrowdRenderer &renderer,
   return 0;
 }
 
+// The packs a scene draws, loaded once, and a renderer over them for a scene: a preview makes a
+// new one when its choice of clip or outfit changes the instances.
+struct Crowd {
+  std::vector<crowd::pack::CharacterPack> packs;
+  std::vector<crowd::pack::ImpostorPack> impostorPacks;
+  std::vector<const crowd::pack::Impostor *> impostors; // per pack, null for none
+
+  std::unique_ptr<crowd::runtime::CrowdRenderer> renderer(crowd::runtime::Scene scene) const {
+    auto types = crowd::runtime::characterTypes(scene, packs, impostors);
+    return std::make_unique<crowd::runtime::CrowdRenderer>(types.packs, types.impostors, scene);
+  }
+};
+
+// A pack preview's clip or outfit by name (-1 for ""); an error lists the names there are.
+int pick(const std::vector<std::string> &names, const std::string &name, const char *what) {
+  if (name.empty())
+    return -1;
+  std::string all;
+  for (size_t k = 0; k < names.size(); ++k) {
+    if (names[k] == name)
+      return int(k);
+    all += (k ? ", " : "") + names[k];
+  }
+  throw crowd::Error(std::string("the pack has no ") + what + " '" + name + "' (" + what +
+                     "s: " + all + ")");
+}
+
+// The window's keys: L steps the fixed level of detail, I the drawing path.
+constexpr double kDetails[] = {0, 1, 0.5, 0.25, 0.1, 0.05};
+
+void nextDetail(crowd::runtime::DrawOptions &d) {
+  size_t k = 0;
+  while (k < std::size(kDetails) && kDetails[k] != d.detail)
+    ++k;
+  d.detail = kDetails[(k + 1) % std::size(kDetails)]; // from a value off the list: auto
+}
+
+void nextDrawing(crowd::runtime::DrawOptions &d) {
+  using crowd::runtime::DrawPath;
+  if (d.path == DrawPath::Hybrid && !d.allImpostors)
+    d.path = DrawPath::Instanced;
+  else if (d.path == DrawPath::Instanced)
+    d.path = DrawPath::Hybrid, d.allImpostors = true;
+  else
+    d.path = DrawPath::Hybrid, d.allImpostors = false;
+}
+
+std::string drawingText(const crowd::runtime::DrawOptions &d) {
+  char lod[32] = "LOD auto";
+  if (d.detail > 0)
+    std::snprintf(lod, sizeof lod, "LOD %g%%", 100 * d.detail);
+  const char *drawing = d.allImpostors                                  ? "impostors only"
+                        : d.path == crowd::runtime::DrawPath::Instanced ? "geometry only"
+                                                                        : pathName(d.path);
+  return std::string(lod) + "  " + drawing;
+}
+
+std::string previewText(const crowd::runtime::Scene &s, const crowd::runtime::PreviewChoice &c) {
+  auto name = [](const std::vector<std::string> &names, int k) {
+    return k < 0 ? std::string("all") : names[size_t(k)].empty() ? "-" : names[size_t(k)];
+  };
+  return "clip " + name(s.clipNames, c.clip) + "  outfit " + name(s.outfitNames, c.outfit) + "  ";
+}
+
 struct Orbit {
   double yaw = 0, pitch = 0, distance = 1, lastX = 0, lastY = 0;
   glm::dvec3 pan{0};
   bool dragging = false;
+  std::vector<int> pressed; // keys pressed since the last frame
 };
 
-int interactive(GLFWwindow *win, const Options &o, crowd::runtime::CrowdRenderer &renderer,
-                crowd::runtime::Scene scene) {
+// `preview` (empty for a scene file) makes the preview scene of a choice of clip and outfit.
+using PreviewFn = std::function<crowd::runtime::Scene(const crowd::runtime::PreviewChoice &)>;
+
+int interactive(GLFWwindow *win, Options o, const Crowd &crowd, crowd::runtime::Scene scene,
+                crowd::runtime::PreviewChoice choice, const PreviewFn &preview) {
+  auto renderer = crowd.renderer(scene);
   Orbit orbit;
   glm::dvec3 d = scene.camera.position - scene.camera.target;
   orbit.distance = glm::length(d);
@@ -330,6 +405,10 @@ int interactive(GLFWwindow *win, const Options &o, crowd::runtime::CrowdRenderer
     auto *ob = static_cast<Orbit *>(glfwGetWindowUserPointer(w));
     ob->distance *= std::pow(0.9, dy);
   });
+  glfwSetKeyCallback(win, [](GLFWwindow *w, int key, int, int action, int) {
+    if (action == GLFW_PRESS)
+      static_cast<Orbit *>(glfwGetWindowUserPointer(w))->pressed.push_back(key);
+  });
   glEnable(GL_DEPTH_TEST);
   auto start = std::chrono::steady_clock::now(), lastTitle = start;
   double frameMs = 0;
@@ -337,6 +416,26 @@ int interactive(GLFWwindow *win, const Options &o, crowd::runtime::CrowdRenderer
   while (!glfwWindowShouldClose(win)) {
     auto t0 = std::chrono::steady_clock::now();
     double t = o.startTime + std::chrono::duration<double>(t0 - start).count();
+    bool rebuild = false;
+    auto next = [](int k, size_t n) { return k + 1 < int(n) ? k + 1 : -1; }; // then all again
+    for (int key : std::exchange(orbit.pressed, {})) {
+      if (key == GLFW_KEY_C && preview)
+        choice.clip = next(choice.clip, scene.clipNames.size()), rebuild = true;
+      else if (key == GLFW_KEY_O && preview)
+        choice.outfit = next(choice.outfit, scene.outfitNames.size()), rebuild = true;
+      else if (key == GLFW_KEY_L)
+        nextDetail(o.draw);
+      else if (key == GLFW_KEY_I)
+        nextDrawing(o.draw);
+      lastTitle = {}; // show the choice now
+    }
+    if (rebuild) {
+      auto camera = scene.camera;
+      scene = preview(choice);
+      if (userCamera)
+        scene.camera = camera;
+      renderer = crowd.renderer(scene);
+    }
     double mx, my;
     glfwGetCursorPos(win, &mx, &my);
     bool down = glfwGetMouseButton(win, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
@@ -375,20 +474,23 @@ int interactive(GLFWwindow *win, const Options &o, crowd::runtime::CrowdRenderer
     glViewport(0, 0, w, h);
     glClearColor(0.55f, 0.62f, 0.70f, 1);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    auto stats = renderer.draw(frameView(scene.camera, t, w, h), float(t), o.draw);
+    auto stats = renderer->draw(frameView(scene.camera, t, w, h), float(t), o.draw);
     glfwSwapBuffers(win);
     glfwPollEvents();
     auto t1 = std::chrono::steady_clock::now();
     frameMs = 0.9 * frameMs + 0.1 * std::chrono::duration<double, std::milli>(t1 - t0).count();
     if (t1 - lastTitle > std::chrono::milliseconds(500)) {
-      char title[256];
-      std::snprintf(title, sizeof title,
-                    "crowdplay  %.1f ms  %u of %u visible (%u impostors)  %.2f M triangles (%s)  "
+      char figures[256];
+      std::snprintf(figures, sizeof figures,
+                    "  |  %.1f ms  %u of %u visible (%u impostors)  %.1f k triangles (%s)  "
                     "%u draw calls  cull + select %.2f ms",
                     frameMs, stats.visible, stats.instances, stats.impostors,
-                    double(stats.triangles) / 1e6, budgetText(o.draw.budget).c_str(),
+                    double(stats.triangles) / 1e3, budgetText(o.draw.budget).c_str(),
                     stats.drawCalls, stats.cullSelectMs);
-      glfwSetWindowTitle(win, title);
+      const std::string title = "crowdplay  " + scene.packNames[0] + "  " +
+                                (preview ? previewText(scene, choice) : "") + drawingText(o.draw) +
+                                figures;
+      glfwSetWindowTitle(win, title.c_str());
       lastTitle = t1;
     }
   }
@@ -398,46 +500,51 @@ int interactive(GLFWwindow *win, const Options &o, crowd::runtime::CrowdRenderer
 } // namespace
 
 int main(int argc, char **argv) {
-  for (int i = 1; i < argc; ++i)
-    if (std::string(argv[i]) == "--help" || std::string(argv[i]) == "-h") {
-      std::cout << kHelp;
-      return 0;
-    }
   try {
-    Options o = parse(argc, argv);
-    // A pack without a scene file: the preview scene of its clips and outfits.
-    const bool previewPack = std::filesystem::path(o.scene).extension() == ".crowdpack";
-    crowd::runtime::Scene scene =
-        previewPack ? crowd::runtime::previewScene(
-                          o.scene, crowd::pack::loadCharacterPack(crowd::pack::Reader::open(o.scene)))
-                    : crowd::runtime::loadScene(o.scene, o.instances);
+    Options o;
+    if (!parse(argc, argv, o))
+      return 0;
+    Crowd crowd;
+    crowd::runtime::Scene scene;
+    crowd::runtime::PreviewChoice choice;
+    PreviewFn preview;
+    if (o.previewPack()) { // a pack without a scene file: the preview of its clips and outfits
+      crowd.packs.push_back(crowd::pack::loadCharacterPack(crowd::pack::Reader::open(o.scene)));
+      crowd.impostors = {nullptr};
+      preview = [&](const crowd::runtime::PreviewChoice &c) {
+        return crowd::runtime::previewScene(o.scene, crowd.packs[0], c);
+      };
+      const auto all = preview({});
+      choice = {pick(all.clipNames, o.clip, "clip"), pick(all.outfitNames, o.outfit, "outfit")};
+      scene = preview(choice);
+    } else {
+      scene = crowd::runtime::loadScene(o.scene, o.instances);
+      for (const auto &path : scene.packPaths) {
+        if (!std::filesystem::exists(path))
+          throw crowd::Error(o.scene + ": pack '" + path +
+                             "' does not exist (bake it first: ./run demo)");
+        crowd.packs.push_back(crowd::pack::loadCharacterPack(crowd::pack::Reader::open(path)));
+      }
+      crowd.impostorPacks.resize(scene.impostorPaths.size());
+      crowd.impostors.assign(scene.impostorPaths.size(), nullptr);
+      for (size_t k = 0; k < scene.impostorPaths.size(); ++k) {
+        const std::string &path = scene.impostorPaths[k];
+        if (path.empty())
+          continue;
+        if (!std::filesystem::exists(path))
+          throw crowd::Error(o.scene + ": impostor pack '" + path +
+                             "' does not exist (bake it: crowdbake impostor)");
+        crowd.impostorPacks[k] = crowd::pack::loadImpostorPack(crowd::pack::Reader::open(path));
+        crowd.impostors[k] = &crowd.impostorPacks[k].impostor;
+      }
+    }
     o.draw.budget = o.budget >= 0 ? uint64_t(o.budget) : scene.budget;
-    std::vector<crowd::pack::CharacterPack> packs;
-    for (const auto &path : scene.packPaths) {
-      if (!std::filesystem::exists(path))
-        throw crowd::Error(o.scene + ": pack '" + path +
-                           "' does not exist (bake it first: ./run demo)");
-      packs.push_back(crowd::pack::loadCharacterPack(crowd::pack::Reader::open(path)));
-    }
-    std::vector<crowd::pack::ImpostorPack> impostorPacks(scene.impostorPaths.size());
-    std::vector<const crowd::pack::Impostor *> impostors(scene.impostorPaths.size(), nullptr);
-    for (size_t k = 0; k < scene.impostorPaths.size(); ++k) {
-      const std::string &path = scene.impostorPaths[k];
-      if (path.empty())
-        continue;
-      if (!std::filesystem::exists(path))
-        throw crowd::Error(o.scene + ": impostor pack '" + path +
-                           "' does not exist (bake it: crowdbake impostor)");
-      impostorPacks[k] = crowd::pack::loadImpostorPack(crowd::pack::Reader::open(path));
-      impostors[k] = &impostorPacks[k].impostor;
-    }
     Glfw glfw;
     GLFWwindow *win =
         openWindow(o.headless ? 64 : o.width, o.headless ? 64 : o.height, !o.headless);
-    auto types = crowd::runtime::characterTypes(scene, packs, impostors);
-    crowd::runtime::CrowdRenderer renderer(types.packs, types.impostors, scene);
-    int rc = o.headless ? headless(o, renderer, scene) : interactive(win, o, renderer, scene);
-    return rc;
+    if (o.headless)
+      return headless(o, *crowd.renderer(scene), scene);
+    return interactive(win, o, crowd, scene, choice, preview);
   } catch (const UsageError &e) {
     std::fprintf(stderr, "crowdplay: usage: %s\n", e.what());
     return 2;

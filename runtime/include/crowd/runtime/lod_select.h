@@ -1,6 +1,7 @@
 // What the player draws each frame, decided on the CPU: frustum culling by the pack's bounding
-// sphere (the bake makes it hold the character at every frame of every clip), and a level of detail per visible instance so that
-// the triangles drawn fit a global budget (the 2019 GPU-crowd seed, sec. 5.3, eq. (1)).
+// sphere (the bake makes it hold the character at every frame of every clip), and a level of detail
+// per visible instance so that the triangles drawn fit a global budget (the 2019 GPU-crowd seed,
+// sec. 5.3, eq. (1)).
 //
 // Levels: a pack's LOD chunk allows any vertex count from its floor to the full mesh; the player
 // keeps a ladder of them, each about `step` more triangles than the one below, and builds their
@@ -84,9 +85,14 @@ enum class DrawPath { Instanced, Naive, Hybrid };
 
 struct DrawOptions {
   DrawPath path = DrawPath::Hybrid;
-  uint64_t budget = 0; // triangles drawn (impostors count two); 0: no budget, full detail
-  bool cull = true;    // false: draw off-screen instances too (the reference for culling)
+  uint64_t budget = 0;    // triangles drawn (impostors count two); 0: no budget, full detail
+  bool cull = true;       // false: draw off-screen instances too (the reference for culling)
   bool wholeBody = false; // clothed packs: the whole body under the garments (the naive method)
+  // (0, 1]: every geometry instance at the finest level with at most this share of its full
+  // detail's triangles, whatever the budget (a preview's fixed level); 0: chosen under the budget.
+  double detail = 0;
+  bool allImpostors =
+      false; // hybrid: every instance with an impostor draws as one, at any distance
 };
 
 // The CPU half of a frame for a whole crowd, apart from GL so the benchmark times the very
@@ -95,9 +101,9 @@ struct DrawOptions {
 class CrowdSelection {
 public:
   struct Character {
-    float radius = 0;              // of the bounding sphere
-    glm::vec3 boundLocal{0};       // its centre in the character's space
-    glm::vec3 impostorLocal{0};    // the impostor sphere's
+    float radius = 0;           // of the bounding sphere
+    glm::vec3 boundLocal{0};    // its centre in the character's space
+    glm::vec3 impostorLocal{0}; // the impostor sphere's
     const pack::Impostor *impostor = nullptr;
     std::vector<glm::vec3> bounds;  // per instance: world centre of the bounding sphere
     std::vector<glm::vec3> centres; // per instance: world centre of the impostor's sphere

@@ -1,6 +1,7 @@
 // The scene crowdplay shows for a pack given without a scene file: one instance of every
 // (clip, outfit) pair in a row facing the camera, framed by the pack's bounding sphere, and the
-// same row far behind, past the distance where impostors take over.
+// same row far behind, past the distance where impostors take over; the camera turns around the
+// row (a turntable, starting in front). A choice narrows the row to one clip, outfit or pair.
 #pragma once
 #include <string>
 
@@ -9,6 +10,12 @@
 
 namespace crowd::runtime {
 
-Scene previewScene(const std::string &packPath, const pack::CharacterPack &pack);
+struct PreviewChoice {
+  int clip = -1, outfit = -1; // indices into the pack's clips and outfits; -1: every one
+};
+
+// Throws crowd::Error when a chosen index is outside the pack's clips or outfits.
+Scene previewScene(const std::string &packPath, const pack::CharacterPack &pack,
+                   const PreviewChoice &choice = {});
 
 } // namespace crowd::runtime
