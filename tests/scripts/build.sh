@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # crowdbake build: manifests with errors, a library with a failing character, byte identity at
 # 1 and 2 workers, warm builds from the cache, a changed setting, a damaged cache entry, two
-# builds sharing one cache at once, and the player drawing a character pack.
+# builds sharing one cache at once, a disk filling up, and the player drawing a character pack.
 set -euo pipefail
 bin=$1 work=$2
 rm -rf "$work" && mkdir -p "$work" && cd "$work"
@@ -85,6 +85,46 @@ cmp out3/runner.crowdpack out4/runner.crowdpack
 cmp out3/runner.crowdpack out2/runner.crowdpack
 [ -z "$(find shared -name '*.tmp-*')" ] || fail "temporary files left in the cache"
 echo "ok: two builds sharing a cache"
+
+# Disk full during a build: a 6 MiB file system (tmpfs, as root) holding the output and the cache,
+# filled once a first build is in. Where mounting is not allowed, a file-size limit stands in
+# (writes past it fail with EFBIG, as past a full disk with ENOSPC).
+mkdir -p full
+if mount -t tmpfs -o size=6m tmpfs full 2>/dev/null; then
+  trap 'umount "$work/full" 2>/dev/null || true' EXIT
+  fill() { dd if=/dev/zero of=full/filler bs=64k status=none 2>/dev/null || true; }
+  limited() { "$@"; }
+  echo "disk full: a 6 MiB tmpfs"
+else
+  fill() { :; }
+  limited() { (ulimit -f 1; trap '' XFSZ; "$@"); }
+  echo "disk full: cannot mount a tmpfs here; a 1 KiB file-size limit stands in"
+fi
+printf '{"name": "walker", "body": "s/humanoid.glb", "clips": ["walk"], "lod": {"poses": 2}}\n' > full.json
+"$bin/crowdbake" build full.json -o full/walker.crowdpack --cache full/cache -q
+cp full/walker.crowdpack walker_before.crowdpack
+fill
+sed -i 's/"poses": 2/"poses": 3/' full.json # new keys: every job runs and writes
+rc=0; limited "$bin/crowdbake" build full.json -o full/walker.crowdpack --cache full/cache 2>err.txt || rc=$?
+[ $rc = 1 ] || fail "a build on a full disk exited $rc, expected 1"
+grep -q 'write failed (disk full?)' err.txt || fail "no clear disk-full error in: $(cat err.txt)"
+grep -q "walker: FAILED" err.txt || fail "the summary does not name the failed character"
+cmp walker_before.crowdpack full/walker.crowdpack || fail "the earlier pack was damaged"
+[ -z "$(find full -name '*.tmp*')" ] || fail "temporary files left: $(find full -name '*.tmp*')"
+# The report cannot be written either: its one error comes after the summary, no temp file left.
+rc=0; limited "$bin/crowdbake" build full.json -o full/walker.crowdpack --cache cache_elsewhere \
+  --report full/r.json 2>err.txt || rc=$?
+[ $rc = 1 ] && grep -q 'full/r.json: write failed (disk full?)' err.txt ||
+  fail "report on a full disk: exit $rc, $(cat err.txt)"
+[ -z "$(find full -name '*.tmp*')" ] || fail "temporary files left: $(find full -name '*.tmp*')"
+rm -f full/filler
+"$bin/crowdbake" build full.json -o full/walker.crowdpack --cache full/cache -q
+"$bin/crowdbake" verify full/walker.crowdpack >/dev/null
+sed -i 's/"poses": 3/"poses": 2/' full.json # the first build's parts are still in the cache
+"$bin/crowdbake" build full.json -o full/walker.crowdpack --cache full/cache --report r.json -q
+grep -q '"run": 0' r.json || fail "the cache lost the first build's parts"
+cmp walker_before.crowdpack full/walker.crowdpack
+echo "ok: disk full: one clear error, the earlier pack and the cache intact, no temporary files"
 
 # The player draws a character pack without a scene file.
 if command -v xvfb-run >/dev/null; then

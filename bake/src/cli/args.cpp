@@ -1,9 +1,9 @@
 #include "args.h"
 
-#include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <unistd.h>
+
+#include "crowd/formats/container.h"
 
 namespace crowd::cli {
 
@@ -75,14 +75,8 @@ void addThreads(CLI::App &app, int &threads) {
 bool BakeArgs::progress() const { return !quiet && isatty(2); }
 
 void writeJson(const std::string &path, const nlohmann::ordered_json &j) {
-  std::string tmp = path + ".tmp";
-  {
-    std::ofstream f(tmp);
-    f << j.dump(2) << "\n";
-    if (!f)
-      throw crowd::Error(path + ": cannot write report");
-  }
-  std::filesystem::rename(tmp, path);
+  const std::string text = j.dump(2) + "\n";
+  pack::writeFileAtomic(path, {reinterpret_cast<const uint8_t *>(text.data()), text.size()});
 }
 
 nlohmann::ordered_json warningsJson(const Reporter &reporter) {

@@ -194,10 +194,10 @@ int cmdBuild(int argc, char **argv) {
     return slurmBuild(o, slurm, files.limits, useSlurm, quiet);
   ResourceGuard guard(files.limits, "crowdbake build " + o.input);
   BuildResult r = build(o);
+  if (!quiet) // first: a report that cannot be written must not hide what failed
+    printSummary(r.report, o.report);
   if (!o.report.empty())
     writeJson(o.report, r.report);
-  if (!quiet)
-    printSummary(r.report, o.report);
   return r.failed() ? 1 : 0;
 }
 
