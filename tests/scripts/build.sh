@@ -58,6 +58,14 @@ echo "ok: byte-identical at --jobs 1 and --jobs 2"
 "$bin/crowdbake" build library.json -o out1 --jobs 2 -q || true
 grep -q '"run": 0' out1/build.report.json || fail "warm build ran jobs"
 echo "ok: warm build: every good job cached"
+# A pack that still has the hash recorded for its link is neither loaded nor written again; an
+# altered one is written again from the cache.
+[ "$(grep -c '"pack_up_to_date": true' out1/build.report.json)" = 2 ] || fail "warm packs rewritten"
+printf 'X' | dd of=out1/runner.crowdpack bs=1 seek=5000 conv=notrunc status=none
+"$bin/crowdbake" build library.json -o out1 --jobs 2 -q || true
+cmp out1/runner.crowdpack out2/runner.crowdpack || fail "an altered pack was not written again"
+[ "$(grep -c '"pack_up_to_date": true' out1/build.report.json)" = 1 ] || fail "up-to-date count"
+echo "ok: warm packs left alone, an altered one written again"
 
 # A changed setting reruns only that character's jobs.
 sed 's/"floor": 0.1/"floor": 0.2/' library.json > library2.json
@@ -71,6 +79,7 @@ for entry in $(find out2/.cache -name '*.part'); do
   printf 'garbage' | dd of="$entry" bs=1 seek=100 conv=notrunc status=none
 done
 head -c 200 "$entry" > "$entry.cut" && mv "$entry.cut" "$entry" # and one truncated
+rm out2/*.crowdpack # packs still up to date would need no part
 "$bin/crowdbake" build library.json -o out2 2>log.txt || true
 grep -q "damaged cache entry rebuilt" log.txt || fail "damaged entry not reported"
 cmp out2/walker.crowdpack out1/walker.crowdpack

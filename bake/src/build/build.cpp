@@ -45,13 +45,32 @@ BuildPlan planBuild(const BuildOptions &o) {
     plan.jobs.insert(plan.jobs.end(), jobs.begin(), jobs.end());
   }
   keyJobs(plan.jobs);
+  for (const auto &m : lib.characters)
+    plan.packs.push_back(lib.single ? o.output
+                                    : (fs::path(o.output) / (m.name + ".crowdpack")).string());
+  plan.upToDate.assign(lib.characters.size(), 0);
   return plan;
+}
+
+void findUpToDatePacks(BuildPlan &plan) {
+  const ContentCache cache(plan.cache);
+  for (size_t c = 0; c < plan.packs.size(); ++c) {
+    const auto recorded = cache.recordedPack(plan.jobs[plan.ranges[c].second].key);
+    std::error_code ec;
+    plan.upToDate[c] = recorded && fs::is_regular_file(plan.packs[c], ec) &&
+                       hashFile(plan.packs[c]).hash == *recorded;
+  }
 }
 
 BuildResult build(const BuildOptions &o) {
   const auto t0 = std::chrono::steady_clock::now();
-  const BuildPlan plan = planBuild(o);
-  const auto outcomes = executeJobs(plan.jobs, ContentCache(plan.cache), o.executor);
+  BuildPlan plan = planBuild(o);
+  findUpToDatePacks(plan);
+  ExecutorOptions executor = o.executor;
+  executor.written.assign(plan.jobs.size(), 0);
+  for (size_t c = 0; c < plan.ranges.size(); ++c)
+    executor.written[plan.ranges[c].second] = plan.upToDate[c];
+  const auto outcomes = executeJobs(plan.jobs, ContentCache(plan.cache), executor);
   return finishBuild(o, plan, outcomes,
                      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
 }
@@ -94,12 +113,16 @@ BuildResult finishBuild(const BuildOptions &o, const BuildPlan &plan,
     }
     cb.failed = cb.failedJobs > 0;
     const JobOutcome &link = outcomes[ranges[c].second];
-    if (!cb.failed) {
-      cb.pack = lib.single ? o.output : (fs::path(o.output) / (cb.name + ".crowdpack")).string();
+    if (!cb.failed && plan.upToDate[c]) {
+      cb.pack = plan.packs[c];
+      cb.bytes = fs::file_size(cb.pack);
+    } else if (!cb.failed) {
+      cb.pack = plan.packs[c];
       const auto bytes = characterPackBytes(link.part);
       try {
         pack::writeFileAtomic(cb.pack, bytes);
         cb.bytes = bytes.size();
+        ContentCache(plan.cache).recordPack(jobs[ranges[c].second].key, hashFile(cb.pack).hash);
       } catch (const std::exception &e) {
         cb.failed = true;
         cb.error = e.what();
@@ -112,6 +135,7 @@ BuildResult finishBuild(const BuildOptions &o, const BuildPlan &plan,
       cj["error"] = cb.error;
     cj["pack"] = cb.pack;
     cj["pack_bytes"] = cb.bytes;
+    cj["pack_up_to_date"] = !cb.failed && plan.upToDate[c]; // neither loaded nor written
     cj["jobs_run"] = cb.run;
     cj["jobs_cached"] = cb.cached;
     cj["jobs_failed"] = cb.failedJobs;

@@ -78,6 +78,19 @@ void ContentCache::recordFailure(const std::string &key, const std::string &erro
   pack::writeFileAtomic(path, std::vector<uint8_t>(error.begin(), error.end()));
 }
 
+void ContentCache::recordPack(const std::string &key, const std::string &hash) const {
+  const std::string path = entryPath(key) + ".pack";
+  createParent(folder_, path);
+  pack::writeFileAtomic(path, std::vector<uint8_t>(hash.begin(), hash.end()));
+}
+
+std::optional<std::string> ContentCache::recordedPack(const std::string &key) const {
+  const auto bytes = readFile(entryPath(key) + ".pack");
+  if (bytes.empty())
+    return std::nullopt;
+  return std::string(bytes.begin(), bytes.end());
+}
+
 std::optional<std::string> ContentCache::recordedFailure(const std::string &key) const {
   const auto bytes = readFile(entryPath(key) + ".failed");
   if (bytes.empty())

@@ -52,7 +52,7 @@ std::vector<JobOutcome> executeJobs(const std::vector<Job> &jobs, const ContentC
   // build loads only the parts that the packs are written from.
   std::vector<char> settled(n, 0);
   for (size_t i = n; i-- > 0;) {
-    bool needed = readers[i].empty();
+    bool needed = readers[i].empty() && !(i < options.written.size() && options.written[i]);
     for (size_t r : readers[i])
       needed = needed || !out[r].cached; // r will run
     if (!needed) {

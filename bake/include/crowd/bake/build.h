@@ -46,8 +46,14 @@ struct BuildPlan {
   std::vector<Job> jobs;
   std::vector<std::pair<size_t, size_t>> ranges; // per character: its jobs [first, last]
   std::string cache;
+  std::vector<std::string> packs; // per character: the pack it writes
+  // Per character: its pack already holds what its link job would write, so it is neither
+  // loaded nor written (all 0 until findUpToDatePacks).
+  std::vector<char> upToDate;
 };
 BuildPlan planBuild(const BuildOptions &options);
+// Marks the characters whose pack file has the hash the cache recorded for their link's key.
+void findUpToDatePacks(BuildPlan &plan);
 BuildResult finishBuild(const BuildOptions &options, const BuildPlan &plan,
                         const std::vector<JobOutcome> &outcomes, double seconds);
 

@@ -15,7 +15,6 @@
 
 namespace crowd {
 
-
 // Sets every job's key, in plan order (a job's dependencies come before it). Files are hashed
 // once each.
 void keyJobs(std::vector<Job> &jobs);
@@ -33,6 +32,10 @@ public:
   // the collect step reports it (executor option recordedFailures) instead of running it again.
   void recordFailure(const std::string &key, const std::string &error) const;
   std::optional<std::string> recordedFailure(const std::string &key) const;
+  // The hash (hashFile's "sha256:HEX") of the pack written from the link part `key`: a later
+  // build whose output file still has it neither loads that part nor writes the pack again.
+  void recordPack(const std::string &key, const std::string &hash) const;
+  std::optional<std::string> recordedPack(const std::string &key) const;
 
 private:
   std::string folder_;

@@ -19,14 +19,17 @@ struct ExecutorOptions {
   // A job with no part in the cache but a failure recorded there by a farm task fails with
   // that error instead of running (the collect step of a Slurm build).
   bool recordedFailures = false;
+  // Per job (empty: none): its output is already written, so no one needs its part; it counts
+  // as cached and is neither run nor loaded (a link whose pack is up to date).
+  std::vector<char> written;
 };
 
 struct JobOutcome {
   bool cached = false; // the part came from the cache
   bool failed = false;
-  std::string error;   // one line, when failed
+  std::string error;        // one line, when failed
   std::string cacheProblem; // a damaged entry that was rebuilt
-  double seconds = 0;  // bake time (0 when cached)
+  double seconds = 0;       // bake time (0 when cached)
   Part part;
 };
 
