@@ -2,7 +2,8 @@
 # Clothed crowds, tagged against naive (the WSCG 2009 clothed-crowds seed reports tagged about
 # 20% faster): samples/scenes/clothed10k.json at 1k, 2.5k, 5k and 10k characters, each in one
 # of the three sample outfits, drawn tagged (each outfit's visible sub-meshes through per-sub-mesh
-# render queues) and naive (--whole-body: the whole body under the garments), same binary, same
+# render queues) and naive (--whole-body: the whole body under the garments), geometry only (the
+# pack also has walk impostors, which would take the far ones), same binary, same
 # run. Frame time, GPU time, triangles and vertex shader invocations (as the driver counts them)
 # per frame. Each pair runs REPEATS times, naive and tagged alternating, and the table keeps each
 # one's fastest run (llvmpipe on a shared machine is noisy). Writes OUT/outfit_bench.csv.
@@ -14,7 +15,8 @@ frames=${2:-4}
 size=${3:-640x360}
 repeats=${4:-2}
 mkdir -p "$out"
-[ -f out/clothed.crowdpack ] || { echo "run ./run demo first (it bakes out/clothed.crowdpack)" >&2; exit 1; }
+[ -f out/library/clothed.crowdpack ] ||
+  { echo "run ./run demo first (it builds out/library/clothed.crowdpack)" >&2; exit 1; }
 csv=$out/outfit_bench.csv
 echo "instances,method,run,frames,frame_ms,gpu_ms,cull_select_ms,draw_calls,triangles,vertices" > "$csv"
 for n in 1000 2500 5000 10000; do
@@ -22,7 +24,8 @@ for n in 1000 2500 5000 10000; do
     flag=""; [ $method = naive ] && flag=--whole-body
     stats=$out/outfit_${n}_$method.json
     xvfb-run -a -s "-screen 0 640x480x24" build/bin/crowdplay samples/scenes/clothed10k.json \
-      --headless --frames "$frames" --size "$size" --instances $n $flag --stats "$stats" >/dev/null
+      --headless --frames "$frames" --size "$size" --instances $n $flag --geometry --stats "$stats" \
+      >/dev/null
     node -e '
       const s = require(process.argv[1]).summary;
       console.log([process.argv[2], process.argv[3], process.argv[4], s.frames, s.frame_ms.toFixed(1), s.gpu_ms.toFixed(1),
