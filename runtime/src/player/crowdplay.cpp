@@ -301,6 +301,8 @@ int headless(const Options &o, crowd::runtime::CrowdRenderer &renderer,
     summary[keys[k]] = sums[k] / o.frames;
   summary["whole_body"] = o.draw.wholeBody;
   summary["budget"] = o.draw.budget;
+  summary["detail"] = o.draw.detail; // 0: chosen under the budget
+  summary["all_impostors"] = o.draw.allImpostors;
   summary["renderer"] = reinterpret_cast<const char *>(glGetString(GL_RENDERER));
   summary["path"] = pathName(o.draw.path);
   summary["size"] = std::to_string(o.width) + "x" + std::to_string(o.height);
