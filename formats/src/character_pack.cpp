@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "crowd/formats/error.h"
+#include "crowd/formats/registry.h"
 
 namespace crowd::pack {
 
@@ -16,20 +17,19 @@ const Impostor *CharacterPack::impostor(const std::string &clip, const std::stri
 CharacterPack loadCharacterPack(const Reader &reader) {
   CharacterPack p;
   p.body = loadAnimationPack(reader);
-  size_t index = 0;
-  for (const auto &c : reader.chunks()) {
+  for (size_t i = 0; i < reader.chunks().size(); ++i) {
+    const ChunkEntry &c = reader.chunks()[i];
     if (c.type != kImpostor)
       continue;
-    const std::string ctx = "pack '" + reader.name() + "', chunk IMPO #" + std::to_string(index++);
+    const std::string ctx = chunkContext(reader, i);
     Impostor m = decodeImpostor(reader.payload(c), c.version, ctx);
     const auto &clips = p.body.clips;
     if (std::none_of(clips.begin(), clips.end(), [&](const Clip &k) { return k.name == m.clip; }))
       throw Error(ctx + ", field 'clip': '" + m.clip + "' is not a clip of the pack");
     if (!m.outfit.empty()) {
-      const bool known =
-          p.body.outfits && std::any_of(p.body.outfits->outfits.begin(),
-                                        p.body.outfits->outfits.end(),
-                                        [&](const auto &o) { return o.name == m.outfit; });
+      const bool known = p.body.outfits &&
+                         std::any_of(p.body.outfits->outfits.begin(), p.body.outfits->outfits.end(),
+                                     [&](const auto &o) { return o.name == m.outfit; });
       if (!known)
         throw Error(ctx + ", field 'outfit': '" + m.outfit + "' is not an outfit of the pack");
     }

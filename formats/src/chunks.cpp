@@ -7,11 +7,11 @@
 #include "crowd/formats/error.h"
 #include "crowd/formats/impostor.h"
 #include "crowd/formats/limits.h"
+#include "crowd/formats/registry.h"
 
 namespace crowd::pack {
 
 namespace {
-constexpr uint32_t kChunkVersion = 1;
 constexpr uint32_t kMaxTextureSide = limits::kTextureSide;
 constexpr uint64_t kMaxElements = limits::kChunkElements;
 
@@ -362,8 +362,8 @@ Lod decodeLod(std::span<const uint8_t> bytes, const std::string &context) {
     r.fail("floor vertices", std::to_string(l.floorVertices) + " of " + std::to_string(n));
   for (size_t k = 0; k < n; ++k)
     if (k < l.floorVertices ? l.collapse[k] != k : l.collapse[k] >= k)
-      r.fail("collapse", "vertex " + std::to_string(k) + " collapses into " +
-                             std::to_string(l.collapse[k]));
+      r.fail("collapse",
+             "vertex " + std::to_string(k) + " collapses into " + std::to_string(l.collapse[k]));
   if (l.error.size() != n)
     r.fail("error", "count differs from the collapse map");
   checkFinite(r, l.error, "error");
@@ -381,10 +381,10 @@ AnimationPack loadAnimationPack(const Reader &reader) {
     return "pack '" + reader.name() + "', chunk " + fourccName(type);
   };
   auto get = [&](uint32_t type) { return reader.payload(reader.require(type)); };
-  for (const auto &c : reader.chunks())
-    if (c.type != kImpostor && c.version != kChunkVersion) // impostors: character_pack.cpp
-      throw Error(ctx(c.type) + ": chunk version " + std::to_string(c.version) +
-                  " is not supported");
+  // Chunk types this build does not know are left to `verify`: the player skips them.
+  for (size_t i = 0; i < reader.chunks().size(); ++i)
+    if (findCodec(reader.chunks()[i].type))
+      codecOf(reader.chunks()[i], chunkContext(reader, i));
   AnimationPack p;
   p.provenance = decodeProvenance(get(kProvenance), ctx(kProvenance));
   p.skeleton = decodeSkeleton(get(kSkeleton), ctx(kSkeleton));
@@ -407,8 +407,8 @@ AnimationPack loadAnimationPack(const Reader &reader) {
                   std::to_string(n) + ")");
     for (size_t s = 0; s < p.mesh.subMeshes.size(); ++s)
       if (p.lod->triangleCount(s, uint32_t(n)) != p.mesh.subMeshes[s].indexCount / 3)
-        throw Error(ctx(kLod) + ", field 'triangle counts': sub-mesh '" +
-                    p.mesh.subMeshes[s].name + "' does not end at its triangle count");
+        throw Error(ctx(kLod) + ", field 'triangle counts': sub-mesh '" + p.mesh.subMeshes[s].name +
+                    "' does not end at its triangle count");
   }
   if (const ChunkEntry *outfits = reader.find(kOutfits)) {
     p.outfits = decodeOutfits(reader.payload(*outfits), ctx(kOutfits));

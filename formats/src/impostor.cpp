@@ -4,6 +4,7 @@
 
 #include "crowd/formats/bytes.h"
 #include "crowd/formats/error.h"
+#include "crowd/formats/registry.h"
 
 namespace crowd::pack {
 
@@ -102,9 +103,7 @@ ImpostorPack loadImpostorPack(const Reader &reader) {
     return "pack '" + reader.name() + "', chunk " + fourccName(type);
   };
   const ChunkEntry &prov = reader.require(kProvenance);
-  if (prov.version != 1)
-    throw Error(ctx(kProvenance) + ": chunk version " + std::to_string(prov.version) +
-                " is not supported");
+  codecOf(prov, ctx(kProvenance));
   ImpostorPack p;
   p.provenance = decodeProvenance(reader.payload(prov), ctx(kProvenance));
   const ChunkEntry &impostor = reader.require(kImpostor);
@@ -114,7 +113,7 @@ ImpostorPack loadImpostorPack(const Reader &reader) {
 
 std::vector<uint8_t> packBytes(const ImpostorPack &p) {
   Writer w;
-  w.add(kProvenance, 1, encode(p.provenance));
+  w.add(kProvenance, kChunkVersion, encode(p.provenance));
   w.add(kImpostor, kImpostorVersion, encode(p.impostor));
   return w.bytes();
 }

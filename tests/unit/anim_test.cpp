@@ -231,9 +231,11 @@ TEST(AnimBake, SourceRatePutsFramesOnTheKeys) {
   EXPECT_GE(at30.accuracy[0].clips[0].maxAtMidframes, 1e-3 * at30.diagonal);
   // At any time: frames on the keys stay exact between frames too; at 30 fps the random times
   // find the cut corner as well, and the any-time figure is the largest of all three.
-  for (const auto &pa : onKeys.accuracy)
-    if (pa.precision.name == "float" || pa.precision.name == "qts")
+  for (const auto &pa : onKeys.accuracy) {
+    if (pa.precision.name == "float" || pa.precision.name == "qts") {
       EXPECT_LE(pa.clips[0].maxAnyTime(), 1e-6 * onKeys.diagonal) << pa.precision.name;
+    }
+  }
   const ClipAccuracy &a = at30.accuracy[0].clips[0];
   EXPECT_GE(a.maxAtRandom, 1e-4 * at30.diagonal);
   EXPECT_GT(a.meanAtRandom, 0.0);

@@ -8,5 +8,8 @@ namespace crowd::cli {
 int cmdOutfits(int argc, char **argv);
 int cmdBuild(int argc, char **argv);
 int cmdBuildTask(int argc, char **argv); // a Slurm array task or collect job of a build
+int cmdInspect(int argc, char **argv);
+int cmdVerify(int argc, char **argv);
+int cmdExport(int argc, char **argv);
 
 } // namespace crowd::cli

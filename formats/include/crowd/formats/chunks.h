@@ -21,6 +21,8 @@ inline constexpr uint32_t kMesh = fourcc("MESH");
 inline constexpr uint32_t kDiffuseTexture = fourcc("TEXR");
 inline constexpr uint32_t kLod = fourcc("LODS");
 inline constexpr uint32_t kOutfits = fourcc("OUTF");
+// The version written of every chunk above (formats/src/registry.cpp says which are read).
+inline constexpr uint32_t kChunkVersion = 1;
 
 struct InputFile {
   std::string path;  // as given on the command line
@@ -110,7 +112,7 @@ struct Texture {
 // vertices, the sub-mesh is its first triangleCount(s, v) triangles with every index followed
 // through `collapse` until it is below v.
 struct Lod {
-  uint32_t floorVertices = 0;    // the fewest vertices the sequence reaches (>= 1)
+  uint32_t floorVertices = 0;     // the fewest vertices the sequence reaches (>= 1)
   std::vector<uint32_t> collapse; // per vertex: collapse[k] < k from the floor up
   std::vector<float> error;       // per vertex: cost of the collapse that removes it
   // Per sub-mesh, vertexCount + 1 counts (v = 0..vertexCount), non-decreasing in v.

@@ -1,0 +1,303 @@
+#include "crowd/formats/registry.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+
+#include "crowd/formats/character_pack.h"
+#include "crowd/formats/chunks.h"
+#include "crowd/formats/error.h"
+#include "crowd/formats/impostor.h"
+
+namespace crowd::pack {
+
+Value text(std::string s) { return {std::move(s), false}; }
+
+Value number(double v) {
+  char b[32];
+  if (std::isfinite(v) && v == std::floor(v) && std::fabs(v) < 1e15)
+    std::snprintf(b, sizeof b, "%lld", static_cast<long long>(v));
+  else
+    std::snprintf(b, sizeof b, "%.7g", v);
+  return {b, std::isfinite(v)};
+}
+
+namespace {
+
+Value yesNo(bool b) { return {b ? "true" : "false", true}; }
+// Appends `word` to a list separated by `separator`.
+void appendWord(std::string &list, const std::string &word, char separator = ' ') {
+  if (!list.empty())
+    list += separator;
+  list += word;
+}
+
+std::string size2(uint32_t w, uint32_t h) { return std::to_string(w) + "x" + std::to_string(h); }
+
+Description describeProvenance(std::span<const uint8_t> b, uint32_t, const std::string &ctx) {
+  Provenance p = decodeProvenance(b, ctx);
+  Description d;
+  d.add("baker", text(p.bakerVersion));
+  Description::Table settings{"settings", {"key", "value"}, {}};
+  for (const auto &[k, v] : p.settings)
+    settings.rows.push_back({text(k), text(v)});
+  Description::Table inputs{"inputs", {"file", "bytes", "hash"}, {}};
+  for (const auto &in : p.inputs)
+    inputs.rows.push_back({text(in.path), number(double(in.size)), text(in.hash)});
+  d.tables = {settings, inputs};
+  return d;
+}
+
+Description describeSkeleton(std::span<const uint8_t> b, uint32_t, const std::string &ctx) {
+  Skeleton s = decodeSkeleton(b, ctx);
+  Description d;
+  Description::Table joints{"joints", {"index", "name", "parent"}, {}};
+  for (size_t i = 0; i < s.jointCount(); ++i)
+    joints.rows.push_back({number(double(i)), text(s.names[i]), number(s.parents[i])});
+  d.tables = {joints};
+  return d;
+}
+
+Description describeClips(std::span<const uint8_t> b, uint32_t, const std::string &ctx) {
+  Description d;
+  Description::Table clips{
+      "clips", {"name", "frames", "fps", "start_time", "first_frame", "loop"}, {}};
+  for (const auto &c : decodeClips(b, ctx))
+    clips.rows.push_back({text(c.name), number(c.frameCount), number(c.fps), number(c.startTime),
+                          number(c.firstFrame), yesNo(c.loop)});
+  d.tables = {clips};
+  return d;
+}
+
+Description describeAnimation(std::span<const uint8_t> b, uint32_t, const std::string &ctx) {
+  AnimationTexture t = decodeAnimationTexture(b, ctx);
+  Description d;
+  d.add("encoding", text(name(t.encoding)))
+      .add("format", text(name(t.format)))
+      .add("size", text(size2(t.width, t.height)))
+      .add("joints", number(t.jointCount))
+      .add("frames", number(t.frameCount))
+      .add("frames_per_row", number(t.framesPerRow))
+      .add("bytes_per_joint_per_frame",
+           number(texelsPerJoint(t.encoding) * bytesPerTexel(t.format)))
+      .add("texel_bytes", number(double(t.texels.size())));
+  return d;
+}
+
+std::vector<Image> imagesAnimation(std::span<const uint8_t> b, uint32_t, const std::string &ctx) {
+  AnimationTexture t = decodeAnimationTexture(b, ctx);
+  return {{"animation", t.width, t.height, 4,
+           t.format == TexelFormat::RGBA32F ? Image::Pixel::F32 : Image::Pixel::F16,
+           std::move(t.texels)}};
+}
+
+Description describeSkin(std::span<const uint8_t> b, uint32_t, const std::string &ctx) {
+  SkinTexture s = decodeSkinTexture(b, ctx);
+  Description d;
+  d.add("format", text("rgba32f"))
+      .add("size", text(size2(s.width, s.height)))
+      .add("vertices", number(s.vertexCount));
+  return d;
+}
+
+std::vector<Image> imagesSkin(std::span<const uint8_t> b, uint32_t, const std::string &ctx) {
+  SkinTexture s = decodeSkinTexture(b, ctx);
+  Image image{"skin", s.width, s.height, 4, Image::Pixel::F32, {}};
+  image.bytes.resize(s.texels.size() * 4);
+  std::memcpy(image.bytes.data(), s.texels.data(), image.bytes.size());
+  return {image};
+}
+
+Description describeMesh(std::span<const uint8_t> b, uint32_t, const std::string &ctx) {
+  Mesh m = decodeMesh(b, ctx);
+  Description d;
+  const auto &s = m.boundingSphere;
+  d.add("vertices", number(double(m.vertexCount())))
+      .add("triangles", number(double(m.indices.size() / 3)))
+      .add("uvs", yesNo(!m.uvs.empty()))
+      .add("bounding_sphere", text("centre (" + number(s[0]).text + ", " + number(s[1]).text +
+                                   ", " + number(s[2]).text + ") radius " + number(s[3]).text));
+  Description::Table subs{"sub_meshes", {"name", "first_index", "triangles"}, {}};
+  for (const auto &sm : m.subMeshes)
+    subs.rows.push_back({text(sm.name), number(sm.firstIndex), number(sm.indexCount / 3)});
+  d.tables = {subs};
+  return d;
+}
+
+Description describeTexture(std::span<const uint8_t> b, uint32_t, const std::string &ctx) {
+  Texture t = decodeTexture(b, ctx);
+  Description d;
+  d.add("format", text("rgba8")).add("size", text(size2(t.width, t.height)));
+  return d;
+}
+
+std::vector<Image> imagesTexture(std::span<const uint8_t> b, uint32_t, const std::string &ctx) {
+  Texture t = decodeTexture(b, ctx);
+  return {{"diffuse", t.width, t.height, 4, Image::Pixel::U8, std::move(t.rgba)}};
+}
+
+Description describeLod(std::span<const uint8_t> b, uint32_t, const std::string &ctx) {
+  Lod l = decodeLod(b, ctx);
+  const uint32_t n = uint32_t(l.collapse.size());
+  Description d;
+  d.add("vertices", number(n))
+      .add("triangles", number(double(l.totalTriangles(n))))
+      .add("floor_vertices", number(l.floorVertices))
+      .add("floor_triangles", number(double(l.totalTriangles(l.floorVertices))))
+      .add("sub_meshes", number(double(l.triangleCounts.size() / (n + 1))));
+  return d;
+}
+
+Description describeOutfits(std::span<const uint8_t> b, uint32_t, const std::string &ctx) {
+  Outfits o = decodeOutfits(b, ctx);
+  Description d;
+  d.add("body_sub_meshes", number(o.bodySubMeshes));
+  Description::Table outfits{"outfits", {"name", "draws", "coverage"}, {}};
+  for (const auto &outfit : o.outfits) {
+    std::string draws, coverage;
+    for (uint32_t s : outfit.subMeshes)
+      appendWord(draws, std::to_string(s), ',');
+    for (Coverage c : outfit.coverage)
+      appendWord(coverage, name(c), ',');
+    outfits.rows.push_back({text(outfit.name), text(draws), text(coverage)});
+  }
+  d.tables = {outfits};
+  return d;
+}
+
+Description describeImpostor(std::span<const uint8_t> b, uint32_t version, const std::string &ctx) {
+  Impostor m = decodeImpostor(b, version, ctx);
+  uint64_t used = 0;
+  for (const auto &v : m.views)
+    used += uint64_t(v.width) * v.height;
+  Description d;
+  d.add("clip", text(m.clip))
+      .add("outfit", text(m.outfit))
+      .add("frames", number(m.frames))
+      .add("start_time", number(m.startTime))
+      .add("frame_step", number(m.frameStep))
+      .add("views", text(size2(m.azimuths, m.elevations)))
+      .add("texels", number(m.texels))
+      .add("mirrored", yesNo(m.mirrored))
+      .add("atlas", text(size2(m.atlasWidth, m.atlasHeight)))
+      .add("occupancy", number(double(used) / (double(m.frames) * m.atlasWidth * m.atlasHeight)))
+      .add("uv_atlases", yesNo(!m.uvAtlases.empty()));
+  return d;
+}
+
+// Per frame: the normals as RGB (black where empty), the UVs when stored, and the region ids as
+// distinct greys, so each can be looked at; the pack keeps normals and regions in one texel.
+std::vector<Image> imagesImpostor(std::span<const uint8_t> b, uint32_t version,
+                                  const std::string &ctx) {
+  Impostor m = decodeImpostor(b, version, ctx);
+  const size_t texels = size_t(m.atlasWidth) * m.atlasHeight;
+  const std::string prefix = "impostor_" + m.clip + (m.outfit.empty() ? "" : "_" + m.outfit);
+  std::vector<Image> out;
+  for (uint32_t f = 0; f < m.frames; ++f) {
+    char frame[24];
+    std::snprintf(frame, sizeof frame, "_frame_%03u", f);
+    Image normals{
+        prefix + frame + "_normals", m.atlasWidth, m.atlasHeight, 3, Image::Pixel::U8, {}};
+    Image regions{
+        prefix + frame + "_regions", m.atlasWidth, m.atlasHeight, 1, Image::Pixel::U8, {}};
+    normals.bytes.resize(texels * 3);
+    regions.bytes.resize(texels);
+    const uint8_t *src = m.atlases.data() + f * texels * 4;
+    for (size_t t = 0; t < texels; ++t) {
+      const bool empty = src[t * 4 + 3] == 0;
+      for (size_t k = 0; k < 3; ++k)
+        normals.bytes[t * 3 + k] = empty ? 0 : src[t * 4 + k];
+      regions.bytes[t] = uint8_t(std::min(255, src[t * 4 + 3] * 37));
+    }
+    out.push_back(std::move(normals));
+    if (!m.uvAtlases.empty()) {
+      Image uv{prefix + frame + "_uv", m.atlasWidth, m.atlasHeight, 3, Image::Pixel::U16, {}};
+      uv.bytes.resize(texels * 3 * 2);
+      auto *dst = reinterpret_cast<uint16_t *>(uv.bytes.data());
+      for (size_t t = 0; t < texels; ++t)
+        for (size_t k = 0; k < 3; ++k)
+          dst[t * 3 + k] = k < 2 ? m.uvAtlases[(f * texels + t) * 4 + k] : 0;
+      out.push_back(std::move(uv));
+    }
+    out.push_back(std::move(regions));
+  }
+  return out;
+}
+
+} // namespace
+
+const std::vector<ChunkCodec> &chunkCodecs() {
+  static const std::vector<ChunkCodec> codecs = {
+      {kProvenance, "provenance", 1, kChunkVersion, describeProvenance},
+      {kSkeleton, "skeleton", 1, kChunkVersion, describeSkeleton},
+      {kClips, "clips", 1, kChunkVersion, describeClips},
+      {kAnimationTexture, "animation texture", 1, kChunkVersion, describeAnimation,
+       imagesAnimation},
+      {kSkinTexture, "skin-weight texture", 1, kChunkVersion, describeSkin, imagesSkin},
+      {kMesh, "mesh", 1, kChunkVersion, describeMesh},
+      {kDiffuseTexture, "diffuse texture", 1, kChunkVersion, describeTexture, imagesTexture},
+      {kLod, "continuous LOD", 1, kChunkVersion, describeLod},
+      {kOutfits, "outfits", 1, kChunkVersion, describeOutfits},
+      {kImpostor, "impostor", 1, kImpostorVersion, describeImpostor, imagesImpostor},
+  };
+  return codecs;
+}
+
+const ChunkCodec *findCodec(uint32_t type) {
+  for (const auto &c : chunkCodecs())
+    if (c.type == type)
+      return &c;
+  return nullptr;
+}
+
+const ChunkCodec &codecOf(const ChunkEntry &chunk, const std::string &context) {
+  const ChunkCodec *codec = findCodec(chunk.type);
+  if (!codec) {
+    std::string known;
+    for (const auto &c : chunkCodecs())
+      appendWord(known, fourccName(c.type));
+    throw Error(context + ": not a chunk type this build knows (" + known + ")");
+  }
+  if (chunk.version < codec->oldestVersion || chunk.version > codec->version)
+    throw Error(context + ": chunk version " + std::to_string(chunk.version) +
+                " is not supported (this build reads " + std::to_string(codec->oldestVersion) +
+                ".." + std::to_string(codec->version) + ")");
+  return *codec;
+}
+
+std::string chunkContext(const Reader &reader, size_t chunkIndex) {
+  const auto &chunks = reader.chunks();
+  const uint32_t type = chunks[chunkIndex].type;
+  std::string ctx = "pack '" + reader.name() + "', chunk " + fourccName(type);
+  if (repeatable(type))
+    ctx +=
+        " #" + std::to_string(std::count_if(chunks.begin(), chunks.begin() + chunkIndex,
+                                            [&](const ChunkEntry &c) { return c.type == type; }));
+  return ctx;
+}
+
+std::string verifyPack(const Reader &reader) {
+  for (size_t i = 0; i < reader.chunks().size(); ++i) {
+    const std::string ctx = chunkContext(reader, i);
+    const ChunkEntry &c = reader.chunks()[i];
+    codecOf(c, ctx).describe(reader.payload(c), c.version, ctx);
+  }
+  std::string line = std::to_string(reader.chunks().size()) + " chunks, " +
+                     std::to_string(reader.fileSize()) + " bytes";
+  if (!reader.find(kSkeleton) && reader.find(kImpostor)) { // a lone impostor (crowdbake impostor)
+    const Impostor m = loadImpostorPack(reader).impostor;
+    return line + ", impostor of clip '" + m.clip + "', " + std::to_string(m.frames) + " frames";
+  }
+  const CharacterPack c = loadCharacterPack(reader);
+  const AnimationPack &p = c.body;
+  line += ", " + std::to_string(p.skeleton.jointCount()) + " joints, " +
+          std::to_string(p.clips.size()) + " clips";
+  if (p.outfits)
+    line += ", " + std::to_string(p.outfits->outfits.size()) + " outfits";
+  if (!c.impostors.empty())
+    line += ", " + std::to_string(c.impostors.size()) + " impostors";
+  return line;
+}
+
+} // namespace crowd::pack
