@@ -179,6 +179,7 @@ Description describeImpostor(std::span<const uint8_t> b, uint32_t version, const
       .add("frame_step", number(m.frameStep))
       .add("views", text(size2(m.azimuths, m.elevations)))
       .add("texels", number(m.texels))
+      .add("sphere_radius", number(m.sphere[3]))
       .add("mirrored", yesNo(m.mirrored))
       .add("atlas", text(size2(m.atlasWidth, m.atlasHeight)))
       .add("occupancy", number(double(used) / (double(m.frames) * m.atlasWidth * m.atlasHeight)))

@@ -186,12 +186,14 @@ CrowdSelection::Result CrowdSelection::select(const FrameView &view, const DrawO
   for (uint32_t ci = 0; ci < characters.size(); ++ci) {
     Character &c = characters[ci];
     c.impostorIds.clear();
-    // Past the one-texel-per-pixel distance an eligible instance becomes an impostor, and back
-    // to geometry only 10% nearer, so none flickers at the boundary.
+    // Past the one-texel-per-pixel distance an eligible instance becomes an impostor, with
+    // hysteresis.
     const bool hybrid = options.path == DrawPath::Hybrid && c.impostor;
     const double switchAt =
         hybrid ? oneToOneDistance(*c.impostor, view.fovY, view.viewportHeight) : 0.0;
-    const double out2 = 1.21 * switchAt * switchAt, in2 = 0.81 * switchAt * switchAt;
+    const double out = (1 + kImpostorHysteresis) * switchAt,
+                 in = (1 - kImpostorHysteresis) * switchAt;
+    const double out2 = out * out, in2 = in * in;
     const bool cull = options.cull && !naive;
     for (uint32_t i = 0; i < uint32_t(c.bounds.size()); ++i) {
       if (cull && !frustum.sees(c.bounds[i], c.radius))

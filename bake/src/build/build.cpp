@@ -39,12 +39,21 @@ BuildPlan planBuild(const BuildOptions &o) {
     cacheFolder = lib.single ? (fs::path(o.output).parent_path() / ".crowdbake-cache").string()
                              : (fs::path(o.output) / ".cache").string();
 
-  for (const auto &m : lib.characters) {
-    auto jobs = planCharacter(std::make_shared<CharacterManifest>(m), plan.jobs.size());
-    plan.ranges.emplace_back(plan.jobs.size(), plan.jobs.size() + jobs.size() - 1);
-    plan.jobs.insert(plan.jobs.end(), jobs.begin(), jobs.end());
+  auto planJobs = [](const Library &library, std::vector<Job> &jobs,
+                     std::vector<std::pair<size_t, size_t>> &ranges) {
+    for (const auto &m : library.characters) {
+      auto more = planCharacter(std::make_shared<CharacterManifest>(m), jobs.size());
+      ranges.emplace_back(jobs.size(), jobs.size() + more.size() - 1);
+      jobs.insert(jobs.end(), more.begin(), more.end());
+    }
+    keyJobs(jobs);
+  };
+  if (!o.scene.scene.empty()) {
+    std::vector<std::pair<size_t, size_t>> fullRanges;
+    planJobs(lib, plan.fullJobs, fullRanges);
+    plan.scene = narrowToScene(plan.library, o.scene, o.files);
   }
-  keyJobs(plan.jobs);
+  planJobs(lib, plan.jobs, plan.ranges);
   for (const auto &m : lib.characters)
     plan.packs.push_back(lib.single ? o.output
                                     : (fs::path(o.output) / (m.name + ".crowdpack")).string());
@@ -74,6 +83,48 @@ BuildResult build(const BuildOptions &o) {
   return finishBuild(o, plan, outcomes,
                      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
 }
+
+namespace {
+
+// What a scene build saved against the full library: bake seconds (as each part recorded when
+// it ran) and pack bytes, summed over the jobs of each from the cache, where it holds them all.
+ordered_json sceneSavings(const BuildPlan &plan) {
+  const ContentCache cache(plan.cache);
+  struct Totals {
+    double seconds = 0;
+    uint64_t bytes = 0;
+    size_t missing = 0;
+  };
+  auto totals = [&](const std::vector<Job> &jobs) {
+    Totals t;
+    for (const Job &job : jobs) {
+      std::string problem;
+      if (auto part = cache.load(job.key, problem)) {
+        t.seconds += part->figures.value("time_s", 0.0);
+        t.bytes += part->figures.value("pack_bytes", uint64_t(0));
+      } else {
+        ++t.missing;
+      }
+    }
+    return t;
+  };
+  const Totals full = totals(plan.fullJobs), scene = totals(plan.jobs);
+  ordered_json j{{"jobs", plan.jobs.size()}, {"full_build_jobs", plan.fullJobs.size()}};
+  if (full.missing + scene.missing > 0) {
+    j["saved"] = std::to_string(full.missing + scene.missing) + " of the " +
+                 std::to_string(plan.fullJobs.size() + plan.jobs.size()) +
+                 " parts of the full and the scene build are not in the cache: build the whole "
+                 "library into the same cache once to measure what the scene saves";
+    return j;
+  }
+  j["full_build"] = {{"bake_s", full.seconds}, {"pack_bytes", full.bytes}};
+  j["scene_build"] = {{"bake_s", scene.seconds}, {"pack_bytes", scene.bytes}};
+  j["saved"] = {{"bake_s", full.seconds - scene.seconds},
+                {"pack_bytes", int64_t(full.bytes) - int64_t(scene.bytes)}};
+  return j;
+}
+
+} // namespace
 
 BuildResult finishBuild(const BuildOptions &o, const BuildPlan &plan,
                         const std::vector<JobOutcome> &outcomes, double seconds) {
@@ -146,6 +197,10 @@ BuildResult finishBuild(const BuildOptions &o, const BuildPlan &plan,
   r["jobs"] = {{"total", jobs.size()}, {"run", run}, {"cached", cached}, {"failed", failed}};
   r["characters_failed"] = result.failed();
   r["time_s"] = seconds;
+  if (!o.scene.scene.empty()) {
+    r["scene"] = plan.scene;
+    r["scene"].update(sceneSavings(plan));
+  }
   return result;
 }
 

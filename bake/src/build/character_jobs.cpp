@@ -43,8 +43,8 @@ void keepClips(Character &c, const std::vector<std::string> &names, const std::s
       std::string list;
       for (const auto &k : c.clips)
         list += (list.empty() ? "" : ", ") + k.name;
-      throw Error(file + ": no clip named '" + name + "' (clips: " + (list.empty() ? "none" : list) +
-                  ")");
+      throw Error(file + ": no clip named '" + name +
+                  "' (clips: " + (list.empty() ? "none" : list) + ")");
     }
     kept.push_back(*it);
   }
@@ -89,8 +89,9 @@ void addChunks(Part &part, const std::vector<uint8_t> &packBytes, bool withProve
 std::vector<uint8_t> regionMap(const pack::Outfits &table, const std::string &outfit,
                                uint32_t bodyRegions, uint32_t garments, const std::string &ctx) {
   if (bodyRegions != table.bodySubMeshes)
-    throw Error(ctx + ": " + std::to_string(bodyRegions) + " body regions, but the pack's body has " +
-                std::to_string(table.bodySubMeshes) + " sub-meshes");
+    throw Error(ctx + ": " + std::to_string(bodyRegions) +
+                " body regions, but the pack's body has " + std::to_string(table.bodySubMeshes) +
+                " sub-meshes");
   auto it = std::find_if(table.outfits.begin(), table.outfits.end(),
                          [&](auto &o) { return o.name == outfit; });
   if (it == table.outfits.end() || it->subMeshes.size() < garments)
@@ -186,6 +187,7 @@ Part impostorJob(const Job &job, const std::vector<const Part *> &, int threads)
                   {"outfit", job.outfit},
                   {"body_regions", uint32_t(c.mesh.parts.size()) - garments},
                   {"garment_regions", garments},
+                  {"texels", r.impostor.texels},
                   {"occupancy", r.occupancy},
                   {"bytes_per_frame", r.bytesPerFrame},
                   {"time_s", since(t0)},
@@ -231,8 +233,8 @@ Part linkJob(const Job &job, const std::vector<const Part *> &deps, int) {
   pack::loadCharacterPack(pack::Reader(bytes, m.name + ".crowdpack")); // cross-checks it all
   part.figures["pack_bytes"] = bytes.size();
   for (const auto &c : part.chunks)
-    part.figures["chunk_bytes"].push_back({{"type", pack::fourccName(c.type)},
-                                            {"bytes", c.payload.size()}});
+    part.figures["chunk_bytes"].push_back(
+        {{"type", pack::fourccName(c.type)}, {"bytes", c.payload.size()}});
   return part;
 }
 
@@ -259,23 +261,24 @@ std::vector<Job> planCharacter(std::shared_ptr<const CharacterManifest> characte
 
   Job link = job("link", files, all);
   link.deps = {base};
-  for (const auto &clip : m.impostorClips)
-    for (const auto &outfit : m.impostorOutfits) {
-      Job j = job("impostor", {m.body},
-                  {{"clips", m.clips},
-                   {"mesh", m.mesh},
-                   {"clip", clip},
-                   {"outfit", outfit},
-                   {"impostor", all["impostor"]}});
-      j.clip = clip;
-      j.outfit = outfit;
-      if (!outfit.empty())
-        j.files.push_back(outfitFile(m, outfit));
-      if (!outfit.empty())
-        j.settings["regions"] = m.outfitOptions.regions;
-      link.deps.push_back(base + jobs.size());
-      jobs.push_back(j);
+  ordered_json impostorSettings = all.value("impostor", ordered_json::object());
+  impostorSettings.erase("pairs"); // another pair list leaves this pair's part as it is
+  for (const auto &[clip, outfit] : m.impostorPairs) {
+    Job j = job("impostor", {m.body},
+                {{"clips", m.clips},
+                 {"mesh", m.mesh},
+                 {"clip", clip},
+                 {"outfit", outfit},
+                 {"impostor", impostorSettings}});
+    j.clip = clip;
+    j.outfit = outfit;
+    if (!outfit.empty()) {
+      j.files.push_back(outfitFile(m, outfit));
+      j.settings["regions"] = m.outfitOptions.regions;
     }
+    link.deps.push_back(base + jobs.size());
+    jobs.push_back(j);
+  }
   jobs.push_back(link);
   return jobs;
 }

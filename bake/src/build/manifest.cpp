@@ -171,28 +171,32 @@ CharacterManifest parse(const JsonChecker &c, const json &j, const Keys &at,
     const Keys k = key("impostor");
     const json &im = j["impostor"];
     c.onlyKeys(im, k, {"clips", "outfits", "frames", "views", "texels", "mirror"});
+    std::vector<std::string> clips, outfits;
     if (im.contains("clips"))
-      m.impostorClips = names(c, im["clips"], key2("impostor", "clips"));
+      clips = names(c, im["clips"], key2("impostor", "clips"));
     else
-      m.impostorClips = {m.clips.empty() ? std::string() : m.clips.front()}; // "": the first
+      clips = {m.clips.empty() ? std::string() : m.clips.front()}; // "": the first
     if (im.contains("outfits"))
-      m.impostorOutfits = names(c, im["outfits"], key2("impostor", "outfits"));
+      outfits = names(c, im["outfits"], key2("impostor", "outfits"));
     else if (m.outfits.empty())
-      m.impostorOutfits = {""};
+      outfits = {""};
     else
       for (const auto &o : m.outfits)
-        m.impostorOutfits.push_back(o.first);
-    for (const auto &o : m.impostorOutfits) {
+        outfits.push_back(o.first);
+    for (const auto &o : outfits) {
       bool known = o.empty(); // the bare body
       for (const auto &[name, file] : m.outfits)
         known = known || name == o;
       if (!known)
         c.fail(key2("impostor", "outfits"), "'" + o + "' is not one of the character's outfits");
     }
-    for (const auto &clip : m.impostorClips)
+    for (const auto &clip : clips)
       if (!m.clips.empty() && std::find(m.clips.begin(), m.clips.end(), clip) == m.clips.end())
         c.fail(key2("impostor", "clips"),
                "clip '" + clip + "' is not among the character's \"clips\"");
+    for (const auto &clip : clips)
+      for (const auto &outfit : outfits)
+        m.impostorPairs.emplace_back(clip, outfit);
     if (im.contains("frames"))
       m.impostor.frames = whole(c, im["frames"], key2("impostor", "frames"), 1, 4096);
     if (im.contains("texels"))
@@ -238,14 +242,20 @@ nlohmann::ordered_json CharacterManifest::canonical() const {
                        {"regions", outfitOptions.regions},
                        {"min_saving", outfitOptions.minSaving}};
   }
-  if (!impostorClips.empty())
-    j["impostor"] = {
-        {"clips", impostorClips},
-        {"outfits", impostorOutfits},
-        {"frames", impostor.frames},
-        {"views", std::to_string(impostor.azimuths) + "x" + std::to_string(impostor.elevations)},
-        {"texels", impostor.texels},
-        {"mirror", impostor.mirror}};
+  if (!impostorPairs.empty()) {
+    auto &im = j["impostor"];
+    for (const auto &[clip, outfit] : impostorPairs)
+      im["pairs"].push_back({clip, outfit});
+    im["frames"] = impostor.frames;
+    im["views"] = std::to_string(impostor.azimuths) + "x" + std::to_string(impostor.elevations);
+    if (impostor.switchDistance > 0)
+      im["texels"] = {{"switch_distance", impostor.switchDistance},
+                      {"screen_height", impostor.screenHeight},
+                      {"fov", impostor.fovDegrees}};
+    else
+      im["texels"] = impostor.texels;
+    im["mirror"] = impostor.mirror;
+  }
   return j;
 }
 

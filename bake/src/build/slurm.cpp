@@ -54,6 +54,9 @@ BuildOptions buildOptions(const ordered_json &plan) {
   o.report = plan.at("report");
   o.files.assetRoot = plan.at("asset_root");
   o.files.maxFileBytes = plan.at("max_file_bytes");
+  o.scene.scene = plan.at("scene");
+  o.scene.screenHeight = plan.at("screen_height");
+  o.scene.switchDistance = plan.at("switch_distance");
   return o;
 }
 
@@ -99,6 +102,8 @@ std::string writeSlurmScripts(const BuildOptions &build, const SlurmOptions &slu
   o.output = absolute(o.output);
   o.report = absolute(o.report);
   o.files.assetRoot = absolute(o.files.assetRoot);
+  if (!o.scene.scene.empty())
+    o.scene.scene = absolute(o.scene.scene);
   const BuildPlan plan = planBuild(o); // checks every manifest and hashes every input now
   const std::string folder = absolute(slurm.folder);
   std::error_code ec;
@@ -116,6 +121,9 @@ std::string writeSlurmScripts(const BuildOptions &build, const SlurmOptions &slu
   p["report"] = o.report;
   p["asset_root"] = o.files.assetRoot;
   p["max_file_bytes"] = o.files.maxFileBytes;
+  p["scene"] = o.scene.scene;
+  p["screen_height"] = o.scene.screenHeight;
+  p["switch_distance"] = o.scene.switchDistance;
   p["jobs_per_task"] = slurm.jobsPerTask;
   p["cpus_per_task"] = slurm.cpusPerTask;
   p["stages"] = ordered_json::array();

@@ -44,10 +44,17 @@ must be on a file system every node sees, like crowdbake itself and the inputs; 
 job writes the packs and the report. --emit-slurm DIR only writes the scripts (DIR/submit.sh
 submits them).
 
+With --scene SCENE.json (a crowdplay scene whose packs are this build's outputs, NAME.crowdpack
+for the character NAME), only what the scene draws is built: its characters, the clips and
+outfits its instances use, and impostors for the listed pairs that some instance shows past the
+switch distance (from any point of the camera's path). The report's "scene" says what was left
+out and why, and what that saved against the full library when the cache holds its parts.
+
 examples:
   crowdbake build soldier.json -o soldier.crowdpack
   crowdbake build library.json -o packs/ --jobs 8 --cache /shared/crowdbake-cache
   crowdbake build library.json -o /shared/packs --slurm --partition bake --cpus-per-task 8
+  crowdbake build library.json -o packs/ --scene market.json --screen 1080
 )";
 
 const char *const kBuildTaskHelp = R"(usage: crowdbake build-task PLAN STAGE TASK
@@ -84,6 +91,25 @@ void printSummary(const nlohmann::ordered_json &r, const std::string &reportPath
                  name.c_str(), c["jobs"].size(), c["jobs_run"].get<size_t>(),
                  c["jobs_cached"].get<size_t>(), c["bake_s"].get<double>(),
                  c["pack_bytes"].get<unsigned long long>(), c["pack"].get<std::string>().c_str());
+  }
+  if (r.contains("scene")) {
+    const auto &s = r["scene"];
+    std::string leftOut;
+    for (const auto &c : s["characters"])
+      if (c.contains("left_out"))
+        leftOut.append(leftOut.empty() ? "" : ", ").append(c["name"].get<std::string>());
+    std::fprintf(stderr, "crowdbake: scene %s: %zu of the full build's %zu jobs; left out: %s\n",
+                 s["file"].get<std::string>().c_str(), s["jobs"].get<size_t>(),
+                 s["full_build_jobs"].get<size_t>(), leftOut.empty() ? "none" : leftOut.c_str());
+    if (s["saved"].is_object())
+      std::fprintf(stderr,
+                   "crowdbake: scene build against the full build: %.1f s of %.1f s of bake and "
+                   "%lld of %llu pack bytes saved\n",
+                   s["saved"]["bake_s"].get<double>(), s["full_build"]["bake_s"].get<double>(),
+                   s["saved"]["pack_bytes"].get<long long>(),
+                   s["full_build"]["pack_bytes"].get<unsigned long long>());
+    else
+      std::fprintf(stderr, "crowdbake: %s\n", s["saved"].get<std::string>().c_str());
   }
   const auto &j = r["jobs"];
   std::fprintf(stderr, "crowdbake: %zu jobs: %zu run, %zu cached, %zu failed; %.1f s%s%s\n",
@@ -166,11 +192,25 @@ int cmdBuild(int argc, char **argv) {
       ->capture_default_str();
   app.add_option("--cpus-per-task", slurm.cpusPerTask, "Slurm CPUs per task: a job's threads")
       ->capture_default_str();
+  auto *scene = app.add_option("--scene", o.scene.scene,
+                               "build only what this crowdplay scene draws (see below)")
+                    ->group("Scene builds");
+  app.add_option("--screen", o.scene.screenHeight,
+                 "pixels: the height of the viewport the scene is drawn at")
+      ->capture_default_str()
+      ->needs(scene)
+      ->group("Scene builds");
+  app.add_option("--switch-distance", o.scene.switchDistance,
+                 "scene units: where characters turn into impostors; their texels are chosen "
+                 "so that one covers one pixel there (default: where the manifest's texels do)")
+      ->needs(scene)
+      ->group("Scene builds");
   InputArgs files;
   files.add(app);
   if (!parseArgs(app, argc, argv))
     return 0;
   files.finish();
+  validated(o.scene);
   o.files = files.policy;
   o.executor.progress = quiet ? "none" : isatty(2) ? "bar" : "lines";
   namespace fs = std::filesystem;

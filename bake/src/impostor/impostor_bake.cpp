@@ -8,6 +8,7 @@
 #include "crowd/bake/parallel.h"
 #include "crowd/bake/raster.h"
 #include "crowd/formats/error.h"
+#include "crowd/formats/limits.h"
 
 namespace crowd {
 namespace {
@@ -79,17 +80,28 @@ void ImpostorOptions::validate() const {
     throw Error("mirror: needs an even number of frames and of azimuths");
   if (threads < 0 || threads > 1024)
     throw Error("threads: must be in [0, 1024]");
+  if (!(switchDistance >= 0) || !std::isfinite(switchDistance))
+    throw Error("switch distance: must be a finite number >= 0");
+  if (screenHeight < 16 || screenHeight > limits::kScreenSide)
+    throw Error("screen height: must be in [16, " + std::to_string(limits::kScreenSide) + "]");
+  if (!(fovDegrees >= 1 && fovDegrees <= 179))
+    throw Error("fov: must be in [1, 179] degrees");
 }
 
-ImpostorBakeResult bakeImpostor(const Character &c, const ImpostorOptions &o, Reporter &reporter) {
-  o.validate();
-  const uint64_t views = uint64_t(o.azimuths) * o.elevations;
-  const uint64_t naive = uint64_t(o.frames) * views * o.texels * o.texels * 4;
-  if (naive > o.maxBytes)
-    throw Error("impostor would need " + std::to_string(naive >> 20) +
-                " MiB of uncropped views (limit " + std::to_string(o.maxBytes >> 20) +
-                " MiB): lower --frames, --views or --texels");
+uint32_t texelsAtSwitchDistance(double radius, const ImpostorOptions &o) {
+  // The player's one-texel-per-pixel distance, 2 r / texels * H / (2 tan(fov / 2)), solved for
+  // texels and rounded up: at the switch distance a texel is at most a pixel.
+  const double t =
+      radius * o.screenHeight / (o.switchDistance * std::tan(glm::radians(o.fovDegrees) / 2));
+  const double rounded = std::ceil(std::min(t, 4096.0) / 4) * 4;
+  return uint32_t(std::clamp(rounded, 4.0, 4096.0));
+}
 
+ImpostorBakeResult bakeImpostor(const Character &c, const ImpostorOptions &options,
+                                Reporter &reporter) {
+  options.validate();
+  ImpostorOptions o = options; // texels set from the switch distance once the sphere is known
+  const uint64_t views = uint64_t(o.azimuths) * o.elevations;
   const AnimationClip *clip = nullptr;
   for (const auto &cl : c.clips)
     if (o.clip.empty() ? !clip : cl.name == o.clip)
@@ -134,6 +146,13 @@ ImpostorBakeResult bakeImpostor(const Character &c, const ImpostorOptions &o, Re
       radius = std::max(radius, glm::length(glm::dvec3(q) - centre));
   radius = std::max(radius * 1.02, 1e-6); // a texel of margin around the silhouette
   m.sphere = {float(centre.x), float(centre.y), float(centre.z), float(radius)};
+  if (o.switchDistance > 0)
+    m.texels = o.texels = texelsAtSwitchDistance(radius, o);
+  const uint64_t naive = uint64_t(o.frames) * views * o.texels * o.texels * 4;
+  if (naive > o.maxBytes)
+    throw Error("impostor would need " + std::to_string(naive >> 20) +
+                " MiB of uncropped views (limit " + std::to_string(o.maxBytes >> 20) +
+                " MiB): lower --frames, --views or --texels");
 
   std::vector<uint8_t> region(c.mesh.indices.size() / 3, 0);
   for (size_t p = 0; p < c.mesh.parts.size(); ++p)

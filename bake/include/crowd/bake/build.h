@@ -10,6 +10,7 @@
 
 #include "crowd/bake/executor.h"
 #include "crowd/bake/manifest.h"
+#include "crowd/bake/scene_build.h"
 
 namespace crowd {
 
@@ -19,7 +20,8 @@ struct BuildOptions {
   std::string cache;  // default: OUTDIR/.cache (one character: beside OUT, .crowdbake-cache)
   std::string report; // build report JSON; default: OUTDIR/build.report.json (library only)
   ExecutorOptions executor;
-  InputPolicy files; // where manifests' and glTFs' files may resolve, and their size bound
+  InputPolicy files;       // where manifests' and glTFs' files may resolve, and their size bound
+  SceneBuildOptions scene; // --scene: only what one scene draws
 };
 
 struct CharacterBuild {
@@ -50,6 +52,10 @@ struct BuildPlan {
   // Per character: its pack already holds what its link job would write, so it is neither
   // loaded nor written (all 0 until findUpToDatePacks).
   std::vector<char> upToDate;
+  // --scene: the report's account of what was left out, and the jobs of the full library (to
+  // measure against, from the cache).
+  nlohmann::ordered_json scene;
+  std::vector<Job> fullJobs;
 };
 BuildPlan planBuild(const BuildOptions &options);
 // Marks the characters whose pack file has the hash the cache recorded for their link's key.

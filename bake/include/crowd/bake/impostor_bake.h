@@ -17,10 +17,18 @@ struct ImpostorOptions {
   uint32_t frames = 16; // frames sampled evenly over the clip
   uint32_t azimuths = 32, elevations = 8;
   uint32_t texels = 128; // a full view is texels x texels before cropping
-  bool mirror = false;   // store azimuths 0..A/2 only (needs even frames and azimuths)
-  int threads = 0;       // 0: all cores; the bytes never depend on it
+  // Texels from the switch distance instead (when > 0): the fewest, rounded up to a multiple of
+  // 4, for which one texel covers at most one pixel at this distance (model units) from the
+  // impostor's sphere, on a viewport `screenHeight` pixels tall with a vertical field of view of
+  // `fovDegrees`. The player switches to the impostor where a texel covers a pixel: at this
+  // distance or up to 4 texels' worth nearer, so no texel is stored that no pixel shows.
+  double switchDistance = 0;
+  int screenHeight = 1080;
+  double fovDegrees = 50;
+  bool mirror = false; // store azimuths 0..A/2 only (needs even frames and azimuths)
+  int threads = 0;     // 0: all cores; the bytes never depend on it
   uint64_t maxBytes = uint64_t(4) << 30; // memory guard on the uncropped views
-  void validate() const; // throws crowd::Error naming the first field out of range
+  void validate() const;                 // throws crowd::Error naming the first field out of range
 };
 
 struct ImpostorBakeResult {
@@ -35,6 +43,9 @@ struct ImpostorBakeResult {
 
 ImpostorBakeResult bakeImpostor(const Character &character, const ImpostorOptions &options,
                                 Reporter &reporter);
+
+// The texels of a view for a sphere of `radius` under options.switchDistance (see there).
+uint32_t texelsAtSwitchDistance(double radius, const ImpostorOptions &options);
 
 // Accuracy of a baked impostor against the true render, for frame 0: each camera direction is
 // drawn from the nearest stored view (its crop on its best plane, facing the camera) and

@@ -22,16 +22,17 @@ struct CharacterManifest {
   std::string source; // the file it came from (a library for inline manifests)
   std::string body;   // glTF path, resolved against the manifest's folder
   std::vector<std::pair<std::string, std::string>> outfits; // name, glTF path (manifest order)
-  std::vector<std::string> clips; // clips to keep; empty: every clip
-  std::string mesh;               // the body's mesh to bake (ImportOptions::mesh)
-  InputPolicy input;              // how its glTFs' own files are confined (not a setting)
+  std::vector<std::string> clips;                           // clips to keep; empty: every clip
+  std::string mesh;  // the body's mesh to bake (ImportOptions::mesh)
+  InputPolicy input; // how its glTFs' own files are confined (not a setting)
   AnimBakeOptions anim;
   bool lod = true; // continuous LOD on every sub-mesh ("lod": false turns it off)
   LodOptions lodOptions;
   OutfitOptions outfitOptions; // "visibility": how outfits hide body parts
-  // Impostors for every (clip, outfit) pair of these lists; none when `impostorClips` is empty.
-  // An outfit of "" is the bare body.
-  std::vector<std::string> impostorClips, impostorOutfits;
+  // The (clip, outfit) pairs to bake impostors of: every pair of the manifest's "impostor"
+  // clips and outfits (a scene build keeps those it draws far away). An outfit of "" is the bare
+  // body, a clip of "" the first.
+  std::vector<std::pair<std::string, std::string>> impostorPairs;
   ImpostorOptions impostor;
   // Settings in a fixed order, for provenance and cache keys (no paths: they move).
   nlohmann::ordered_json canonical() const;

@@ -83,6 +83,10 @@ struct FrameView {
 
 enum class DrawPath { Instanced, Naive, Hybrid };
 
+// An instance becomes an impostor this share past its switch distance and geometry again this
+// share nearer, so none flickers at the boundary.
+inline constexpr double kImpostorHysteresis = 0.1;
+
 struct DrawOptions {
   DrawPath path = DrawPath::Hybrid;
   uint64_t budget = 0;    // triangles drawn (impostors count two); 0: no budget, full detail
