@@ -214,7 +214,8 @@ ordered_json narrowToScene(Library &library, const SceneBuildOptions &o,
     }
     auto listedInManifest = [&](const Pair &p) {
       return contains(m.impostorPairs, p) ||
-             (p.first == rest.clips.front() && contains(m.impostorPairs, Pair{"", p.second}));
+             (!rest.clips.empty() && p.first == rest.clips.front() &&
+              contains(m.impostorPairs, Pair{"", p.second}));
     };
     for (const auto &[pair, far] : farthest)
       if (far > switchAt * farFactor && !listedInManifest(pair))
