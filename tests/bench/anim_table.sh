@@ -39,7 +39,7 @@ for f in inputs:
                          c["max_error_at_frames_model_units"] * mm,
                          c["max_error_at_midframes_model_units"] * mm,
                          c["max_error_at_random_times_model_units"] * mm,
-                         c["mean_error_at_random_times_model_units"] * mm, r["time_s"]["total"]])
+                         c["mean_error_at_random_times_model_units"] * mm, r["time_s"]])
 print("| " + " | ".join(cols) + " |")
 print("|" + "---|" * len(cols))
 for row in rows:

@@ -85,6 +85,34 @@ grep -q "damaged cache entry rebuilt" log.txt || fail "damaged entry not reporte
 cmp out2/walker.crowdpack out1/walker.crowdpack
 echo "ok: damaged cache entry rebuilt"
 
+# A .gltf's external buffer is an input like the .gltf itself: in the pack's provenance, and a
+# changed buffer reruns the jobs that read it.
+mkdir -p split && python3 - s/humanoid.glb split <<'PY'
+import json, struct, sys
+data = open(sys.argv[1], 'rb').read()
+n = struct.unpack_from('<I', data, 12)[0]
+gltf, binary = json.loads(data[20:20 + n]), data[28 + n:]
+gltf['buffers'][0]['uri'] = 'humanoid data.bin'  # a space: percent-encoded below
+json.dump(gltf, open(sys.argv[2] + '/humanoid.gltf', 'w'))
+open(sys.argv[2] + '/humanoid data.bin', 'wb').write(binary)
+PY
+sed -i 's/humanoid data.bin/humanoid%20data.bin/' split/humanoid.gltf
+printf '{"name": "split", "body": "split/humanoid.gltf", "clips": ["walk"], "lod": false}\n' > split.json
+"$bin/crowdbake" build split.json -o split.crowdpack -q
+"$bin/crowdbake" inspect split.crowdpack | grep -q 'humanoid data.bin' ||
+  fail "the external buffer is not in the pack's provenance"
+python3 - split <<'PY'
+import json, struct, sys
+g = json.load(open(sys.argv[1] + '/humanoid.gltf'))
+view = g['bufferViews'][g['accessors'][g['meshes'][0]['primitives'][0]['attributes']['POSITION']]['bufferView']]
+with open(sys.argv[1] + '/humanoid data.bin', 'r+b') as f:  # nudge the first vertex by 1 mm
+    f.seek(view.get('byteOffset', 0)); x = struct.unpack('<f', f.read(4))[0]
+    f.seek(view.get('byteOffset', 0)); f.write(struct.pack('<f', x + 0.001))
+PY
+"$bin/crowdbake" build split.json -o split.crowdpack -q --report split.report.json
+grep -q '"run": 2' split.report.json || fail "a changed external buffer did not rerun mesh and link"
+echo "ok: a .gltf's external buffer is hashed into provenance and the cache key"
+
 # Two builds sharing one cache at once: both complete with identical packs.
 "$bin/crowdbake" build library.json -o out3 --cache shared -q & a=$!
 "$bin/crowdbake" build library.json -o out4 --cache shared -q & b=$!

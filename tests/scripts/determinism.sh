@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# The same bake gives byte-identical packs at any thread count and from any directory.
+# The same bake gives byte-identical packs at any thread count, from any directory and with or
+# without a report.
 set -euo pipefail
 bin=$1 work=$2
 rm -rf "$work" && mkdir -p "$work/a" "$work/b"
@@ -16,3 +17,10 @@ for precision in float half qts; do
   cmp "$work/t1.crowdpack" "$work/elsewhere.crowdpack"
   echo "$precision: identical at 1, 2 and 5 threads and from another directory"
 done
+# A report asks for figures (the impostor's accuracy), never for other bytes.
+impostor=("$bin/crowdbake" impostor "$work/a/humanoid.glb" --clip walk --frames 2 --views 4x2 --texels 16 --quiet)
+"${impostor[@]}" -o "$work/i1.crowdpack"
+"${impostor[@]}" -o "$work/i2.crowdpack" --report "$work/i2.json"
+cmp "$work/i1.crowdpack" "$work/i2.crowdpack"
+grep -q '"between_views"' "$work/i2.json"
+echo "impostor: identical with and without --report (which measures its accuracy)"

@@ -9,13 +9,18 @@
 namespace crowd {
 namespace {
 
+#ifndef CROWD_OUTFIT_FRAME_STEP
+#define CROWD_OUTFIT_FRAME_STEP 8 // sanitizer builds: 16 (tests/CMakeLists.txt)
+#endif
+constexpr uint32_t kFrameStep = CROWD_OUTFIT_FRAME_STEP;
+
 // Fast settings: every 8th frame (and each clip's last), joint regions, a 2-face safety ring.
 // The sampled directions miss escape cones narrower than their spacing: at ring 1 in this
 // setting one thigh face of shirt_trousers, seen through the gap between the trousers' hip
 // band and leg, leaked 4 pixels; the CLI defaults (every frame, ring 1) pass the check.
 OutfitOptions fast() {
   OutfitOptions o;
-  o.visibility.frameStep = 8;
+  o.visibility.frameStep = kFrameStep;
   o.visibility.ring = 2;
   o.regions = "joint";
   return o;
@@ -23,7 +28,7 @@ OutfitOptions fast() {
 
 HoleCheckOptions fastCheck() {
   HoleCheckOptions h;
-  h.frameStep = 8;
+  h.frameStep = kFrameStep;
   return h;
 }
 

@@ -42,4 +42,28 @@ ordered_json precisionJson(const PrecisionAccuracy &pa, const AnimBakeResult &r)
   return j;
 }
 
+ordered_json animFigures(const AnimBakeResult &r) {
+  ordered_json f;
+  f["diagonal"] = r.diagonal;
+  f["mm_per_model_unit"] = r.mmPerUnit; // the character scaled to 1.8 m
+  f["scaled_by"] = r.heightIsDiagonal ? "diagonal" : "height";
+  const auto &baked = r.accuracy[r.baked];
+  f["precision"] = baked.precision.name;
+  f["bytes_per_joint_per_frame"] = baked.precision.bytesPerJointPerFrame();
+  f["clips"] = ordered_json::array();
+  for (size_t i = 0; i < r.pack.clips.size(); ++i) {
+    const auto &c = r.pack.clips[i];
+    ordered_json cj = {{"name", c.name},
+                       {"frames", c.frameCount},
+                       {"fps", c.fps},
+                       {"start_time", c.startTime},
+                       {"loop", c.loop}};
+    cj.update(clipErrorsJson(baked.clips.at(i), r));
+    f["clips"].push_back(cj);
+  }
+  for (const auto &pa : r.accuracy)
+    f["precisions"].push_back(precisionJson(pa, r));
+  return f;
+}
+
 } // namespace crowd

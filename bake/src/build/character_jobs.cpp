@@ -6,6 +6,7 @@
 #include <map>
 
 #include "crowd/bake/anim_report.h"
+#include "crowd/bake/bake_figures.h"
 #include "crowd/bake/content_cache.h"
 #include "crowd/bake/import.h"
 #include "crowd/bake/job.h"
@@ -119,11 +120,16 @@ Part meshJob(const Job &job, const std::vector<const Part *> &, int threads) {
   auto &f = part.figures;
   f["input_triangles"] = body.mesh.indices.size() / 3;
   f["joints"] = body.jointCount();
+  f["import_s"] = since(t0);
   AnimBakeResult anim;
   if (m.outfits.empty()) {
     std::optional<pack::Lod> lod;
-    if (m.lod)
+    if (m.lod) {
+      const auto t1 = Clock::now();
       lod = applyLod(body, m.lodOptions, reporter);
+      f["lod"] = lodFigures(*lod, f["input_triangles"]);
+      f["lod"]["time_s"] = since(t1);
+    }
     AnimBakeOptions ao = m.anim;
     ao.threads = threads;
     anim = bakeAnimation(body, ao, reporter);
@@ -138,26 +144,16 @@ Part meshJob(const Job &job, const std::vector<const Part *> &, int threads) {
     if (m.lod)
       oo.lod = m.lodOptions;
     OutfitBakeResult r = bakeOutfits(body, outfits, oo, reporter);
-    for (const auto &o : r.outfits)
-      f["outfits"].push_back({{"name", o.name},
-                              {"garment_faces", o.garmentFaces},
-                              {"removed_body_faces", o.removedFaces},
-                              {"visibility_s", o.seconds}});
-    f["faces_stored"] = {{"naive", r.naiveFaces}, {"tagged", r.taggedFaces}};
+    f.update(outfitFigures(r, oo));
+    if (r.anim.pack.lod)
+      f["lod"] = lodFigures(*r.anim.pack.lod, r.taggedFaces);
     anim = std::move(r.anim);
-  }
-  const auto &acc = anim.accuracy[anim.baked];
-  for (const auto &clip : acc.clips) {
-    ordered_json cj = {{"name", clip.clip}, {"frames", clip.frames}};
-    cj.update(clipErrorsJson(clip, anim));
-    f["clips"].push_back(cj);
   }
   const auto &mesh = anim.pack.mesh;
   f["vertices"] = mesh.vertexCount();
   f["triangles"] = mesh.indices.size() / 3;
   f["sub_meshes"] = mesh.subMeshes.size();
-  if (anim.pack.lod)
-    f["lod_floor_triangles"] = anim.pack.lod->totalTriangles(anim.pack.lod->floorVertices);
+  f.update(animFigures(anim));
   addChunks(part, pack::packBytes(anim.pack), false);
   f["time_s"] = since(t0);
   f["warnings"] = warnings(reporter);
@@ -183,29 +179,26 @@ Part impostorJob(const Job &job, const std::vector<const Part *> &, int threads)
   r.impostor.outfit = job.outfit;
   Part part;
   part.chunks.push_back({pack::kImpostor, pack::kImpostorVersion, pack::encode(r.impostor)});
-  part.figures = {{"clip", r.impostor.clip},
-                  {"outfit", job.outfit},
-                  {"body_regions", uint32_t(c.mesh.parts.size()) - garments},
-                  {"garment_regions", garments},
-                  {"texels", r.impostor.texels},
-                  {"occupancy", r.occupancy},
-                  {"bytes_per_frame", r.bytesPerFrame},
-                  {"time_s", since(t0)},
-                  {"warnings", warnings(reporter)}};
+  auto &f = part.figures;
+  f = impostorFigures(r, opt);
+  f["outfit"] = job.outfit;
+  f["body_regions"] = uint32_t(c.mesh.parts.size()) - garments;
+  f["garment_regions"] = garments;
+  if (opt.measure) {
+    const auto t1 = Clock::now();
+    f["accuracy"] = impostorAccuracyFigures(measureImpostor(c, r.impostor, threads));
+    f["accuracy"]["time_s"] = since(t1);
+  }
+  f["time_s"] = since(t0);
+  f["warnings"] = warnings(reporter);
   return part;
 }
 
 Part linkJob(const Job &job, const std::vector<const Part *> &deps, int) {
   const CharacterManifest &m = *job.character;
   const std::string ctx = "character '" + m.name + "'";
-  pack::Provenance prov;
-  prov.bakerVersion = kBakerVersion;
-  prov.settings = {{"command", "build"}, {"character", job.settings.dump()}};
-  for (size_t k = 0; k < job.files.size(); ++k) // hashed once, by keyJobs
-    prov.inputs.push_back({std::filesystem::path(job.files[k]).filename().string(),
-                           job.hashes.at(k).size, job.hashes.at(k).hash});
   Part part;
-  part.chunks.push_back({pack::kProvenance, 1, pack::encode(prov)});
+  part.chunks.push_back(provenanceChunk(job, "build"));
   const Part &mesh = *deps.at(0);
   part.chunks.insert(part.chunks.end(), mesh.chunks.begin(), mesh.chunks.end());
   std::optional<pack::Outfits> table;
@@ -242,9 +235,16 @@ std::vector<Job> planCharacter(std::shared_ptr<const CharacterManifest> characte
   const CharacterManifest &m = *character;
   std::vector<Job> jobs;
   const ordered_json all = m.canonical();
-  std::vector<std::string> files = {m.body};
+  // A job hashes every file its imports read: a glTF's external buffers and images too.
+  auto append = [&](std::vector<std::string> &to, const std::string &gltf) {
+    for (auto &f : gltfFiles(gltf, m.input))
+      to.push_back(std::move(f));
+  };
+  std::vector<std::string> bodyFiles, files;
+  append(bodyFiles, m.body);
+  files = bodyFiles;
   for (const auto &[name, file] : m.outfits)
-    files.push_back(file);
+    append(files, file);
 
   auto job = [&](const char *kind, std::vector<std::string> inputs, ordered_json settings) {
     Job j;
@@ -264,7 +264,7 @@ std::vector<Job> planCharacter(std::shared_ptr<const CharacterManifest> characte
   ordered_json impostorSettings = all.value("impostor", ordered_json::object());
   impostorSettings.erase("pairs"); // another pair list leaves this pair's part as it is
   for (const auto &[clip, outfit] : m.impostorPairs) {
-    Job j = job("impostor", {m.body},
+    Job j = job("impostor", bodyFiles,
                 {{"clips", m.clips},
                  {"mesh", m.mesh},
                  {"clip", clip},
@@ -273,7 +273,7 @@ std::vector<Job> planCharacter(std::shared_ptr<const CharacterManifest> characte
     j.clip = clip;
     j.outfit = outfit;
     if (!outfit.empty()) {
-      j.files.push_back(outfitFile(m, outfit));
+      append(j.files, outfitFile(m, outfit));
       j.settings["regions"] = m.outfitOptions.regions;
     }
     link.deps.push_back(base + jobs.size());

@@ -1,5 +1,9 @@
 #include "crowd/bake/job.h"
 
+#include <filesystem>
+
+#include "crowd/bake/provenance.h"
+#include "crowd/formats/chunks.h"
 #include "crowd/formats/container.h"
 #include "crowd/formats/error.h"
 
@@ -63,6 +67,23 @@ Part partFromBytes(std::vector<uint8_t> bytes, const std::string &name) {
     }
   }
   return part;
+}
+
+Part::Chunk provenanceChunk(const Job &job, const std::string &command) {
+  pack::Provenance prov;
+  prov.bakerVersion = kBakerVersion;
+  // Settings that add figures or a proof but change no byte (impostor "measure", the outfits'
+  // hole "check") stay out, so asking for them leaves the pack as it is.
+  nlohmann::ordered_json settings = job.settings;
+  if (settings.contains("impostor") && settings["impostor"].is_object())
+    settings["impostor"].erase("measure");
+  if (settings.contains("visibility"))
+    settings["visibility"].erase("check");
+  prov.settings = {{"command", command}, {"character", settings.dump()}};
+  for (size_t k = 0; k < job.files.size(); ++k)
+    prov.inputs.push_back({std::filesystem::path(job.files[k]).filename().string(),
+                           job.hashes.at(k).size, job.hashes.at(k).hash});
+  return {pack::kProvenance, 1, pack::encode(prov)};
 }
 
 std::vector<uint8_t> characterPackBytes(const Part &link) {

@@ -147,7 +147,8 @@ CharacterManifest parse(const JsonChecker &c, const json &j, const Keys &at,
   if (j.contains("visibility")) {
     const Keys k = key("visibility");
     const json &v = j["visibility"];
-    c.onlyKeys(v, k, {"frame_step", "rays", "points", "ring", "ground", "regions", "min_saving"});
+    c.onlyKeys(
+        v, k, {"frame_step", "rays", "points", "ring", "ground", "regions", "min_saving", "check"});
     if (v.contains("frame_step"))
       vis.frameStep = whole(c, v["frame_step"], key2("visibility", "frame_step"), 1, 100000);
     if (v.contains("rays"))
@@ -162,6 +163,8 @@ CharacterManifest parse(const JsonChecker &c, const json &j, const Keys &at,
       m.outfitOptions.regions = c.string(v["regions"], key2("visibility", "regions"));
     if (v.contains("min_saving"))
       m.outfitOptions.minSaving = c.number(v["min_saving"], key2("visibility", "min_saving"), 0, 1);
+    if (v.contains("check"))
+      m.outfitOptions.check = whole(c, v["check"], key2("visibility", "check"), 0, 100000);
   }
   // The outfit bake's animation texture is the character's.
   m.outfitOptions.anim = m.anim;
@@ -170,7 +173,7 @@ CharacterManifest parse(const JsonChecker &c, const json &j, const Keys &at,
   if (j.contains("impostor")) {
     const Keys k = key("impostor");
     const json &im = j["impostor"];
-    c.onlyKeys(im, k, {"clips", "outfits", "frames", "views", "texels", "mirror"});
+    c.onlyKeys(im, k, {"clips", "outfits", "frames", "views", "texels", "mirror", "measure"});
     std::vector<std::string> clips, outfits;
     if (im.contains("clips"))
       clips = names(c, im["clips"], key2("impostor", "clips"));
@@ -203,6 +206,8 @@ CharacterManifest parse(const JsonChecker &c, const json &j, const Keys &at,
       m.impostor.texels = whole(c, im["texels"], key2("impostor", "texels"), 4, 4096);
     if (im.contains("mirror"))
       m.impostor.mirror = c.boolean(im["mirror"], key2("impostor", "mirror"));
+    if (im.contains("measure"))
+      m.impostor.measure = c.boolean(im["measure"], key2("impostor", "measure"));
     if (im.contains("views")) {
       std::string views = c.string(im["views"], key2("impostor", "views"));
       unsigned a = 0, e = 0;
@@ -241,6 +246,8 @@ nlohmann::ordered_json CharacterManifest::canonical() const {
                        {"ground", v.ground},
                        {"regions", outfitOptions.regions},
                        {"min_saving", outfitOptions.minSaving}};
+    if (outfitOptions.check > 0) // only when asked: other keys stay as they were
+      j["visibility"]["check"] = outfitOptions.check;
   }
   if (!impostorPairs.empty()) {
     auto &im = j["impostor"];
@@ -255,6 +262,8 @@ nlohmann::ordered_json CharacterManifest::canonical() const {
     else
       im["texels"] = impostor.texels;
     im["mirror"] = impostor.mirror;
+    if (impostor.measure)
+      im["measure"] = true;
   }
   return j;
 }

@@ -1,8 +1,10 @@
 #include "args.h"
 
+#include <filesystem>
 #include <iostream>
 #include <unistd.h>
 
+#include "crowd/bake/single_job.h"
 #include "crowd/formats/container.h"
 
 namespace crowd::cli {
@@ -74,16 +76,25 @@ void addThreads(CLI::App &app, int &threads) {
 
 bool BakeArgs::progress() const { return !quiet && isatty(2); }
 
+CharacterManifest BakeArgs::manifest() const {
+  CharacterManifest m;
+  m.name = std::filesystem::path(input).stem().string();
+  m.body = input;
+  m.input = files.policy;
+  return m;
+}
+
+void BakeArgs::runJob(const CharacterManifest &m, const std::string &command,
+                      const std::string &kind, int threads) const {
+  ResourceGuard guard(files.limits, "crowdbake " + command + " " + input);
+  const auto figures = runSingleJob(m, {command, kind, output, quiet, progress(), threads});
+  if (!report.empty())
+    writeJson(report, figures);
+}
+
 void writeJson(const std::string &path, const nlohmann::ordered_json &j) {
   const std::string text = j.dump(2) + "\n";
   pack::writeFileAtomic(path, {reinterpret_cast<const uint8_t *>(text.data()), text.size()});
-}
-
-nlohmann::ordered_json warningsJson(const Reporter &reporter) {
-  auto list = nlohmann::ordered_json::array();
-  for (const auto &w : reporter.warnings())
-    list.push_back({{"code", w.code}, {"message", w.message}, {"count", w.count}});
-  return list;
 }
 
 } // namespace crowd::cli

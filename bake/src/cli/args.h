@@ -10,6 +10,7 @@
 
 #include "crowd/bake/anim_bake.h"
 #include "crowd/bake/input_files.h"
+#include "crowd/bake/manifest.h"
 #include "crowd/bake/report.h"
 #include "crowd/bake/resource_guard.h"
 #include "crowd/formats/error.h"
@@ -56,6 +57,11 @@ struct BakeArgs {
   InputArgs files;
   void add(CLI::App &app);
   bool progress() const; // stderr is a terminal and --quiet is not given
+  // After parsing: the one-character manifest of the input (name: its stem; bake settings are
+  // the command's to fill), and runs `kind`'s job of it under the resource guard.
+  CharacterManifest manifest() const;
+  void runJob(const CharacterManifest &m, const std::string &command, const std::string &kind,
+              int threads) const;
 };
 
 // --max-width and --precision of the animation texture (anim, lod, outfits).
@@ -64,8 +70,5 @@ void addTextureOptions(CLI::App &app, AnimBakeOptions &anim);
 void addThreads(CLI::App &app, int &threads);
 
 void writeJson(const std::string &path, const nlohmann::ordered_json &j); // atomically
-
-// The reporter's warnings for a --report file: [{code, message, count}, ...].
-nlohmann::ordered_json warningsJson(const Reporter &reporter);
 
 } // namespace crowd::cli

@@ -1,32 +1,16 @@
 // crowdbake: the command-line front of the bake library. Sub-commands like git; every
 // failure is one line on stderr and a non-zero exit (1 bad input or failed bake, 2 bad usage).
-#include <chrono>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <map>
-#include <optional>
-#include <sstream>
-
-#include <nlohmann/json.hpp>
 
 #include "args.h"
 #include "commands.h"
 #include "crowd/bake/anim_bake.h"
-#include "crowd/bake/anim_report.h"
-#include "crowd/bake/import.h"
 #include "crowd/bake/impostor_bake.h"
 #include "crowd/bake/lod_bake.h"
-#include "crowd/bake/provenance.h"
-#include "crowd/bake/resource_guard.h"
-#include "crowd/formats/chunks.h"
-#include "crowd/formats/error.h"
-#include "crowd/formats/impostor.h"
-#include "crowd/formats/limits.h"
 #include "crowd/samples/samples.h"
 
-using nlohmann::ordered_json;
 using namespace crowd::cli;
 
 namespace {
@@ -103,12 +87,12 @@ int cmdAnim(int argc, char **argv, const std::string &command) {
   BakeArgs b;
   b.add(app);
   crowd::AnimBakeOptions opt;
-  crowd::ImportOptions io;
   crowd::LodOptions lodOpt;
+  std::string clip, mesh;
   std::string fpsText = CLI::detail::to_string(opt.fps);
   bool lodFlag = false;
-  app.add_option("--clip", opt.clip, "bake only this clip (default: every clip)");
-  app.add_option("--mesh", io.mesh,
+  app.add_option("--clip", clip, "bake only this clip (default: every clip)");
+  app.add_option("--mesh", mesh,
                  "bake only this mesh (default: every mesh bound to the largest skin)");
   app.add_option("--fps", fpsText,
                  "sampling rate, frames per second; \"source\" uses each clip's own key rate, "
@@ -138,7 +122,6 @@ int cmdAnim(int argc, char **argv, const std::string &command) {
   if (!parseArgs(app, argc, argv))
     return 0;
   b.files.finish();
-  const bool lod = lodCommand || lodFlag;
   if (fpsText == "source") {
     opt.fps = 0;
   } else {
@@ -153,117 +136,14 @@ int cmdAnim(int argc, char **argv, const std::string &command) {
   }
   validated(opt);
   validated(lodOpt);
-  io.input = b.files.policy;
-  crowd::ResourceGuard guard(b.files.limits, "crowdbake " + command + " " + b.input);
-  using Clock = std::chrono::steady_clock;
-  auto t0 = Clock::now();
-  crowd::Reporter reporter;
-  reporter.quiet = b.quiet;
-  const std::string &input = b.input;
-  const bool progress = b.progress();
-  if (progress)
-    std::fprintf(stderr, "crowdbake: importing %s\n", input.c_str());
-  crowd::Character character = crowd::importGltf(input, io, reporter);
-  const size_t inputTriangles = character.mesh.indices.size() / 3;
-  auto t1 = Clock::now();
-  std::optional<crowd::pack::Lod> lodChunk;
-  double lodSeconds = 0;
-  if (lod) {
-    if (progress)
-      std::fprintf(stderr, "crowdbake: collapsing %zu triangles\n", inputTriangles);
-    lodChunk = crowd::applyLod(character, lodOpt, reporter);
-    lodSeconds = std::chrono::duration<double>(Clock::now() - t1).count();
-  }
-
-  if (progress)
-    std::fprintf(stderr, "crowdbake: sampling and checking %zu clip(s)\n", character.clips.size());
-  crowd::AnimBakeResult result = crowd::bakeAnimation(character, opt, reporter);
-  result.pack.lod = lodChunk;
-  auto t2 = Clock::now();
-
-  std::ostringstream fps;
-  if (opt.fps > 0)
-    fps << opt.fps;
-  else
-    fps << "source";
-  std::vector<std::pair<std::string, std::string>> settings = {
-      {"command", command},
-      {"clip", opt.clip},
-      {"mesh", io.mesh},
-      {"fps", fps.str()},
-      {"max-width", std::to_string(opt.maxWidth)},
-      {"precision", opt.precision}};
-  if (lod)
-    settings.insert(settings.end(), {{"lod-floor", std::to_string(lodOpt.floorFraction)},
-                                     {"lod-poses", std::to_string(lodOpt.poses)}});
-  result.pack.provenance = crowd::makeProvenance(character.sourceFiles, settings);
-  std::vector<uint8_t> bytes = crowd::pack::packBytes(result.pack);
-  crowd::pack::writeFileAtomic(b.output, bytes);
-  auto t3 = Clock::now();
-
-  if (!b.report.empty()) {
-    auto secs = [](auto d) { return std::chrono::duration<double>(d).count(); };
-    ordered_json r;
-    r["command"] = command;
-    r["input"] = input;
-    r["output"] = b.output;
-    r["baker_version"] = crowd::kBakerVersion;
-    r["joints"] = character.jointCount();
-    r["vertices"] = character.mesh.vertexCount();
-    r["triangles"] = character.mesh.indices.size() / 3;
-    r["diagonal"] = result.diagonal;
-    r["mm_per_model_unit"] = result.mmPerUnit; // the character scaled to 1.8 m
-    r["scaled_by"] = result.heightIsDiagonal ? "diagonal" : "height";
-    r["pack_bytes"] = bytes.size();
-    r["precision"] = opt.precision;
-    r["time_s"] = {{"import", secs(t1 - t0)},
-                   {"bake_and_check", secs(t2 - t1)},
-                   {"write", secs(t3 - t2)},
-                   {"total", secs(t3 - t0)}};
-    const auto &baked = result.accuracy[result.baked];
-    r["bytes_per_joint_per_frame"] = baked.precision.bytesPerJointPerFrame();
-    for (size_t i = 0; i < result.pack.clips.size(); ++i) {
-      const auto &c = result.pack.clips[i];
-      const auto &acc = baked.clips[i];
-      ordered_json cj;
-      cj["name"] = c.name;
-      cj["frames"] = c.frameCount;
-      cj["fps"] = c.fps;
-      cj["start_time"] = c.startTime;
-      cj["loop"] = c.loop;
-      cj.update(crowd::clipErrorsJson(acc, result));
-      r["clips"].push_back(cj);
-    }
-    for (const auto &pa : result.accuracy)
-      r["precisions"].push_back(crowd::precisionJson(pa, result));
-    if (lodChunk) {
-      const auto &l = *lodChunk;
-      const uint32_t n = uint32_t(l.collapse.size());
-      auto triangles = [&](uint32_t v) { return l.totalTriangles(v); };
-      ordered_json lj;
-      lj["input_triangles"] = inputTriangles;
-      lj["triangles"] = triangles(n);
-      lj["vertices"] = n;
-      lj["floor_vertices"] = l.floorVertices;
-      lj["floor_triangles"] = triangles(l.floorVertices);
-      lj["time_s"] = lodSeconds;
-      lj["input_triangles_per_s"] = double(inputTriangles) / std::max(lodSeconds, 1e-9);
-      for (double share : {0.5, 0.25, 0.1, 0.05}) { // the fewest vertices holding the share
-        uint32_t v = n;
-        while (v > l.floorVertices && double(triangles(v - 1)) >= share * double(triangles(n)))
-          --v;
-        lj["levels"].push_back({{"share", share},
-                                {"vertices", v},
-                                {"triangles", triangles(v)},
-                                {"quadric_error", l.error[std::min(v, n - 1)]}});
-      }
-      r["lod"] = lj;
-    }
-    r["warnings"] = warningsJson(reporter);
-    writeJson(b.report, r);
-  }
-  if (progress)
-    std::fprintf(stderr, "crowdbake: wrote %s (%zu bytes)\n", b.output.c_str(), bytes.size());
+  crowd::CharacterManifest m = b.manifest();
+  m.mesh = mesh;
+  if (!clip.empty())
+    m.clips = {clip};
+  m.anim = opt;
+  m.lod = lodCommand || lodFlag;
+  m.lodOptions = lodOpt;
+  b.runJob(m, command, "mesh", opt.threads);
   return 0;
 }
 
@@ -274,10 +154,10 @@ int cmdImpostor(int argc, char **argv) {
   BakeArgs b;
   b.add(app);
   crowd::ImpostorOptions opt;
-  crowd::ImportOptions io;
-  std::string views = std::to_string(opt.azimuths) + "x" + std::to_string(opt.elevations);
-  app.add_option("--clip", opt.clip, "clip to sample (default: the first)");
-  app.add_option("--mesh", io.mesh, "mesh to bake (default: every mesh bound to the largest skin)");
+  std::string clip, mesh,
+      views = std::to_string(opt.azimuths) + "x" + std::to_string(opt.elevations);
+  app.add_option("--clip", clip, "clip to sample (default: the first)");
+  app.add_option("--mesh", mesh, "mesh to bake (default: every mesh bound to the largest skin)");
   app.add_option("--frames", opt.frames, "frames sampled evenly over the clip")
       ->capture_default_str();
   app.add_option("--views", views, "azimuths x elevations")->capture_default_str();
@@ -300,66 +180,12 @@ int cmdImpostor(int argc, char **argv) {
     throw UsageError("--views expects AxE, e.g. 32x8, got '" + views + "'");
   }
   validated(opt);
-  io.input = b.files.policy;
-  crowd::ResourceGuard guard(b.files.limits, "crowdbake impostor " + b.input);
-  auto t0 = std::chrono::steady_clock::now();
-  crowd::Reporter reporter;
-  reporter.quiet = b.quiet;
-  crowd::Character character = crowd::importGltf(b.input, io, reporter);
-  crowd::ImpostorBakeResult r = crowd::bakeImpostor(character, opt, reporter);
-  crowd::pack::ImpostorPack pk;
-  pk.impostor = std::move(r.impostor);
-  pk.provenance =
-      crowd::makeProvenance(character.sourceFiles, {{"command", "impostor"},
-                                                    {"clip", opt.clip},
-                                                    {"mesh", io.mesh},
-                                                    {"frames", std::to_string(opt.frames)},
-                                                    {"views", views},
-                                                    {"texels", std::to_string(opt.texels)},
-                                                    {"mirror", opt.mirror ? "yes" : "no"}});
-  std::vector<uint8_t> bytes = crowd::pack::packBytes(pk);
-  crowd::pack::writeFileAtomic(b.output, bytes);
-  double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  if (!b.report.empty()) {
-    ordered_json j;
-    j["command"] = "impostor";
-    j["input"] = b.input;
-    j["output"] = b.output;
-    j["clip"] = pk.impostor.clip;
-    j["frames"] = opt.frames;
-    j["views"] = views;
-    j["texels"] = opt.texels;
-    j["atlas"] =
-        std::to_string(pk.impostor.atlasWidth) + "x" + std::to_string(pk.impostor.atlasHeight);
-    j["occupancy"] = r.occupancy;
-    j["bytes_per_frame"] = r.bytesPerFrame;
-    j["naive_bytes_per_frame"] = r.naiveBytesPerFrame;
-    j["mirror_iou_min"] = r.mirrorIouMin;
-    j["mirror_iou_mean"] = r.mirrorIouMean;
-    auto t1 = std::chrono::steady_clock::now();
-    crowd::ImpostorAccuracy acc = crowd::measureImpostor(character, pk.impostor, opt.threads);
-    auto figures = [](const crowd::ImpostorAccuracy::Figures &f) {
-      return ordered_json{{"iou_mean", f.iouMean},
-                          {"iou_min", f.iouMin},
-                          {"normal_error_mean_deg", f.normalMeanDeg},
-                          {"normal_error_max_deg", f.normalMaxDeg},
-                          {"uv_error_mean", f.uvMean},
-                          {"uv_error_max", f.uvMax}};
-    };
-    j["accuracy"] = {
-        {"frame", 0},
-        {"at_views", figures(acc.atViews)},
-        {"between_views", figures(acc.betweenViews)},
-        {"worst",
-         {{"azimuth_deg", acc.worstAzimuthDeg},
-          {"elevation_deg", acc.worstElevationDeg},
-          {"iou", acc.worstIou}}},
-        {"time_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count()}};
-    j["pack_bytes"] = bytes.size();
-    j["time_s"] = seconds;
-    j["warnings"] = warningsJson(reporter);
-    writeJson(b.report, j);
-  }
+  crowd::CharacterManifest m = b.manifest();
+  m.mesh = mesh;
+  m.impostor = opt;
+  m.impostor.measure = !b.report.empty(); // figures only: the pack is the same without
+  m.impostorPairs = {{clip, ""}};
+  b.runJob(m, "impostor", "impostor", opt.threads);
   return 0;
 }
 

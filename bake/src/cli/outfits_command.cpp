@@ -1,18 +1,9 @@
 // crowdbake outfits: a body template and pre-fitted outfits into one clothed-crowd pack.
-#include <chrono>
-#include <cstdio>
 #include <filesystem>
-#include <map>
 
 #include "args.h"
 #include "commands.h"
-#include "crowd/bake/import.h"
 #include "crowd/bake/outfit_bake.h"
-#include "crowd/bake/provenance.h"
-#include "crowd/formats/error.h"
-#include "crowd/formats/limits.h"
-
-using nlohmann::ordered_json;
 
 namespace crowd::cli {
 
@@ -47,7 +38,6 @@ int cmdOutfits(int argc, char **argv) {
   OutfitOptions opt;
   auto &vis = opt.visibility;
   std::vector<std::string> outfitArgs;
-  uint32_t check = 0;
   bool noGround = !vis.ground;
   app.add_option("--outfit", outfitArgs,
                  "[NAME=]FILE: an outfit (repeatable); its name defaults to the file name "
@@ -76,7 +66,7 @@ int cmdOutfits(int argc, char **argv) {
                  "write an outfit-specific copy of a partial sub-mesh only when it leaves out at "
                  "least this share of its faces; otherwise draw the sub-mesh whole")
       ->capture_default_str();
-  app.add_option("--check", check,
+  app.add_option("--check", opt.check,
                  "after baking, prove no hole opens: render every outfit naively and culled from "
                  "the 32x8 impostor views and 16 player-like views at every K-th frame of every "
                  "clip and compare pixels (0: no check); a differing pixel fails the bake")
@@ -92,166 +82,18 @@ int cmdOutfits(int argc, char **argv) {
   vis.fps = opt.anim.fps;
   opt.anim.threads = vis.threads;
   validated(opt);
-  if (check > 100000)
-    throw UsageError("--check: must be in [0, 100000]");
-  ResourceGuard guard(b.files.limits, "crowdbake outfits " + b.input);
-  using Clock = std::chrono::steady_clock;
-  const auto t0 = Clock::now();
-  Reporter reporter;
-  reporter.quiet = b.quiet;
-  const bool progress = b.progress();
-  auto say = [&](const std::string &s) {
-    if (progress)
-      std::fprintf(stderr, "crowdbake: %s\n", s.c_str());
-  };
-
-  ImportOptions io;
-  io.input = b.files.policy;
-  say("importing " + b.input);
-  Character body = importGltf(b.input, io, reporter);
-  std::vector<OutfitInput> outfits;
-  std::vector<std::string> sources = body.sourceFiles;
+  CharacterManifest m = b.manifest();
   for (const auto &arg : outfitArgs) {
     auto [name, file] = nameAndFile(arg);
-    for (const auto &o : outfits)
-      if (o.name == name)
+    for (const auto &o : m.outfits)
+      if (o.first == name)
         throw UsageError("two outfits are named '" + name + "' (use --outfit NAME=FILE)");
-    say("importing outfit '" + name + "' from " + file);
-    outfits.push_back({name, importGltf(file, io, reporter)});
-    sources.insert(sources.end(), outfits.back().character.sourceFiles.begin(),
-                   outfits.back().character.sourceFiles.end());
+    m.outfits.emplace_back(name, file);
   }
-  const auto t1 = Clock::now();
-  say("deciding visibility of " + std::to_string(body.mesh.indices.size() / 3) +
-      " body faces for " + std::to_string(outfits.size()) + " outfit(s)");
-  OutfitBakeResult r = bakeOutfits(body, outfits, opt, reporter);
-  auto &pack = r.anim.pack;
-  std::vector<std::pair<std::string, std::string>> settings = {
-      {"command", "outfits"},
-      {"fps", std::to_string(opt.anim.fps)},
-      {"max-width", std::to_string(opt.anim.maxWidth)},
-      {"precision", opt.anim.precision},
-      {"frame-step", std::to_string(vis.frameStep)},
-      {"rays", std::to_string(vis.rays)},
-      {"points", std::to_string(vis.points)},
-      {"ring", std::to_string(vis.ring)},
-      {"min-saving", std::to_string(opt.minSaving)},
-      {"regions", opt.regions},
-      {"ground", vis.ground ? "yes" : "no"}};
-  for (const auto &o : outfits)
-    settings.emplace_back("outfit", o.name);
-  pack.provenance = makeProvenance(sources, settings);
-  const auto t2 = Clock::now();
-
-  HoleCheck holes;
-  if (check > 0) {
-    say("hole check: rendering every outfit naively and culled at every " + std::to_string(check) +
-        "th frame");
-    HoleCheckOptions ho;
-    ho.frameStep = check;
-    ho.threads = vis.threads;
-    holes = checkHoles(r, ho);
-  }
-  const auto t3 = Clock::now();
-  // Written only when the check passes, so a failed proof leaves no pack behind.
-  for (const auto &o : holes.outfits)
-    if (o.differingPixels > 0) {
-      std::map<std::string, int> where; // leaked faces per body sub-mesh
-      for (uint32_t t : o.leaked)
-        for (const auto &part : body.mesh.parts)
-          if (t * 3 >= part.firstIndex && t * 3 < part.firstIndex + part.indexCount)
-            ++where[part.name];
-      std::string list;
-      for (const auto &[part, count] : where)
-        list += (list.empty() ? "" : ", ") + part + " " + std::to_string(count);
-      throw Error("hole check failed: outfit '" + o.name + "' differs from the naive render in " +
-                  std::to_string(o.differingPixels) + " pixels of " + std::to_string(o.images) +
-                  " images; removed faces seen: " + list +
-                  " (try --ring 2, more --rays, or --frame-step 1)");
-    }
-  const auto bytes = pack::packBytes(pack);
-  pack::writeFileAtomic(b.output, bytes);
-
-  const double n = double(outfits.size());
-  const double body0 = r.bodyTriangles;
-  const double garments = (double(r.naiveFaces) - body0) / n;
-  const double prefitted = double(r.prefittedFaces) / n, specific = double(r.specificFaces) / n;
-  for (const auto &o : r.outfits) {
-    std::string line = "outfit '" + o.name + "': " + std::to_string(o.removedFaces) + " of " +
-                       std::to_string(r.bodyTriangles) + " body faces removed;";
-    for (const auto &s : o.subMeshes)
-      line += " " + s.subMesh + " " + s.coverage + (s.keptWhole ? " (kept whole)" : "");
-    say(line);
-  }
-  say("faces stored: naive " + std::to_string(r.naiveFaces) + ", pre-fitted " +
-      std::to_string(r.prefittedFaces) + ", tagged " + std::to_string(r.taggedFaces) + " (" +
-      std::to_string(r.specificFaces) + " in outfit-specific sub-meshes)");
-  for (const auto &o : holes.outfits)
-    say("hole check '" + o.name + "': " + std::to_string(o.differingPixels) +
-        " differing pixels in " + std::to_string(o.images) + " images; recall " +
-        std::to_string(o.recall()));
-  say("wrote " + b.output + " (" + std::to_string(bytes.size()) + " bytes)");
-
-  if (!b.report.empty()) {
-    auto secs = [](auto d) { return std::chrono::duration<double>(d).count(); };
-    ordered_json j;
-    j["command"] = "outfits";
-    j["body"] = b.input;
-    j["output"] = b.output;
-    j["pack_bytes"] = bytes.size();
-    j["body_faces"] = r.bodyTriangles;
-    j["body_faces_hidden_without_outfit"] = r.bareHiddenFaces;
-    j["frames_tested"] = r.framesTested;
-    j["min_saving"] = opt.minSaving;
-    for (const auto &o : r.outfits) {
-      ordered_json oj;
-      oj["name"] = o.name;
-      oj["garment_faces"] = o.garmentFaces;
-      oj["hidden_faces"] = o.hiddenFaces;
-      oj["removed_faces"] = o.removedFaces;
-      oj["visibility_s"] = o.seconds;
-      for (const auto &s : o.subMeshes)
-        oj["sub_meshes"].push_back({{"name", s.subMesh},
-                                    {"faces", s.faces},
-                                    {"hidden", s.hidden},
-                                    {"coverage", s.coverage},
-                                    {"kept_whole", s.keptWhole}});
-      j["outfits"].push_back(oj);
-    }
-    j["faces_stored"] = {
-        {"naive", r.naiveFaces},
-        {"prefitted", r.prefittedFaces},
-        {"tagged", r.taggedFaces},
-        {"outfit_specific", r.specificFaces},
-        {"outfit_specific_share", double(r.specificFaces) / double(r.taggedFaces)},
-        {"tagged_over_naive", double(r.taggedFaces) / double(r.naiveFaces)},
-        {"tagged_over_prefitted", double(r.taggedFaces) / double(r.prefittedFaces)}};
-    // Figure 6 of the seed: storage as outfits are added, from these outfits' means.
-    for (int k = 1; k <= 10; ++k)
-      j["extrapolated"].push_back({{"outfits", k},
-                                   {"naive", body0 + k * garments},
-                                   {"prefitted", k * prefitted},
-                                   {"tagged", body0 + k * (specific + garments)}});
-    for (const auto &o : holes.outfits)
-      j["hole_check"]["outfits"].push_back({{"name", o.name},
-                                            {"images", o.images},
-                                            {"differing_pixels", o.differingPixels},
-                                            {"removed_faces", o.removed},
-                                            {"never_seen_faces", o.neverSeen},
-                                            {"removed_never_seen", o.removedUnseen},
-                                            {"recall", o.recall()}});
-    if (check > 0) {
-      j["hole_check"]["frame_step"] = check;
-      j["hole_check"]["frames"] = holes.frames;
-      j["hole_check"]["views"] = holes.views;
-    }
-    j["time_s"] = {{"import", secs(t1 - t0)},
-                   {"bake", secs(t2 - t1)},
-                   {"hole_check", secs(t3 - t2)},
-                   {"total", secs(Clock::now() - t0)}};
-    j["warnings"] = warningsJson(reporter);
-    writeJson(b.report, j);
-  }
+  m.anim = opt.anim;
+  m.outfitOptions = opt;
+  m.lod = false;
+  b.runJob(m, "outfits", "mesh", vis.threads);
   return 0;
 }
 

@@ -143,12 +143,39 @@ void OutfitOptions::validate() const {
     throw Error("points: must be 1 or 4");
   if (v.ring > 64)
     throw Error("ring: must be in [0, 64]");
+  if (check > 100000)
+    throw Error("check: must be in [0, 100000]");
   if (!(v.fps > 0 && v.fps <= 1000))
     throw Error("fps: must be in (0, 1000]");
   anim.validate();
   if (lod)
     lod->validate();
 }
+
+namespace {
+// A hole the check found, as one error: the outfit, the pixels and the body parts seen through.
+void failOnHoles(const HoleCheck &holes, const Character &body) {
+  for (const auto &o : holes.outfits) {
+    if (o.differingPixels == 0)
+      continue;
+    std::map<std::string, int> where; // leaked faces per body sub-mesh
+    for (uint32_t t : o.leaked)
+      for (const auto &part : body.mesh.parts)
+        if (t * 3 >= part.firstIndex && t * 3 < part.firstIndex + part.indexCount)
+          ++where[part.name];
+    std::string list;
+    for (const auto &[part, count] : where) {
+      if (!list.empty())
+        list += ", ";
+      list += part + " " + std::to_string(count);
+    }
+    throw Error("hole check failed: outfit '" + o.name + "' differs from the naive render in " +
+                std::to_string(o.differingPixels) + " pixels of " + std::to_string(o.images) +
+                " images; removed faces seen: " + list +
+                " (try a ring of 2, more rays, or a frame step of 1)");
+  }
+}
+} // namespace
 
 OutfitBakeResult bakeOutfits(const Character &template_, const std::vector<OutfitInput> &outfits,
                              const OutfitOptions &options, Reporter &reporter) {
@@ -257,8 +284,8 @@ OutfitBakeResult bakeOutfits(const Character &template_, const std::vector<Outfi
     r.specificFaces += key.second.size();
   r.naiveFaces += r.bodyTriangles;
   r.taggedFaces += r.bodyTriangles + r.specificFaces;
-  r.framesTested = uint32_t(
-      outfitFrames(body, options.visibility.fps, options.visibility.frameStep).size());
+  r.framesTested =
+      uint32_t(outfitFrames(body, options.visibility.fps, options.visibility.frameStep).size());
 
   for (const auto &part : out.mesh.parts) {
     table.colours.insert(table.colours.end(),
@@ -283,6 +310,13 @@ OutfitBakeResult bakeOutfits(const Character &template_, const std::vector<Outfi
   r.anim = bakeAnimation(out, options.anim, reporter);
   r.anim.pack.lod = std::move(lod);
   r.anim.pack.outfits = std::move(table);
+  if (options.check > 0) {
+    HoleCheckOptions ho;
+    ho.frameStep = options.check;
+    ho.threads = options.visibility.threads;
+    r.holes = checkHoles(r, ho);
+    failOnHoles(r.holes, body);
+  }
   return r;
 }
 

@@ -16,4 +16,8 @@ nlohmann::ordered_json clipErrorsJson(const ClipAccuracy &a, const AnimBakeResul
 // Every precision's bytes and per-clip errors (the report's "precisions" list).
 nlohmann::ordered_json precisionJson(const PrecisionAccuracy &pa, const AnimBakeResult &r);
 
+// An animation bake's figures: its scale (diagonal, millimetres per model unit), the baked
+// precision, each clip (name, frames, fps, start time, loop, errors) and every precision.
+nlohmann::ordered_json animFigures(const AnimBakeResult &r);
+
 } // namespace crowd

@@ -3,6 +3,7 @@
 // reported through the Reporter with counts.
 #pragma once
 #include <string>
+#include <vector>
 
 #include "crowd/bake/character.h"
 #include "crowd/bake/input_files.h"
@@ -19,5 +20,11 @@ struct ImportOptions {
 };
 
 Character importGltf(const std::string &path, const ImportOptions &options, Reporter &reporter);
+
+// The glTF and the external files it names (buffer and image URIs, resolved under the policy),
+// the files whose bytes its import reads: what a bake's cache key and provenance hash. A file
+// that cannot be read or resolved is left out (with the files after it), for the import to
+// report.
+std::vector<std::string> gltfFiles(const std::string &path, const InputPolicy &policy);
 
 } // namespace crowd

@@ -26,6 +26,9 @@ struct ImpostorOptions {
   int screenHeight = 1080;
   double fovDegrees = 50;
   bool mirror = false; // store azimuths 0..A/2 only (needs even frames and azimuths)
+  // Measure the baked atlas against the true render (measureImpostor) for the figures; it
+  // changes no byte of the atlas.
+  bool measure = false;
   int threads = 0;     // 0: all cores; the bytes never depend on it
   uint64_t maxBytes = uint64_t(4) << 30; // memory guard on the uncropped views
   void validate() const;                 // throws crowd::Error naming the first field out of range

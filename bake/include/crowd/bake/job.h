@@ -56,6 +56,10 @@ Part runJob(const Job &job, const std::vector<const Part *> &deps, int threads);
 // link that writes its pack (always last). Indices in deps are offset by `base`.
 std::vector<Job> planCharacter(std::shared_ptr<const CharacterManifest> character, size_t base);
 
+// A pack's PROV chunk for a job: the baker version, the command, the job's canonical settings and
+// each input file's name, size and hash (as keyJobs hashed them).
+Part::Chunk provenanceChunk(const Job &job, const std::string &command);
+
 // The pack bytes of a link job's part.
 std::vector<uint8_t> characterPackBytes(const Part &link);
 

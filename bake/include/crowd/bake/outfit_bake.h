@@ -26,12 +26,12 @@ struct VisibilityOptions {
   // Directions over a face's outward hemisphere: `rays` azimuths on the lowest ring (1 degree
   // up), rays / 3 rings up to the pole, denser near the horizon (24: 139 directions).
   uint32_t rays = 24;
-  uint32_t points = 4;    // points on a face rays leave from: 1 (centroid) or 4
-  uint32_t ring = 1;      // faces this many vertex-neighbour steps from a visible face stay
+  uint32_t points = 4; // points on a face rays leave from: 1 (centroid) or 4
+  uint32_t ring = 1;   // faces this many vertex-neighbour steps from a visible face stay
   // A ground plane under the body's lowest point (over the tested frames) occludes too: no
   // camera looks from below the ground (off: the whole hemisphere, from below included).
   bool ground = true;
-  int threads = 0;        // 0: all cores; the result never depends on it
+  int threads = 0; // 0: all cores; the result never depends on it
 };
 
 // The frames visibility and the hole check test: (clip, time) for every `step`-th frame of each
@@ -61,6 +61,9 @@ struct OutfitOptions {
   // Continuous LOD of the merged mesh (body parts, outfit-specific copies, garments), applied
   // before the animation bake; none when empty.
   std::optional<LodOptions> lod;
+  // After baking, prove no hole opens (checkHoles at every `check`-th frame; 0: no check): a
+  // differing pixel fails the bake, naming the outfit and the body parts seen through.
+  uint32_t check = 0;
   void validate() const; // throws crowd::Error naming the first field out of range
 };
 
@@ -79,31 +82,6 @@ struct OutfitFigures {
   std::vector<SubMeshCoverage> subMeshes;
   double seconds = 0; // visibility time
 };
-
-struct OutfitBakeResult {
-  AnimBakeResult anim;  // the pack (with its outfit table) and its animation accuracy
-  Character merged;     // body, outfit-specific copies and garments: the pack's mesh
-  uint32_t bodyTriangles = 0;
-  uint32_t bareHiddenFaces = 0; // body faces hidden with no outfit (by the body, the ground)
-  // Per triangle of `merged`: the body triangle it copies, or itself (garments, body).
-  std::vector<uint32_t> sourceTriangle;
-  std::vector<OutfitFigures> outfits;
-  uint32_t framesTested = 0; // per outfit, over every clip
-  // Faces stored (seed Table 2): naive = body + garments; pre-fitted = per outfit, its visible
-  // body faces + garments; tagged = body + outfit-specific copies + garments.
-  uint64_t naiveFaces = 0, prefittedFaces = 0, taggedFaces = 0, specificFaces = 0;
-};
-
-// The body in its regions ("material" or "joint", as OutfitOptions::regions) with one outfit's
-// garments appended after its parts: the outfit as seen from outside (hidden faces stay, being
-// hidden), for impostors. Parts: the body's, then the garments in the outfit's order.
-Character dressCharacter(const Character &body, const OutfitInput &outfit,
-                         const std::string &regions, Reporter &reporter);
-
-// Throws crowd::Error when an outfit has no skin, uses a joint the body lacks, or was bound in
-// another bind pose.
-OutfitBakeResult bakeOutfits(const Character &body, const std::vector<OutfitInput> &outfits,
-                             const OutfitOptions &options, Reporter &reporter);
 
 // Proof that removing the hidden faces opens no hole: each outfit is rasterized naively (whole
 // body + garments) and as the pack draws it, from the impostor camera set (azimuths x
@@ -129,6 +107,33 @@ struct HoleCheck {
   std::vector<PerOutfit> outfits;
   uint32_t frames = 0, views = 0;
 };
+
+struct OutfitBakeResult {
+  AnimBakeResult anim; // the pack (with its outfit table) and its animation accuracy
+  Character merged;    // body, outfit-specific copies and garments: the pack's mesh
+  uint32_t bodyTriangles = 0;
+  uint32_t bareHiddenFaces = 0; // body faces hidden with no outfit (by the body, the ground)
+  // Per triangle of `merged`: the body triangle it copies, or itself (garments, body).
+  std::vector<uint32_t> sourceTriangle;
+  std::vector<OutfitFigures> outfits;
+  uint32_t framesTested = 0; // per outfit, over every clip
+  // Faces stored (seed Table 2): naive = body + garments; pre-fitted = per outfit, its visible
+  // body faces + garments; tagged = body + outfit-specific copies + garments.
+  uint64_t naiveFaces = 0, prefittedFaces = 0, taggedFaces = 0, specificFaces = 0;
+  HoleCheck holes; // with OutfitOptions::check (no outfits when it did not run)
+};
+
+// The body in its regions ("material" or "joint", as OutfitOptions::regions) with one outfit's
+// garments appended after its parts: the outfit as seen from outside (hidden faces stay, being
+// hidden), for impostors. Parts: the body's, then the garments in the outfit's order.
+Character dressCharacter(const Character &body, const OutfitInput &outfit,
+                         const std::string &regions, Reporter &reporter);
+
+// Throws crowd::Error when an outfit has no skin, uses a joint the body lacks, or was bound in
+// another bind pose, or when options.check finds a hole.
+OutfitBakeResult bakeOutfits(const Character &body, const std::vector<OutfitInput> &outfits,
+                             const OutfitOptions &options, Reporter &reporter);
+
 HoleCheck checkHoles(const OutfitBakeResult &baked, const HoleCheckOptions &options);
 
 } // namespace crowd

@@ -1,0 +1,117 @@
+#include "crowd/bake/bake_figures.h"
+
+#include <algorithm>
+#include <string>
+
+namespace crowd {
+
+using nlohmann::ordered_json;
+
+ordered_json lodFigures(const pack::Lod &l, size_t inputTriangles) {
+  const uint32_t n = uint32_t(l.collapse.size());
+  auto triangles = [&](uint32_t v) { return l.totalTriangles(v); };
+  ordered_json f;
+  f["input_triangles"] = inputTriangles;
+  f["triangles"] = triangles(n);
+  f["vertices"] = n;
+  f["floor_vertices"] = l.floorVertices;
+  f["floor_triangles"] = triangles(l.floorVertices);
+  for (double share : {0.5, 0.25, 0.1, 0.05}) { // the fewest vertices holding the share
+    uint32_t v = n;
+    while (v > l.floorVertices && double(triangles(v - 1)) >= share * double(triangles(n)))
+      --v;
+    f["levels"].push_back({{"share", share},
+                           {"vertices", v},
+                           {"triangles", triangles(v)},
+                           {"quadric_error", n ? l.error[std::min(v, n - 1)] : 0.0f}});
+  }
+  return f;
+}
+
+ordered_json outfitFigures(const OutfitBakeResult &r, const OutfitOptions &options) {
+  ordered_json f;
+  f["body_faces"] = r.bodyTriangles;
+  f["body_faces_hidden_without_outfit"] = r.bareHiddenFaces;
+  f["frames_tested"] = r.framesTested;
+  f["min_saving"] = options.minSaving;
+  for (const auto &o : r.outfits) {
+    ordered_json oj = {{"name", o.name},
+                       {"garment_faces", o.garmentFaces},
+                       {"hidden_faces", o.hiddenFaces},
+                       {"removed_faces", o.removedFaces},
+                       {"visibility_s", o.seconds}};
+    for (const auto &s : o.subMeshes)
+      oj["sub_meshes"].push_back({{"name", s.subMesh},
+                                  {"faces", s.faces},
+                                  {"hidden", s.hidden},
+                                  {"coverage", s.coverage},
+                                  {"kept_whole", s.keptWhole}});
+    f["outfits"].push_back(oj);
+  }
+  const double tagged = double(r.taggedFaces), naive = double(r.naiveFaces);
+  f["faces_stored"] = {{"naive", r.naiveFaces},
+                       {"prefitted", r.prefittedFaces},
+                       {"tagged", r.taggedFaces},
+                       {"outfit_specific", r.specificFaces},
+                       {"outfit_specific_share", double(r.specificFaces) / tagged},
+                       {"tagged_over_naive", tagged / naive},
+                       {"tagged_over_prefitted", tagged / double(r.prefittedFaces)}};
+  // Figure 6 of the seed: storage as outfits are added, from these outfits' means.
+  const double n = double(std::max<size_t>(r.outfits.size(), 1)), body = r.bodyTriangles;
+  const double garments = (naive - body) / n, prefitted = double(r.prefittedFaces) / n,
+               specific = double(r.specificFaces) / n;
+  for (int k = 1; k <= 10; ++k)
+    f["extrapolated"].push_back({{"outfits", k},
+                                 {"naive", body + k * garments},
+                                 {"prefitted", k * prefitted},
+                                 {"tagged", body + k * (specific + garments)}});
+  if (options.check > 0) {
+    auto &h = f["hole_check"];
+    h["frame_step"] = options.check;
+    h["frames"] = r.holes.frames;
+    h["views"] = r.holes.views;
+    for (const auto &o : r.holes.outfits)
+      h["outfits"].push_back({{"name", o.name},
+                              {"images", o.images},
+                              {"differing_pixels", o.differingPixels},
+                              {"removed_faces", o.removed},
+                              {"never_seen_faces", o.neverSeen},
+                              {"removed_never_seen", o.removedUnseen},
+                              {"recall", o.recall()}});
+  }
+  return f;
+}
+
+ordered_json impostorFigures(const ImpostorBakeResult &r, const ImpostorOptions &o) {
+  const auto &m = r.impostor;
+  return {{"clip", m.clip},
+          {"frames", o.frames},
+          {"views", std::to_string(o.azimuths) + "x" + std::to_string(o.elevations)},
+          {"texels", m.texels},
+          {"atlas", std::to_string(m.atlasWidth) + "x" + std::to_string(m.atlasHeight)},
+          {"occupancy", r.occupancy},
+          {"bytes_per_frame", r.bytesPerFrame},
+          {"naive_bytes_per_frame", r.naiveBytesPerFrame},
+          {"mirror_iou_min", r.mirrorIouMin},
+          {"mirror_iou_mean", r.mirrorIouMean}};
+}
+
+ordered_json impostorAccuracyFigures(const ImpostorAccuracy &a) {
+  auto figures = [](const ImpostorAccuracy::Figures &f) {
+    return ordered_json{{"iou_mean", f.iouMean},
+                        {"iou_min", f.iouMin},
+                        {"normal_error_mean_deg", f.normalMeanDeg},
+                        {"normal_error_max_deg", f.normalMaxDeg},
+                        {"uv_error_mean", f.uvMean},
+                        {"uv_error_max", f.uvMax}};
+  };
+  return {{"frame", 0},
+          {"at_views", figures(a.atViews)},
+          {"between_views", figures(a.betweenViews)},
+          {"worst",
+           {{"azimuth_deg", a.worstAzimuthDeg},
+            {"elevation_deg", a.worstElevationDeg},
+            {"iou", a.worstIou}}}};
+}
+
+} // namespace crowd
