@@ -51,20 +51,27 @@ void frameAt(const pack::Clip &clip, float seconds, uint32_t &frame, float &alph
   alpha = f - float(frame);
 }
 
-glm::vec3 skinVertex(const pack::AnimationTexture &t, const pack::SkinTexture &skin,
-                     const pack::Clip &clip, uint32_t frame, float alpha, uint32_t vertex,
-                     const glm::vec3 &position) {
+SkinnedVertex skinVertex(const pack::AnimationTexture &t, const pack::SkinTexture &skin,
+                         const pack::Clip &clip, uint32_t frame, float alpha, uint32_t vertex,
+                         const glm::vec3 &position, const glm::vec3 &normal) {
   const float *ids = &skin.texels[size_t(vertex) * 8];
   const float *w = ids + 4;
-  glm::vec4 p(position, 1.0f);
-  glm::vec3 out(0.0f);
+  const glm::vec4 p(position, 1.0f), n(normal, 0.0f);
+  SkinnedVertex out{glm::vec3(0.0f), glm::vec3(0.0f)};
   for (int k = 0; k < 4; ++k) {
     if (w[k] == 0)
       continue;
     JointRows r = sampleJoint(t, clip, frame, alpha, uint32_t(ids[k]));
-    out += w[k] * glm::vec3(glm::dot(r[0], p), glm::dot(r[1], p), glm::dot(r[2], p));
+    out.position += w[k] * glm::vec3(glm::dot(r[0], p), glm::dot(r[1], p), glm::dot(r[2], p));
+    out.normal += w[k] * glm::vec3(glm::dot(r[0], n), glm::dot(r[1], n), glm::dot(r[2], n));
   }
   return out;
+}
+
+glm::vec3 skinVertex(const pack::AnimationTexture &t, const pack::SkinTexture &skin,
+                     const pack::Clip &clip, uint32_t frame, float alpha, uint32_t vertex,
+                     const glm::vec3 &position) {
+  return skinVertex(t, skin, clip, frame, alpha, vertex, position, glm::vec3(0.0f)).position;
 }
 
 } // namespace crowd::runtime

@@ -11,5 +11,6 @@ int cmdBuildTask(int argc, char **argv); // a Slurm array task or collect job of
 int cmdInspect(int argc, char **argv);
 int cmdVerify(int argc, char **argv);
 int cmdExport(int argc, char **argv);
+int cmdPose(int argc, char **argv);
 
 } // namespace crowd::cli

@@ -31,6 +31,7 @@ commands:
   inspect   list a pack's chunks, joints, clips, textures and sizes
   verify    check every offset, size, checksum and cross-reference of a pack
   export    write a pack's textures as images
+  pose      write the mesh as the player draws it at given times (PLY, OBJ, PC2)
 
 Run 'crowdbake <command> --help' for a command's options.
 
@@ -215,6 +216,7 @@ int main(int argc, char **argv) {
         {"inspect", cmdInspect},
         {"verify", cmdVerify},
         {"export", cmdExport},
+        {"pose", cmdPose},
     };
     auto it = commands.find(command);
     if (it == commands.end())

@@ -28,4 +28,13 @@ glm::vec3 skinVertex(const pack::AnimationTexture &texture, const pack::SkinText
                      const pack::Clip &clip, uint32_t frame, float alpha, uint32_t vertex,
                      const glm::vec3 &position);
 
+// The same with the vertex's normal, skinned as the shader skins it (the weighted sum of the
+// rotated normals; the fragment shader normalizes it).
+struct SkinnedVertex {
+  glm::vec3 position, normal;
+};
+SkinnedVertex skinVertex(const pack::AnimationTexture &texture, const pack::SkinTexture &skin,
+                         const pack::Clip &clip, uint32_t frame, float alpha, uint32_t vertex,
+                         const glm::vec3 &position, const glm::vec3 &normal);
+
 } // namespace crowd::runtime

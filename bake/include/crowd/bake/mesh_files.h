@@ -1,0 +1,24 @@
+// Posed meshes as files other tools read: PLY (binary little-endian or ASCII: x y z, nx ny nz
+// per vertex, triangles), Wavefront OBJ (v, vn, f) and PC2 point caches (Blender's
+// "POINTCACHE2": positions of a fixed vertex list at evenly spaced samples).
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace crowd {
+
+std::vector<uint8_t> plyBytes(const std::vector<glm::vec3> &positions,
+                              const std::vector<glm::vec3> &normals,
+                              const std::vector<uint32_t> &indices, bool ascii = false);
+std::vector<uint8_t> objBytes(const std::vector<glm::vec3> &positions,
+                              const std::vector<glm::vec3> &normals,
+                              const std::vector<uint32_t> &indices);
+// `samples` all hold the same number of points; the header's start and spacing are in the
+// caller's unit (crowdbake pose: seconds).
+std::vector<uint8_t> pc2Bytes(const std::vector<std::vector<glm::vec3>> &samples, float start,
+                              float spacing);
+
+} // namespace crowd

@@ -1,0 +1,131 @@
+// crowdbake pose: the mesh exactly as the player draws it at given times, as PLY, OBJ or PC2.
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+
+#include "commands.h"
+#include "crowd/bake/mesh_files.h"
+#include "crowd/formats/character_pack.h"
+#include "crowd/formats/container.h"
+#include "crowd/runtime/pose.h"
+
+namespace crowd::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+const char *const kPoseHelp = R"(Writes the mesh exactly as crowdplay draws it at a time of a clip:
+the outfit's sub-meshes at the LOD cut, skinned from the pack's animation and skin textures by
+the CPU mirror of the player's vertex shader (the same texel fetch, frame blend and single
+precision). A time past the clip's end wraps for a looping clip and clamps otherwise, with a
+warning; a pack without clips writes the bind pose. --times writes OUT_0001.EXT, ... per time,
+or with -o OUT.pc2 one point cache (evenly spaced times; start and spacing in seconds).)";
+
+std::vector<float> parseTimes(const std::string &text) {
+  std::vector<float> times;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    size_t used = 0;
+    float t = 0;
+    try {
+      t = std::stof(item, &used);
+    } catch (const std::exception &) {
+      used = 0;
+    }
+    if (used == 0 || used != item.size())
+      throw UsageError("--times: '" + item + "' is not a number");
+    times.push_back(t);
+  }
+  return times;
+}
+
+// The clip time the player shows for `t`, with a warning where it differs.
+void checkTime(const pack::Clip *clip, float t, bool quiet) {
+  if (!std::isfinite(t) || t < 0) {
+    char text[64];
+    std::snprintf(text, sizeof text, "time %g: must be a finite number of seconds >= 0", t);
+    throw UsageError(text);
+  }
+  if (!clip || clip->frameCount < 2 || quiet)
+    return;
+  const float duration = float(clip->frameCount - 1) / clip->fps;
+  if (t <= duration)
+    return;
+  const float shown = clip->loop ? std::fmod(t, duration) : duration;
+  std::fprintf(stderr,
+               "crowdbake: warning: time %g s is past clip '%s' (%g s): the player %s %g s\n", t,
+               clip->name.c_str(), duration, clip->loop ? "wraps it to" : "clamps it to", shown);
+}
+
+std::string numbered(const std::string &out, size_t k) {
+  const fs::path p(out);
+  char n[32];
+  std::snprintf(n, sizeof n, "_%04zu", k + 1);
+  return (p.parent_path() / (p.stem().string() + n + p.extension().string())).string();
+}
+
+} // namespace
+
+int cmdPose(int argc, char **argv) {
+  CLI::App app(kPoseHelp, "crowdbake pose");
+  example(app, "crowdbake pose humanoid.crowdpack --clip walk --time 0.4 -o walk.ply");
+  std::string path, output, timesText;
+  runtime::PoseOptions opt;
+  float time = 0;
+  bool ascii = false, quiet = false;
+  app.add_option("PACK", path, "a .crowdpack file")->required();
+  app.add_option("-o,--output", output, "OUT.ply, OUT.obj or OUT.pc2 (written atomically)")
+      ->required();
+  app.add_option("--clip", opt.clip, "clip (default: the first)");
+  auto *timeOpt = app.add_option("--time", time, "seconds into the clip")->capture_default_str();
+  app.add_option("--times", timesText, "T1,T2,...: several times, one file each (or one .pc2)")
+      ->excludes(timeOpt);
+  app.add_option("--outfit", opt.outfit, "outfit of a clothed pack (default: the first)");
+  app.add_option("--lod", opt.lodVertices, "draw the LOD cut at this many vertices (0: full)")
+      ->capture_default_str();
+  app.add_flag("--ascii", ascii, "ASCII PLY instead of binary little-endian");
+  app.add_flag("-q,--quiet", quiet, "no warnings on stderr");
+  if (!parseArgs(app, argc, argv))
+    return 0;
+  const std::string ext = fs::path(output).extension().string();
+  if (ext != ".ply" && ext != ".obj" && ext != ".pc2")
+    throw UsageError("-o: expected a .ply, .obj or .pc2 file, got '" + output + "'");
+  const std::vector<float> times =
+      timesText.empty() ? std::vector<float>{time} : parseTimes(timesText);
+  const fs::path folder = fs::path(output).parent_path();
+  std::error_code ec;
+  if (!folder.empty() && !fs::is_directory(folder, ec))
+    throw Error(output + ": the folder " + folder.string() + " does not exist");
+
+  const pack::AnimationPack pack = pack::loadCharacterPack(pack::Reader::open(path)).body;
+  const runtime::PoseMesh mesh = runtime::poseMesh(pack, opt);
+  for (float t : times)
+    checkTime(mesh.clip, t, quiet);
+  std::vector<std::vector<glm::vec3>> samples;
+  std::vector<glm::vec3> positions, normals;
+  for (size_t k = 0; k < times.size(); ++k) {
+    runtime::poseAt(pack, mesh, times[k], positions, normals);
+    if (ext == ".pc2") {
+      samples.push_back(positions);
+      continue;
+    }
+    const std::string file = times.size() == 1 ? output : numbered(output, k);
+    pack::writeFileAtomic(file, ext == ".ply" ? plyBytes(positions, normals, mesh.indices, ascii)
+                                              : objBytes(positions, normals, mesh.indices));
+  }
+  if (ext == ".pc2") {
+    const float spacing =
+        times.size() > 1 ? (times.back() - times.front()) / float(times.size() - 1) : 0;
+    for (size_t k = 1; k < times.size(); ++k)
+      if (std::abs(times[k] - (times.front() + spacing * float(k))) >
+          1e-4f * std::max(1.0f, spacing))
+        throw UsageError("--times: a .pc2 stores evenly spaced samples; " + timesText + " is not");
+    pack::writeFileAtomic(output, pc2Bytes(samples, times.front(), spacing));
+  }
+  return 0;
+}
+
+} // namespace crowd::cli

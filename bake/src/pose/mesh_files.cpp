@@ -1,0 +1,93 @@
+#include "crowd/bake/mesh_files.h"
+
+#include <cstdio>
+#include <cstring>
+
+namespace crowd {
+
+namespace {
+
+void append(std::vector<uint8_t> &out, const std::string &text) {
+  out.insert(out.end(), text.begin(), text.end());
+}
+
+template <class T> void put(std::vector<uint8_t> &out, T value) { // little-endian hosts only
+  const size_t at = out.size();
+  out.resize(at + sizeof(T));
+  std::memcpy(out.data() + at, &value, sizeof(T));
+}
+
+std::string line(const char *format, double a, double b, double c) {
+  char buf[128];
+  std::snprintf(buf, sizeof buf, format, a, b, c);
+  return buf;
+}
+
+} // namespace
+
+std::vector<uint8_t> plyBytes(const std::vector<glm::vec3> &p, const std::vector<glm::vec3> &n,
+                              const std::vector<uint32_t> &indices, bool ascii) {
+  std::vector<uint8_t> out;
+  append(out, "ply\nformat ");
+  append(out, ascii ? "ascii" : "binary_little_endian");
+  append(out, " 1.0\ncomment crowdbake pose\nelement vertex ");
+  append(out, std::to_string(p.size()));
+  append(out, "\nproperty float x\nproperty float y\nproperty float z\n"
+              "property float nx\nproperty float ny\nproperty float nz\nelement face ");
+  append(out, std::to_string(indices.size() / 3));
+  append(out, "\nproperty list uchar uint vertex_indices\nend_header\n");
+  for (size_t v = 0; v < p.size(); ++v) {
+    if (ascii) {
+      append(out, line("%.9g %.9g %.9g ", p[v].x, p[v].y, p[v].z));
+      append(out, line("%.9g %.9g %.9g\n", n[v].x, n[v].y, n[v].z));
+      continue;
+    }
+    for (float f : {p[v].x, p[v].y, p[v].z, n[v].x, n[v].y, n[v].z})
+      put(out, f);
+  }
+  for (size_t t = 0; t + 2 < indices.size(); t += 3) {
+    if (ascii) {
+      append(out, line("3 %.0f %.0f %.0f\n", indices[t], indices[t + 1], indices[t + 2]));
+      continue;
+    }
+    put(out, uint8_t(3));
+    for (int k = 0; k < 3; ++k)
+      put(out, indices[t + k]);
+  }
+  return out;
+}
+
+std::vector<uint8_t> objBytes(const std::vector<glm::vec3> &p, const std::vector<glm::vec3> &n,
+                              const std::vector<uint32_t> &indices) {
+  std::vector<uint8_t> out;
+  append(out, "# crowdbake pose\n");
+  for (const auto &v : p)
+    append(out, line("v %.9g %.9g %.9g\n", v.x, v.y, v.z));
+  for (const auto &v : n)
+    append(out, line("vn %.9g %.9g %.9g\n", v.x, v.y, v.z));
+  for (size_t t = 0; t + 2 < indices.size(); t += 3) { // OBJ counts from 1
+    const double a = indices[t] + 1.0, b = indices[t + 1] + 1.0, c = indices[t + 2] + 1.0;
+    char f[128];
+    std::snprintf(f, sizeof f, "f %.0f//%.0f %.0f//%.0f %.0f//%.0f\n", a, a, b, b, c, c);
+    append(out, f);
+  }
+  return out;
+}
+
+std::vector<uint8_t> pc2Bytes(const std::vector<std::vector<glm::vec3>> &samples, float start,
+                              float spacing) {
+  std::vector<uint8_t> out(12, 0);
+  std::memcpy(out.data(), "POINTCACHE2", 11); // and a NUL
+  put(out, int32_t(1));
+  put(out, int32_t(samples.empty() ? 0 : samples[0].size()));
+  put(out, start);
+  put(out, spacing);
+  put(out, int32_t(samples.size()));
+  for (const auto &s : samples)
+    for (const auto &v : s)
+      for (float f : {v.x, v.y, v.z})
+        put(out, f);
+  return out;
+}
+
+} // namespace crowd

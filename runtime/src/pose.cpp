@@ -1,0 +1,108 @@
+#include "crowd/runtime/pose.h"
+
+#include <algorithm>
+
+#include "crowd/formats/error.h"
+#include "crowd/runtime/lod_select.h"
+#include "crowd/runtime/render_queues.h"
+#include "crowd/runtime/texture_skinning.h"
+
+namespace crowd::runtime {
+
+namespace {
+
+template <class List, class Name> std::string names(const List &list, Name name) {
+  std::string out;
+  for (const auto &item : list) {
+    if (!out.empty())
+      out += ", ";
+    out += name(item);
+  }
+  return out.empty() ? "none" : out;
+}
+
+} // namespace
+
+PoseMesh poseMesh(const pack::AnimationPack &pack, const PoseOptions &o) {
+  PoseMesh m;
+  if (!o.clip.empty() || !pack.clips.empty()) {
+    auto it = o.clip.empty() ? pack.clips.begin()
+                             : std::find_if(pack.clips.begin(), pack.clips.end(),
+                                            [&](const pack::Clip &c) { return c.name == o.clip; });
+    if (it == pack.clips.end())
+      throw Error("no clip named '" + o.clip + "' (clips: " +
+                  names(pack.clips, [](const pack::Clip &c) { return c.name; }) + ")");
+    m.clip = &*it;
+  }
+  const auto draws = outfitSubMeshes(pack, false);
+  size_t outfit = 0;
+  if (pack.outfits) {
+    const auto &list = pack.outfits->outfits;
+    auto it = o.outfit.empty() ? list.begin()
+                               : std::find_if(list.begin(), list.end(),
+                                              [&](const auto &f) { return f.name == o.outfit; });
+    if (it == list.end())
+      throw Error("no outfit named '" + o.outfit +
+                  "' (outfits: " + names(list, [](const auto &f) { return f.name; }) + ")");
+    outfit = size_t(it - list.begin());
+    m.outfit = it->name;
+  } else if (!o.outfit.empty()) {
+    throw Error("no outfit named '" + o.outfit + "' (the pack has no outfits)");
+  }
+  const uint32_t n = uint32_t(pack.mesh.vertexCount());
+  uint32_t cut = n;
+  if (o.lodVertices != 0) {
+    const uint32_t floor = pack.lod ? pack.lod->floorVertices : n;
+    if (o.lodVertices < floor || o.lodVertices > n)
+      throw Error("LOD cut at " + std::to_string(o.lodVertices) + " vertices: the pack has " +
+                  (pack.lod ? std::to_string(floor) + ".." + std::to_string(n)
+                            : "no LOD, only " + std::to_string(n)));
+    cut = o.lodVertices;
+  }
+  std::vector<uint32_t> starts;
+  const std::vector<uint32_t> all = lodIndices(pack, cut, starts);
+  std::vector<uint32_t> drawn;
+  for (uint32_t s : draws.at(outfit))
+    drawn.insert(drawn.end(), all.begin() + starts[s], all.begin() + starts[s + 1]);
+  std::vector<uint32_t> slot(n, UINT32_MAX);
+  for (uint32_t i : drawn)
+    slot[i] = 0;
+  for (uint32_t v = 0; v < n; ++v)
+    if (slot[v] == 0) {
+      slot[v] = uint32_t(m.vertices.size());
+      m.vertices.push_back(v);
+    }
+  m.indices.reserve(drawn.size());
+  for (uint32_t i : drawn)
+    m.indices.push_back(slot[i]);
+  return m;
+}
+
+void poseAt(const pack::AnimationPack &pack, const PoseMesh &mesh, float seconds,
+            std::vector<glm::vec3> &positions, std::vector<glm::vec3> &normals) {
+  const auto &p = pack.mesh.positions, &nr = pack.mesh.normals;
+  positions.resize(mesh.vertices.size());
+  normals.resize(mesh.vertices.size());
+  uint32_t frame = 0;
+  float alpha = 0;
+  if (mesh.clip)
+    frameAt(*mesh.clip, seconds, frame, alpha);
+  for (size_t k = 0; k < mesh.vertices.size(); ++k) {
+    const uint32_t v = mesh.vertices[k];
+    const glm::vec3 position(p[3 * v], p[3 * v + 1], p[3 * v + 2]);
+    const glm::vec3 normal = nr.size() == p.size()
+                                 ? glm::vec3(nr[3 * v], nr[3 * v + 1], nr[3 * v + 2])
+                                 : glm::vec3(0.0f);
+    if (!mesh.clip) {
+      positions[k] = position;
+      normals[k] = normal;
+      continue;
+    }
+    const auto s =
+        skinVertex(pack.animation, pack.skin, *mesh.clip, frame, alpha, v, position, normal);
+    positions[k] = s.position;
+    normals[k] = s.normal;
+  }
+}
+
+} // namespace crowd::runtime
