@@ -407,8 +407,11 @@ int interactive(GLFWwindow *win, Options o, const Crowd &crowd, crowd::runtime::
     auto *ob = static_cast<Orbit *>(glfwGetWindowUserPointer(w));
     ob->distance *= std::pow(0.9, dy);
   });
+  // Key presses are events, not polled states: a tap shorter than a frame still counts.
   glfwSetKeyCallback(win, [](GLFWwindow *w, int key, int, int action, int) {
-    if (action == GLFW_PRESS)
+    if (action == GLFW_PRESS && key == GLFW_KEY_ESCAPE)
+      glfwSetWindowShouldClose(w, 1);
+    else if (action == GLFW_PRESS)
       static_cast<Orbit *>(glfwGetWindowUserPointer(w))->pressed.push_back(key);
   });
   glEnable(GL_DEPTH_TEST);
@@ -459,8 +462,6 @@ int interactive(GLFWwindow *win, Options o, const Crowd &crowd, crowd::runtime::
       orbit.pan += right * step, userCamera = true;
     if (glfwGetKey(win, GLFW_KEY_A) == GLFW_PRESS)
       orbit.pan -= right * step, userCamera = true;
-    if (glfwGetKey(win, GLFW_KEY_ESCAPE) == GLFW_PRESS)
-      glfwSetWindowShouldClose(win, 1);
     if (userCamera) { // the user took over from the scene's camera path
       scene.camera.path.clear();
       scene.camera.target = scene.camera.target + orbit.pan;
