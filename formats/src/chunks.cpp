@@ -414,6 +414,13 @@ AnimationPack loadAnimationPack(const Reader &reader) {
     p.outfits = decodeOutfits(reader.payload(*outfits), ctx(kOutfits));
     checkOutfits(*p.outfits, p.mesh, ctx(kOutfits));
   }
+  if (const ChunkEntry *sources = reader.find(kSourceMap)) {
+    p.sources = decodeSourceMap(reader.payload(*sources), ctx(kSourceMap));
+    if (p.sources->vertexCount() != p.mesh.vertexCount())
+      throw Error(ctx(kSourceMap) + ": sized for another mesh (" +
+                  std::to_string(p.sources->vertexCount()) + " vertices, the mesh has " +
+                  std::to_string(p.mesh.vertexCount()) + ")");
+  }
   if (p.animation.jointCount != p.skeleton.jointCount())
     throw Error(ctx(kAnimationTexture) +
                 ", field 'joint count': " + std::to_string(p.animation.jointCount) +
@@ -450,6 +457,8 @@ std::vector<uint8_t> packBytes(const AnimationPack &p) {
     w.add(kLod, kChunkVersion, encode(*p.lod));
   if (p.outfits)
     w.add(kOutfits, kChunkVersion, encode(*p.outfits));
+  if (p.sources)
+    w.add(kSourceMap, kChunkVersion, encode(*p.sources));
   return w.bytes();
 }
 

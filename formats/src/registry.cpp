@@ -166,6 +166,17 @@ Description describeOutfits(std::span<const uint8_t> b, uint32_t, const std::str
   return d;
 }
 
+Description describeSourceMap(std::span<const uint8_t> b, uint32_t, const std::string &ctx) {
+  SourceMap m = decodeSourceMap(b, ctx);
+  const auto made = std::count(m.ordinals.begin(), m.ordinals.end(), SourceMap::kMade);
+  Description d;
+  d.add("vertices", number(double(m.vertexCount())))
+      .add("runs", number(double(m.runs.size())))
+      .add("per_vertex_ordinals", yesNo(!m.ordinals.empty()))
+      .add("made_by_bake", number(double(made)));
+  return d;
+}
+
 Description describeImpostor(std::span<const uint8_t> b, uint32_t version, const std::string &ctx) {
   Impostor m = decodeImpostor(b, version, ctx);
   uint64_t used = 0;
@@ -240,6 +251,7 @@ const std::vector<ChunkCodec> &chunkCodecs() {
       {kDiffuseTexture, "diffuse texture", 1, kChunkVersion, describeTexture, imagesTexture},
       {kLod, "continuous LOD", 1, kChunkVersion, describeLod},
       {kOutfits, "outfits", 1, kChunkVersion, describeOutfits},
+      {kSourceMap, "vertex sources", 1, kChunkVersion, describeSourceMap},
       {kImpostor, "impostor", 1, kImpostorVersion, describeImpostor, imagesImpostor},
   };
   return codecs;

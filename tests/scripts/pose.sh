@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # crowdbake pose: the files it writes (PLY binary and ASCII, OBJ, PC2) hold the mesh the player
 # draws (the pack's vertex and triangle counts, an outfit's sub-meshes, a LOD cut) skinned at
-# the asked time; and its failure modes: unknown clip or outfit, a bad time, a LOD cut out of
+# the asked time, each vertex naming its glTF source through LOD reordering and outfit merges;
+# and its failure modes: unknown clip or outfit, a bad time, a LOD cut out of
 # range, a pack without a skeleton, a truncated pack, an output folder that does not exist.
 set -euo pipefail
 bin=$1 work=$2
@@ -25,6 +26,8 @@ pose --clip walk --time 0.25 -o walk.obj
 pose --clip walk --times 0,0.25,0.5 -o walk.pc2
 pose --clip walk --times 0,0.25 -o many.ply
 pose --clip walk --time 0.25 --lod 2000 -o cut.ply
+"$bin/crowdbake" anim s/humanoid.glb -o a.crowdpack -q
+"$bin/crowdbake" pose a.crowdpack --clip walk --time 0.25 -o anim.ply --ascii
 "$bin/crowdbake" inspect h.crowdpack --json > h.json
 python3 - h.json <<'PY'
 import json, struct, sys
@@ -38,16 +41,20 @@ def ply(path):
     if 'format ascii 1.0' in header:
         rows = data[end:].decode().split('\n')
         verts = [tuple(map(float, r.split()[:3])) for r in rows[:nv]]
+        sources = [tuple(map(int, r.split()[6:])) for r in rows[:nv]]
         faces = [tuple(map(int, r.split()[1:])) for r in rows[nv:nv + nf]]
     else:
-        verts = [struct.unpack_from('<3f', data, end + 24 * i) for i in range(nv)]
-        at = end + 24 * nv
+        verts = [struct.unpack_from('<3f', data, end + 44 * i) for i in range(nv)]
+        sources = [struct.unpack_from('<5i', data, end + 44 * i + 24) for i in range(nv)]
+        at = end + 44 * nv
         faces = []
         for _ in range(nf):
             assert data[at] == 3
             faces.append(struct.unpack_from('<3I', data, at + 1)); at += 13
         assert at == len(data), 'trailing bytes'
     assert all(max(f) < nv for f in faces)
+    assert all(len(s) == 5 for s in sources)
+    ply.sources = sources
     return verts, faces
 
 pack = json.load(open(sys.argv[1]))
@@ -63,6 +70,17 @@ first = [tuple(map(float, l.split()[1:])) for l in obj if l.startswith('v ')][0]
 assert max(abs(a - b) for a, b in zip(first, v[0])) < 1e-6
 cut_v, cut_f = ply('cut.ply')
 assert len(cut_v) <= 2000 and len(cut_f) < triangles, (len(cut_v), len(cut_f))
+# The LOD pack reorders vertices (and splits some where its repairs need copies); each keeps its
+# glTF source: the anim pack (import order) draws the same source vertex at the same place.
+lod_sources = (ply('walk.ply'), ply.sources)[1]
+anim_v, _ = ply('anim.ply')
+at = {s: p for s, p in zip(ply.sources, anim_v)}
+assert all(s in at for s in lod_sources)
+assert all(s[0] == 0 and min(s) >= 0 for s in lod_sources), 'a vertex without its source'
+reordered = sum(s[4] != k for k, s in enumerate(lod_sources))
+assert reordered > 0, 'the LOD pack kept import order'
+apart = max(abs(a - b) for s, p in zip(lod_sources, v) for a, b in zip(p, at[s]))
+assert apart < 1e-5, apart
 p0, _ = ply('many_0001.ply'); p1, _ = ply('many_0002.ply')
 assert p1 == v and p0 != v, 'the pose does not follow the time'
 pc2 = open('walk.pc2', 'rb').read()
@@ -75,7 +93,9 @@ assert second == v, 'the .pc2 sample at 0.25 s differs from the .ply at 0.25 s'
 moved = max(abs(a - b) for p, q in zip(p0, v) for a, b in zip(p, q))
 print(f'ok: {len(v)} vertices (of the pack\'s {vertices}: those triangles use) and {triangles} triangles in PLY (binary, ASCII), OBJ and PC2; '
       f'the LOD cut at 2000 vertices draws {len(cut_v)} and {len(cut_f)} triangles; '
-      f'vertices move up to {moved:.3f} units from 0 to 0.25 s')
+      f'vertices move up to {moved:.3f} units from 0 to 0.25 s; '
+      f'all {len(lod_sources)} in LOD order ({reordered} moved from import order, {len(lod_sources) - len(set(lod_sources))} split copies) '
+      f'sit where the import-order pack puts their source')
 PY
 
 # A clothed pack draws the chosen outfit's sub-meshes only.
@@ -86,6 +106,12 @@ PY
 [ "$(grep -a -m1 'element face' dress.ply)" != "$(grep -a -m1 'element face' shirt.ply)" ] ||
   fail "two outfits drew the same triangles"
 echo "ok: dress $(grep -a -m1 'element face' dress.ply), shirt_trousers $(grep -a -m1 'element face' shirt.ply)"
+"$bin/crowdbake" pose c.crowdpack --outfit dress -o dress_ascii.ply --ascii
+"$bin/crowdbake" pose c.crowdpack --outfit shirt_trousers -o shirt_ascii.ply --ascii
+files() { sed '1,/end_header/d' "$1" | awk 'NF == 11 { print $7 }' | sort -u | tr '\n' ' '; }
+[ "$(files dress_ascii.ply)" = "0 1 " ] && [ "$(files shirt_ascii.ply)" = "0 2 " ] ||
+  fail "outfit vertex sources: dress from files $(files dress_ascii.ply), shirt from $(files shirt_ascii.ply)"
+echo "ok: the dress's vertices come from files 0 (body) and 1, shirt_trousers's from 0 and 2"
 
 # A pack without clips draws the bind pose: the same humanoid with its animations taken out.
 python3 - s/humanoid.glb still.glb <<'PY'

@@ -37,6 +37,7 @@ AnimationPack tinyPack() {
   p.mesh.indices = {0, 1, 2};
   p.mesh.subMeshes = {{"body", 0, 3}};
   p.mesh.boundingSphere = {0.5f, 0.5f, 0, 1};
+  p.sources = SourceMap::of({{0, 1, 0, 0, 2}, {0, 1, 0, 0, 0}, {}}); // the last: made by a bake
   return p;
 }
 
@@ -51,6 +52,8 @@ TEST(Container, RoundTripsEveryChunk) {
   EXPECT_EQ(back.clips[0].name, "walk");
   EXPECT_EQ(back.mesh.indices, tinyPack().mesh.indices);
   EXPECT_EQ(back.provenance.settings, tinyPack().provenance.settings);
+  ASSERT_TRUE(back.sources.has_value());
+  EXPECT_EQ(back.sources->expand(), tinyPack().sources->expand());
   EXPECT_EQ(packBytes(back), bytes) << "decode then encode must give the same bytes";
 }
 
@@ -105,6 +108,45 @@ TEST(Container, CrossChunkChecksNameTheField) {
   p = tinyPack();
   p.clips[0].frameCount = 3; // past the texture
   EXPECT_THROW(loadAnimationPack(Reader(packBytes(p), "x")), crowd::Error);
+}
+
+TEST(Container, SourceMapsStayCompactAndFitTheMesh) {
+  // Import order: two runs say it all, with no per-vertex ordinal.
+  std::vector<VertexSource> inOrder;
+  for (int32_t prim = 0; prim < 2; ++prim)
+    for (int32_t v = 0; v < 100; ++v)
+      inOrder.push_back({0, 3, 1, prim, v});
+  const SourceMap compact = SourceMap::of(inOrder);
+  EXPECT_EQ(compact.runs.size(), 2u);
+  EXPECT_TRUE(compact.ordinals.empty());
+  EXPECT_EQ(compact.expand(), inOrder);
+  // Reordered (as LOD does) with a made vertex: one ordinal per vertex, same sources back.
+  std::vector<VertexSource> shuffled(inOrder.rbegin(), inOrder.rend());
+  shuffled.insert(shuffled.begin() + 7, VertexSource{});
+  const SourceMap reordered = SourceMap::of(shuffled);
+  EXPECT_EQ(reordered.ordinals.size(), shuffled.size());
+  EXPECT_EQ(reordered.ordinals[7], SourceMap::kMade);
+  EXPECT_EQ(reordered.expand(), shuffled);
+  const auto bytes = encode(reordered);
+  EXPECT_EQ(decodeSourceMap(bytes, "t").expand(), shuffled);
+  // A map of another mesh's size is refused, naming the chunk.
+  auto p = tinyPack();
+  p.sources = compact;
+  try {
+    loadAnimationPack(Reader(packBytes(p), "x.crowdpack"));
+    FAIL();
+  } catch (const crowd::Error &e) {
+    EXPECT_NE(std::string(e.what()).find("chunk SRCV: sized for another mesh (200 vertices"),
+              std::string::npos)
+        << e.what();
+  }
+  // Negative indices and ordinals past the runs are refused.
+  SourceMap bad = compact;
+  bad.runs[0].first.vertex = -3;
+  EXPECT_THROW(decodeSourceMap(encode(bad), "t"), crowd::Error);
+  bad = reordered;
+  bad.ordinals[0] = 5000;
+  EXPECT_THROW(decodeSourceMap(encode(bad), "t"), crowd::Error);
 }
 
 TEST(Container, OptionalDiffuseTextureRoundTripsAndNeedsUvs) {

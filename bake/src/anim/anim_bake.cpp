@@ -76,8 +76,8 @@ pack::AnimationTexture buildTexture(const std::vector<std::vector<glm::dmat4>> &
   t.width = uint32_t(t.framesPerRow * frameTexels);
   t.height = (t.frameCount + t.framesPerRow - 1) / t.framesPerRow;
   if (t.height > limits::kTextureSide)
-    throw Error("animation texture would be taller than " +
-                std::to_string(limits::kTextureSide) + " rows");
+    throw Error("animation texture would be taller than " + std::to_string(limits::kTextureSide) +
+                " rows");
   size_t texelCount = size_t(t.width) * t.height;
   std::vector<float> values(texelCount * 4, 0.0f);
   for (uint32_t f = 0; f < t.frameCount; ++f)
@@ -254,10 +254,10 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
                      double *max, double *sum) {
     for (size_t p = 0; p < np; ++p)
       for (uint32_t v = 0; v < vertexCount; ++v) {
-        double e = glm::length(glm::dvec3(runtime::skinVertex(textures[p], pk.skin, pk.clips[ci],
-                                                              frame, alpha, v,
-                                                              c.mesh.positions[v])) -
-                               exact[v]);
+        double e =
+            glm::length(glm::dvec3(runtime::skinVertex(textures[p], pk.skin, pk.clips[ci], frame,
+                                                       alpha, v, c.mesh.positions[v])) -
+                        exact[v]);
         max[p] = std::max(max[p], e);
         sum[p] += e;
       }
@@ -334,6 +334,8 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
     }
   }
   mesh.indices = c.mesh.indices;
+  if (c.mesh.sources.size() == c.mesh.vertexCount())
+    pk.sources = pack::SourceMap::of(c.mesh.sources);
   if (c.diffuse && !c.mesh.uvs.empty())
     pk.diffuse =
         pack::Texture{uint32_t(c.diffuse->width), uint32_t(c.diffuse->height), c.diffuse->rgba};

@@ -21,7 +21,11 @@ the outfit's sub-meshes at the LOD cut, skinned from the pack's animation and sk
 the CPU mirror of the player's vertex shader (the same texel fetch, frame blend and single
 precision). A time past the clip's end wraps for a looping clip and clamps otherwise, with a
 warning; a pack without clips writes the bind pose. --times writes OUT_0001.EXT, ... per time,
-or with -o OUT.pc2 one point cache (evenly spaced times; start and spacing in seconds).)";
+or with -o OUT.pc2 one point cache (evenly spaced times; start and spacing in seconds).
+Times count from the clip's first frame: source time = start_time (crowdbake inspect) + t.
+A PLY also gives per vertex where it came from (the pack's SRCV chunk): source_file (0: the
+character's glTF, k: its k-th outfit's), source_node, source_mesh, source_primitive and
+source_vertex, the glTF indices the vertex was read from (-1: made by the bake, or unknown).)";
 
 std::vector<float> parseTimes(const std::string &text) {
   std::vector<float> times;
@@ -80,7 +84,8 @@ int cmdPose(int argc, char **argv) {
   app.add_option("-o,--output", output, "OUT.ply, OUT.obj or OUT.pc2 (written atomically)")
       ->required();
   app.add_option("--clip", opt.clip, "clip (default: the first)");
-  auto *timeOpt = app.add_option("--time", time, "seconds into the clip")->capture_default_str();
+  auto *timeOpt =
+      app.add_option("--time", time, "seconds from the clip's first frame")->capture_default_str();
   app.add_option("--times", timesText, "T1,T2,...: several times, one file each (or one .pc2)")
       ->excludes(timeOpt);
   app.add_option("--outfit", opt.outfit, "outfit of a clothed pack (default: the first)");
@@ -104,6 +109,12 @@ int cmdPose(int argc, char **argv) {
   const runtime::PoseMesh mesh = runtime::poseMesh(pack, opt);
   for (float t : times)
     checkTime(mesh.clip, t, quiet);
+  std::vector<pack::VertexSource> sources(mesh.vertices.size());
+  if (pack.sources) {
+    const auto all = pack.sources->expand();
+    for (size_t k = 0; k < mesh.vertices.size(); ++k)
+      sources[k] = all[mesh.vertices[k]];
+  }
   std::vector<std::vector<glm::vec3>> samples;
   std::vector<glm::vec3> positions, normals;
   for (size_t k = 0; k < times.size(); ++k) {
@@ -113,8 +124,9 @@ int cmdPose(int argc, char **argv) {
       continue;
     }
     const std::string file = times.size() == 1 ? output : numbered(output, k);
-    pack::writeFileAtomic(file, ext == ".ply" ? plyBytes(positions, normals, mesh.indices, ascii)
-                                              : objBytes(positions, normals, mesh.indices));
+    pack::writeFileAtomic(file, ext == ".ply"
+                                    ? plyBytes(positions, normals, mesh.indices, sources, ascii)
+                                    : objBytes(positions, normals, mesh.indices));
   }
   if (ext == ".pc2") {
     const float spacing =

@@ -549,8 +549,9 @@ private:
         // Primitives repeating another's vertices share them; one repeating another's vertices,
         // indices and material too is dropped (some exporters write hundreds).
         const std::string vertexKey = vertexKeyOf(prim, mn);
-        if (!seenPrimitives.insert(vertexKey + "|" + std::to_string(prim.indices) + "|" +
-                                   std::to_string(prim.material))
+        if (!seenPrimitives
+                 .insert(vertexKey + "|" + std::to_string(prim.indices) + "|" +
+                         std::to_string(prim.material))
                  .second) {
           ++duplicatePrimitives;
           continue;
@@ -628,7 +629,9 @@ private:
         }
 
         const uint32_t base = known->second;
+        const int meshIndex = model_.nodes[size_t(mn.node)].mesh;
         for (size_t v = 0; fresh && v < vc; ++v) {
+          mesh.sources.push_back({0, mn.node, meshIndex, int32_t(pi), int32_t(v)});
           mesh.positions.push_back(glm::vec3(pos[v * 3], pos[v * 3 + 1], pos[v * 3 + 2]));
           mesh.normals.push_back(
               nrm.empty() ? glm::vec3(0) : glm::vec3(nrm[v * 3], nrm[v * 3 + 1], nrm[v * 3 + 2]));
@@ -748,14 +751,16 @@ private:
     std::set<std::string> vertexSets, primitives;
     uint64_t vertices = 0, indices = 0;
     for (const auto &mn : meshNodes_)
-      for (const auto &prim : model_.meshes[size_t(model_.nodes[size_t(mn.node)].mesh)].primitives) {
+      for (const auto &prim :
+           model_.meshes[size_t(model_.nodes[size_t(mn.node)].mesh)].primitives) {
         auto pos = prim.attributes.find("POSITION");
         if (pos == prim.attributes.end())
           continue; // the reading loop names it
         const std::string key = vertexKeyOf(prim, mn);
         const uint64_t vc = accessorCount(pos->second);
-        if (!primitives.insert(key + "|" + std::to_string(prim.indices) + "|" +
-                               std::to_string(prim.material))
+        if (!primitives
+                 .insert(key + "|" + std::to_string(prim.indices) + "|" +
+                         std::to_string(prim.material))
                  .second)
           continue;
         if (vertexSets.insert(key).second)

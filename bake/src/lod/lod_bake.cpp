@@ -125,8 +125,8 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
     inputTriangle.push_back(t);
   }
   if (degenerate)
-    reporter.warn("degenerate_triangles", std::to_string(degenerate) +
-                                              " zero-area triangles dropped from the LOD mesh");
+    reporter.warn("degenerate_triangles",
+                  std::to_string(degenerate) + " zero-area triangles dropped from the LOD mesh");
   if (duplicate)
     reporter.warn("duplicate_triangles",
                   std::to_string(duplicate) + " duplicate triangles dropped from the LOD mesh");
@@ -357,8 +357,8 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
       isolated += !(used[v] & 2);
     }
   if (isolated)
-    reporter.warn("isolated_vertices", std::to_string(isolated) +
-                                           " vertices no triangle uses: last in the LOD order");
+    reporter.warn("isolated_vertices",
+                  std::to_string(isolated) + " vertices no triangle uses: last in the LOD order");
   r.collapse.resize(r.order.size());
   r.error.assign(r.order.size(), 0.0f);
   for (uint32_t v = 0; v < V; ++v) {
@@ -439,6 +439,8 @@ pack::Lod applyLod(Character &c, const LodOptions &o, Reporter &reporter, LodRes
       out.uvs.push_back(in.uvs[v]);
     out.joints.push_back(in.joints[v]);
     out.weights.push_back(in.weights[v]);
+    if (!in.sources.empty())
+      out.sources.push_back(in.sources[v]);
   }
   // Each part keeps its triangles, in the LOD order; its counts follow from when each goes.
   const uint32_t n = uint32_t(r.order.size());

@@ -12,9 +12,9 @@ namespace crowd {
 
 namespace {
 
-// Appends outfit `g`'s mesh to `merged`, its joints matched to the body's by name. Returns the
-// indices of its parts in merged.mesh.parts.
-std::vector<size_t> appendGarments(Character &merged, const OutfitInput &outfit,
+// Appends outfit `g`'s mesh to `merged`, its joints matched to the body's by name, its vertex
+// sources numbered as file `file`. Returns the indices of its parts in merged.mesh.parts.
+std::vector<size_t> appendGarments(Character &merged, const OutfitInput &outfit, int32_t file,
                                    Reporter &reporter) {
   const Character &g = outfit.character;
   const std::string who = "outfit '" + outfit.name + "'";
@@ -61,6 +61,15 @@ std::vector<size_t> appendGarments(Character &merged, const OutfitInput &outfit,
       ids[size_t(k)] = g.mesh.weights[v][k] > 0 ? map[ids[size_t(k)]] : 0;
     m.joints.push_back(ids);
     m.weights.push_back(g.mesh.weights[v]);
+  }
+  if (m.sources.size() + g.mesh.vertexCount() == m.vertexCount() &&
+      g.mesh.sources.size() == g.mesh.vertexCount()) {
+    for (auto source : g.mesh.sources) {
+      source.file = file;
+      m.sources.push_back(source);
+    }
+  } else {
+    m.sources.clear(); // a part without sources: the merge has none
   }
   std::vector<size_t> parts;
   for (auto part : g.mesh.parts) {
@@ -125,7 +134,7 @@ Character splitByJoint(const Character &body) {
 Character dressCharacter(const Character &body, const OutfitInput &outfit,
                          const std::string &regions, Reporter &reporter) {
   Character dressed = regions == "joint" ? splitByJoint(body) : body;
-  appendGarments(dressed, outfit, reporter);
+  appendGarments(dressed, outfit, 1, reporter);
   return dressed;
 }
 
@@ -192,8 +201,8 @@ OutfitBakeResult bakeOutfits(const Character &template_, const std::vector<Outfi
   // Every garment on the body's skeleton, for visibility (body first, then each outfit's).
   Character joined = body;
   std::vector<std::vector<size_t>> garmentParts;
-  for (const auto &o : outfits)
-    garmentParts.push_back(appendGarments(joined, o, reporter));
+  for (size_t k = 0; k < outfits.size(); ++k)
+    garmentParts.push_back(appendGarments(joined, outfits[k], int32_t(k + 1), reporter));
 
   // The pack's mesh: body parts, then per outfit its copies and its garments.
   Character &out = r.merged;

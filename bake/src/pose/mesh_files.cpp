@@ -26,24 +26,35 @@ std::string line(const char *format, double a, double b, double c) {
 } // namespace
 
 std::vector<uint8_t> plyBytes(const std::vector<glm::vec3> &p, const std::vector<glm::vec3> &n,
-                              const std::vector<uint32_t> &indices, bool ascii) {
+                              const std::vector<uint32_t> &indices,
+                              const std::vector<pack::VertexSource> &sources, bool ascii) {
   std::vector<uint8_t> out;
   append(out, "ply\nformat ");
   append(out, ascii ? "ascii" : "binary_little_endian");
   append(out, " 1.0\ncomment crowdbake pose\nelement vertex ");
   append(out, std::to_string(p.size()));
   append(out, "\nproperty float x\nproperty float y\nproperty float z\n"
-              "property float nx\nproperty float ny\nproperty float nz\nelement face ");
+              "property float nx\nproperty float ny\nproperty float nz\n"
+              "property int source_file\nproperty int source_node\nproperty int source_mesh\n"
+              "property int source_primitive\nproperty int source_vertex\nelement face ");
   append(out, std::to_string(indices.size() / 3));
   append(out, "\nproperty list uchar uint vertex_indices\nend_header\n");
   for (size_t v = 0; v < p.size(); ++v) {
+    const pack::VertexSource s = v < sources.size() ? sources[v] : pack::VertexSource{};
     if (ascii) {
       append(out, line("%.9g %.9g %.9g ", p[v].x, p[v].y, p[v].z));
-      append(out, line("%.9g %.9g %.9g\n", n[v].x, n[v].y, n[v].z));
+      append(out, line("%.9g %.9g %.9g", n[v].x, n[v].y, n[v].z));
+      for (int32_t i : {s.file, s.node, s.mesh, s.primitive, s.vertex}) {
+        append(out, " ");
+        append(out, std::to_string(i));
+      }
+      append(out, "\n");
       continue;
     }
     for (float f : {p[v].x, p[v].y, p[v].z, n[v].x, n[v].y, n[v].z})
       put(out, f);
+    for (int32_t i : {s.file, s.node, s.mesh, s.primitive, s.vertex})
+      put(out, i);
   }
   for (size_t t = 0; t + 2 < indices.size(); t += 3) {
     if (ascii) {

@@ -10,6 +10,8 @@
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
 
+#include "crowd/formats/chunks.h"
+
 namespace crowd {
 
 struct Node {
@@ -49,6 +51,8 @@ struct SkinnedMesh {
   std::vector<std::array<uint16_t, 4>> joints;
   std::vector<glm::vec4> weights; // sum to 1
   std::vector<uint32_t> indices;
+  // Per vertex, where the importer read it (file 0; outfits renumber); empty when unknown.
+  std::vector<pack::VertexSource> sources;
   struct Part {
     std::string name; // the material's
     uint32_t firstIndex = 0, indexCount = 0;

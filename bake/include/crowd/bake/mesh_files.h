@@ -1,5 +1,6 @@
 // Posed meshes as files other tools read: PLY (binary little-endian or ASCII: x y z, nx ny nz
-// per vertex, triangles), Wavefront OBJ (v, vn, f) and PC2 point caches (Blender's
+// and the int source_file, source_node, source_mesh, source_primitive, source_vertex per
+// vertex, triangles), Wavefront OBJ (v, vn, f) and PC2 point caches (Blender's
 // "POINTCACHE2": positions of a fixed vertex list at evenly spaced samples).
 #pragma once
 #include <cstdint>
@@ -8,11 +9,14 @@
 
 #include <glm/glm.hpp>
 
+#include "crowd/formats/chunks.h"
+
 namespace crowd {
 
 std::vector<uint8_t> plyBytes(const std::vector<glm::vec3> &positions,
                               const std::vector<glm::vec3> &normals,
-                              const std::vector<uint32_t> &indices, bool ascii = false);
+                              const std::vector<uint32_t> &indices,
+                              const std::vector<pack::VertexSource> &sources, bool ascii = false);
 std::vector<uint8_t> objBytes(const std::vector<glm::vec3> &positions,
                               const std::vector<glm::vec3> &normals,
                               const std::vector<uint32_t> &indices);

@@ -21,6 +21,7 @@ inline constexpr uint32_t kMesh = fourcc("MESH");
 inline constexpr uint32_t kDiffuseTexture = fourcc("TEXR");
 inline constexpr uint32_t kLod = fourcc("LODS");
 inline constexpr uint32_t kOutfits = fourcc("OUTF");
+inline constexpr uint32_t kSourceMap = fourcc("SRCV");
 // The version written of every chunk above (formats/src/registry.cpp says which are read).
 inline constexpr uint32_t kChunkVersion = 1;
 
@@ -151,6 +152,30 @@ struct Outfits {
   std::vector<Outfit> outfits;
 };
 
+// Where each mesh vertex came from: the glTF file (0: the character's, k: its k-th outfit's),
+// node, mesh, primitive and vertex index it was read from. A vertex the bake made is all -1.
+struct VertexSource {
+  int32_t file = -1, node = -1, mesh = -1, primitive = -1, vertex = -1;
+  auto operator<=>(const VertexSource &) const = default;
+};
+// The source of every mesh vertex, stored compactly: runs of consecutive source vertices of one
+// primitive, and per mesh vertex its place in the runs, or nothing when vertex v is the v-th
+// (a mesh in import order: a few runs in all).
+struct SourceMap {
+  struct Run {
+    VertexSource first; // first.vertex .. first.vertex + count - 1
+    uint32_t count = 0;
+  };
+  static constexpr uint32_t kMade = UINT32_MAX; // an ordinal: the bake made this vertex
+  std::vector<Run> runs;
+  std::vector<uint32_t> ordinals; // per mesh vertex: index into the runs' vertices, or kMade
+
+  static SourceMap of(const std::vector<VertexSource> &perVertex);
+  uint64_t runVertices() const; // the runs' vertices, all together
+  uint64_t vertexCount() const { return ordinals.empty() ? runVertices() : ordinals.size(); }
+  std::vector<VertexSource> expand() const; // per mesh vertex
+};
+
 std::vector<uint8_t> encode(const Provenance &);
 std::vector<uint8_t> encode(const Skeleton &);
 std::vector<uint8_t> encode(const std::vector<Clip> &);
@@ -160,6 +185,7 @@ std::vector<uint8_t> encode(const Mesh &);
 std::vector<uint8_t> encode(const Texture &);
 std::vector<uint8_t> encode(const Lod &);
 std::vector<uint8_t> encode(const Outfits &);
+std::vector<uint8_t> encode(const SourceMap &);
 
 // Decoders validate everything local to the chunk; `context` prefixes error messages.
 Provenance decodeProvenance(std::span<const uint8_t>, const std::string &context);
@@ -171,6 +197,7 @@ Mesh decodeMesh(std::span<const uint8_t>, const std::string &context);
 Texture decodeTexture(std::span<const uint8_t>, const std::string &context);
 Lod decodeLod(std::span<const uint8_t>, const std::string &context);
 Outfits decodeOutfits(std::span<const uint8_t>, const std::string &context);
+SourceMap decodeSourceMap(std::span<const uint8_t>, const std::string &context);
 // Cross-checks an outfit table against the mesh it draws (sub-mesh counts and indices).
 void checkOutfits(const Outfits &, const Mesh &, const std::string &context);
 
@@ -183,9 +210,10 @@ struct AnimationPack {
   AnimationTexture animation;
   SkinTexture skin;
   Mesh mesh;
-  std::optional<Texture> diffuse; // optional chunk: only when the mesh has UVs and a texture
-  std::optional<Lod> lod;         // optional chunk: crowdbake lod, or anim --lod
-  std::optional<Outfits> outfits; // optional chunk: crowdbake outfits
+  std::optional<Texture> diffuse;   // optional chunk: only when the mesh has UVs and a texture
+  std::optional<Lod> lod;           // optional chunk: crowdbake lod, or anim --lod
+  std::optional<Outfits> outfits;   // optional chunk: crowdbake outfits
+  std::optional<SourceMap> sources; // optional chunk: every bake from glTF writes it
 };
 AnimationPack loadAnimationPack(const Reader &reader);
 void writePack(const AnimationPack &pack, const std::string &path);
