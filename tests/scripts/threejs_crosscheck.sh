@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# The three.js cross-check: every model of ../shared/assets/gltf is baked twice (crowdbake anim,
+# and crowdbake lod, whose vertices leave import order) and, for every clip,
+# three.js's pose of the glTF is compared vertex by vertex with crowdbake pose at every frame,
+# every mid-frame and the bake's 64 random times (threejs_pose.mjs). Skips (exit 77) where node,
+# three (installed by ./run test into .tools) or the shared models are absent.
+set -euo pipefail
+bin=$1 root=$2 work=$3 assets=$4
+three=$root/.tools/node_modules/three
+if ! command -v node >/dev/null; then echo "SKIP: node is not installed"; exit 77; fi
+if [ ! -d "$three" ]; then echo "SKIP: three not installed at $three (./run test installs it)"; exit 77; fi
+if [ ! -d "$assets" ]; then echo "SKIP: no shared models at $assets"; exit 77; fi
+rm -rf "$work" && mkdir -p "$work"
+status=0 models=0
+check() { # check MODEL PACK REPORT
+  node "$root/tests/scripts/threejs_pose.mjs" "$bin/crowdbake" "$three" "$@" "$work" || status=1
+}
+for model in "$assets"/*/*.glb "$assets"/*/*.gltf; do
+  [ -f "$model" ] || continue
+  name=$(basename "${model%.*}")
+  "$bin/crowdbake" anim "$model" -o "$work/$name.crowdpack" --report "$work/$name.json" -q
+  check "$model" "$work/$name.crowdpack" "$work/$name.json"
+  "$bin/crowdbake" lod "$model" -o "$work/${name}_lod.crowdpack" --report "$work/${name}_lod.json" -q
+  check "$model" "$work/${name}_lod.crowdpack" "$work/${name}_lod.json"
+  models=$((models + 1))
+done
+[ $models -gt 0 ] || { echo "SKIP: no model in $assets"; exit 77; }
+[ $status = 0 ] && echo "three.js agrees with crowdbake pose on all $models models"
+exit $status

@@ -1,0 +1,187 @@
+// The independent reading: three.js (npm `three`, its GLTFLoader and AnimationMixer) poses a glTF
+// at the times crowdbake pose draws its pack, and the two are compared vertex by vertex through
+// the pack's vertex sources (PLY source_node, source_mesh, source_primitive, source_vertex).
+//
+// node threejs_pose.mjs CROWDBAKE THREE_DIR MODEL PACK REPORT WORK
+// Prints one line per clip and writes WORK/<pack>.threejs.json; exits 1 where a clip misses the
+// frame-time target or three.js's any-time error is not the report's max_error_any_time_mm.
+import { execFileSync } from 'node:child_process';
+import fs from 'node:fs';
+import path from 'node:path';
+import { pathToFileURL } from 'node:url';
+
+const [crowdbake, threeDir, model, pack, reportPath, work] = process.argv.slice(2);
+const THREE = await import(pathToFileURL(path.join(threeDir, 'build/three.module.js')));
+const { GLTFLoader } = await import(
+  pathToFileURL(path.join(threeDir, 'examples/jsm/loaders/GLTFLoader.js')));
+
+// FileLoader (reading the data: URIs through fetch) reports progress with a DOM event.
+globalThis.ProgressEvent ??= class extends Event {
+  constructor(type, init) { super(type); Object.assign(this, init); }
+};
+
+const kFrameTargetMm = 0.01; // agreement at frame times, at a 1.8 m character
+const kRandomTimes = 64;     // per clip: the bake's kRandomTimesPerClip
+
+// Textures need a DOM that node lacks: the JSON loses its images, textures and texture refs
+// (they do not move vertices). External buffers become data: URIs, which node's fetch reads.
+function modelJson(file) {
+  const data = fs.readFileSync(file);
+  let json, bin = null;
+  if (data.toString('latin1', 0, 4) === 'glTF') {
+    const n = data.readUInt32LE(12);
+    json = JSON.parse(data.toString('utf8', 20, 20 + n));
+    if (data.length > 28 + n) bin = data.subarray(28 + n, 28 + n + data.readUInt32LE(20 + n));
+  } else {
+    json = JSON.parse(data.toString('utf8'));
+  }
+  delete json.images; delete json.textures; delete json.samplers;
+  for (const m of json.materials || []) {
+    const p = m.pbrMetallicRoughness || {};
+    delete p.baseColorTexture; delete p.metallicRoughnessTexture;
+    delete m.normalTexture; delete m.occlusionTexture; delete m.emissiveTexture;
+  }
+  for (const b of json.buffers || []) {
+    if (b.uri === undefined) {
+      b.uri = 'data:application/octet-stream;base64,' + bin.toString('base64');
+    } else if (!b.uri.startsWith('data:')) {
+      const bytes = fs.readFileSync(path.join(path.dirname(file), decodeURIComponent(b.uri)));
+      b.uri = 'data:application/octet-stream;base64,' + bytes.toString('base64');
+    }
+  }
+  return json;
+}
+
+// Binary PLY of crowdbake pose: x y z nx ny nz (float), source_file .. source_vertex (int).
+function readPly(file) {
+  const data = fs.readFileSync(file);
+  const end = data.indexOf('end_header\n') + 'end_header\n'.length;
+  const count = Number(/element vertex (\d+)/.exec(data.toString('latin1', 0, end))[1]);
+  const out = [];
+  for (let i = 0, at = end; i < count; ++i, at += 44)
+    out.push({ p: [data.readFloatLE(at), data.readFloatLE(at + 4), data.readFloatLE(at + 8)],
+               node: data.readInt32LE(at + 28), mesh: data.readInt32LE(at + 32),
+               primitive: data.readInt32LE(at + 36), vertex: data.readInt32LE(at + 40) });
+  return out;
+}
+
+const json = modelJson(model);
+const gltf = await new Promise((resolve, reject) =>
+  new GLTFLoader().parse(JSON.stringify(json), '', resolve, reject));
+// Each primitive's three.js mesh, by "node/mesh/primitive": a node's object is the mesh of a
+// one-primitive mesh, else a group of them. (Instances of one mesh share one associations
+// entry, whose node is the last instance's, so nodes are asked for by index.)
+const meshes = new Map();
+for (const [node, def] of (json.nodes || []).entries()) {
+  if (def.mesh === undefined) continue;
+  const object = await gltf.parser.getDependency('node', node);
+  for (const o of object.isMesh ? [object] : object.children.filter(c => c.isMesh))
+    meshes.set(`${node}/${def.mesh}/${gltf.parser.associations.get(o).primitives}`, o);
+}
+const report = JSON.parse(fs.readFileSync(reportPath, 'utf8'));
+const mixer = new THREE.AnimationMixer(gltf.scene);
+const v = new THREE.Vector3(), m = new THREE.Vector3();
+
+// Where three.js draws vertex `i` of `o`: morph targets, skinning, then the mesh's world matrix.
+function threePosition(o, i) {
+  v.fromBufferAttribute(o.geometry.attributes.position, i);
+  const morphs = o.geometry.morphAttributes.position;
+  if (morphs && o.morphTargetInfluences)
+    morphs.forEach((attr, k) => v.addScaledVector(m.fromBufferAttribute(attr, i),
+                                                  o.morphTargetInfluences[k]));
+  if (o.isSkinnedMesh) o.applyBoneTransform(i, v);
+  return v.applyMatrix4(o.matrixWorld);
+}
+
+let failed = false;
+const summary = [];
+for (const clip of report.clips) {
+  // The pack names an unnamed glTF animation "clipN"; a "rest" clip with no animation is the
+  // rest pose (a file without animations, or whose animations move no node).
+  const index = (json.animations || []).findIndex((a, k) => (a.name || `clip${k}`) === clip.name);
+  const source = index >= 0 ? gltf.animations[index] : null;
+  const action = source ? mixer.clipAction(source) : null;
+  if (action) { action.setLoop(THREE.LoopOnce); action.clampWhenFinished = true; }
+  // Times: every frame, every mid-frame, and seeded random times over the clip.
+  const duration = (clip.frames - 1) / clip.fps;
+  const times = [], kinds = [];
+  for (let k = 0; k < clip.frames; ++k) { times.push(k / clip.fps); kinds.push('frames'); }
+  for (let k = 0; k + 1 < clip.frames; ++k) { times.push((k + 0.5) / clip.fps); kinds.push('midframes'); }
+  // The bake's own random times (anim_bake.cpp: its seed per clip, PCG's LCG step), so that
+  // three.js and the report measure the same instants.
+  let state = (0x9e3779b97f4a7c15n * BigInt(report.clips.indexOf(clip) + 1)) & ((1n << 64n) - 1n);
+  for (let k = 0; k < kRandomTimes && clip.frames > 1; ++k) {
+    state = (state * 6364136223846793005n + 1442695040888963407n) & ((1n << 64n) - 1n);
+    times.push(Number(state >> 11n) / 2 ** 53 * duration); kinds.push('random');
+  }
+  const stem = path.join(work, `${path.basename(pack, '.crowdpack')}_${clip.name}`);
+  execFileSync(crowdbake, ['pose', pack, '--clip', clip.name, '--times',
+                           times.map(t => t.toPrecision(9)).join(','), '-o', `${stem}.ply`, '-q']);
+  // three.js keys its clip at the source times: the pack's t is start_time + t there. The
+  // clip's first key, read from three.js's own tracks (not the pack's rounded start_time).
+  const start = source ? Math.min(...source.tracks.map(t => t.times[0])) : 0;
+  // The specification's rotations are unit quaternions; three.js composes a key as it is (a
+  // scaled matrix). Where keys are off unit length, three.js's are normalized, and it is named.
+  let unitLength = 0;
+  for (const track of source ? source.tracks : [])
+    if (track.name.endsWith('.quaternion'))
+      for (let i = 0; i < track.values.length; i += 4)
+        unitLength = Math.max(unitLength, Math.abs(Math.hypot(...track.values.slice(i, i + 4)) - 1));
+  const max = { frames: 0, midframes: 0, random: 0 }, sum = { frames: 0, midframes: 0, random: 0 };
+  const counted = { frames: 0, midframes: 0, random: 0 };
+  let compared = 0;
+  times.forEach((t, k) => {
+    mixer.stopAllAction(); // one clip at a time, from its start
+    if (action) { action.reset().play(); mixer.setTime(start + Number(t.toPrecision(9))); }
+    if (unitLength > 1e-6) gltf.scene.traverse(o => o.quaternion.normalize());
+    gltf.scene.updateMatrixWorld(true);
+    for (const o of meshes.values()) if (o.isSkinnedMesh) o.skeleton.update();
+    const file = times.length === 1 ? `${stem}.ply` : `${stem}_${String(k + 1).padStart(4, '0')}.ply`;
+    for (const q of readPly(file)) {
+      const o = meshes.get(`${q.node}/${q.mesh}/${q.primitive}`);
+      if (!o) throw new Error(`${model}: no three.js mesh for node ${q.node}, mesh ${q.mesh}, primitive ${q.primitive}`);
+      const w = threePosition(o, q.vertex);
+      const e = Math.hypot(w.x - q.p[0], w.y - q.p[1], w.z - q.p[2]) * report.mm_per_model_unit;
+      max[kinds[k]] = Math.max(max[kinds[k]], e);
+      sum[kinds[k]] += e; ++counted[kinds[k]]; ++compared;
+    }
+    fs.unlinkSync(file);
+  });
+  // Known ways the two differ, named: the pack does not bake morph targets yet.
+  const morphs = source && source.tracks.some(t => t.name.endsWith('.morphTargetInfluences'));
+  const anyTime = Math.max(max.frames, max.midframes, max.random);
+  const row = { model: path.basename(model), clip: clip.name, vertices_compared: compared,
+                max_mm_at_frames: max.frames, max_mm_at_midframes: max.midframes,
+                max_mm_at_random_times: max.random, max_mm_any_time: anyTime,
+                mean_mm_at_random_times: counted.random ? sum.random / counted.random : 0,
+                report_max_error_any_time_mm: clip.max_error_any_time_mm,
+                ratio_to_report: clip.max_error_any_time_mm > 0 ? anyTime / clip.max_error_any_time_mm : null,
+                known: [morphs ? 'animates morph targets, which the pack does not bake (issue 14)' : '',
+                        unitLength > 1e-6 ? `rotation keys up to ${unitLength.toPrecision(2)} off unit length: ` +
+                          'normalized in three.js, which composes them as they are' : '']
+                         .filter(Boolean).join('; ') };
+  summary.push(row);
+  // Between frames both readings see the same error (the pack's blend against the source): the
+  // report's any-time figure must be three.js's within 5% (or 0.01 mm where both are tiny).
+  const apart = Math.abs(anyTime - clip.max_error_any_time_mm);
+  const miss = !morphs && (max.frames > kFrameTargetMm ||
+                           (apart > kFrameTargetMm && apart > 0.05 * clip.max_error_any_time_mm));
+  failed ||= miss;
+  console.log(`${miss ? 'FAIL' : 'ok'}: ${row.model} '${clip.name}': three.js vs pose, max ` +
+              `${max.frames.toPrecision(3)} mm at ${clip.frames} frames (target ${kFrameTargetMm}), ` +
+              `${max.midframes.toPrecision(3)} mm at mid-frames, ${max.random.toPrecision(3)} mm at ` +
+              `${counted.random ? kRandomTimes : 0} random times; the report's any-time max ` +
+              `${clip.max_error_any_time_mm.toPrecision(3)} mm, three.js's ${anyTime.toPrecision(3)} mm` +
+              (row.known ? ` (known: ${row.known})` : ''));
+}
+// glTF animations the pack has no clip for, named with what they animate.
+(json.animations || []).forEach((a, k) => {
+  const name = a.name || `clip${k}`;
+  if (report.clips.some(c => c.name === name)) return;
+  const paths = [...new Set(a.channels.map(c => c.target.path))].join(', ');
+  console.log(`note: ${path.basename(model)}: animation '${name}' (${paths}) has no clip in the pack` +
+              (paths === 'weights' ? ' (known: morph targets are not baked, issue 14)' : ''));
+});
+fs.writeFileSync(path.join(work, `${path.basename(pack, '.crowdpack')}.threejs.json`),
+                 JSON.stringify(summary, null, 1));
+process.exit(failed ? 1 : 0);
