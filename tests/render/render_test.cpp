@@ -415,12 +415,12 @@ TEST(Player, TheImpostorSwitchHasHysteresis) {
 // one (the whole body under the garments) at several times of the walk.
 TEST(Player, ClothedCharactersDrawWhatTheirOutfitLeavesVisible) {
   const std::string pack = work() + "/clothed.crowdpack";
-  // Fast bake settings (every 8th frame, a 2-face ring): the hole check at these settings is in
-  // tests/unit/outfit_test.cpp.
+  // Fast bake settings (every 8th frame, 16th under the sanitizers; a 2-face ring): the hole
+  // check at these settings is in tests/unit/outfit_test.cpp.
   auto bake = run(std::string(CROWDBAKE) + " outfits " + work() + "/humanoid.glb --outfit " +
                   work() + "/outfit_dress.glb --outfit " + work() +
-                  "/outfit_jumper_skirt.glb --regions joint --frame-step 8 --ring 2 -o " + pack +
-                  " --quiet");
+                  "/outfit_jumper_skirt.glb --regions joint --frame-step " +
+                  std::to_string(CROWD_OUTFIT_FRAME_STEP) + " --ring 2 -o " + pack + " --quiet");
   ASSERT_EQ(bake.code, 0) << bake.err;
   const auto p = pack::loadAnimationPack(pack::Reader::open(pack));
   ASSERT_TRUE(p.outfits);

@@ -9,9 +9,6 @@
 namespace crowd {
 namespace {
 
-#ifndef CROWD_OUTFIT_FRAME_STEP
-#define CROWD_OUTFIT_FRAME_STEP 8 // sanitizer builds: 16 (tests/CMakeLists.txt)
-#endif
 constexpr uint32_t kFrameStep = CROWD_OUTFIT_FRAME_STEP;
 
 // Fast settings: every 8th frame (and each clip's last), joint regions, a 2-face safety ring.
