@@ -284,8 +284,11 @@ TEST(DamagedPack, TruncatedAndBitFlippedPacksFailVerify) {
   std::ofstream(dir + "/t.crowdpack", std::ios::binary) << bytes.substr(0, bytes.size() - 100);
   expectOneLineError(crowdbake("verify " + dir + "/t.crowdpack"), "truncated");
 
-  std::string flipped = bytes;
-  flipped[flipped.size() - 70] ^= 0x10;
+  std::string flipped = bytes; // a byte of the mesh's payload (not padding between chunks)
+  const crowd::pack::Reader reader(std::vector<uint8_t>(bytes.begin(), bytes.end()), "p");
+  const auto *mesh = reader.find(crowd::pack::kMesh);
+  ASSERT_NE(mesh, nullptr);
+  flipped[mesh->offset + mesh->size / 2] ^= 0x10;
   std::ofstream(dir + "/f.crowdpack", std::ios::binary) << flipped;
   expectOneLineError(crowdbake("verify " + dir + "/f.crowdpack"), "checksum mismatch");
 
