@@ -1,4 +1,5 @@
-// crowdbake pose: the mesh exactly as the player draws it at given times, as PLY, OBJ or PC2.
+// crowdbake pose: the mesh exactly as the player draws it at given times, as PLY, glTF, OBJ or
+// PC2.
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -20,7 +21,8 @@ const char *const kPoseHelp = R"(Writes the mesh exactly as crowdplay draws it a
 the outfit's sub-meshes at the LOD cut, skinned from the pack's animation and skin textures by
 the CPU mirror of the player's vertex shader (the same texel fetch, frame blend and single
 precision). A time past the clip's end wraps for a looping clip and clamps otherwise, with a
-warning; a pack without clips writes the bind pose. --times writes OUT_0001.EXT, ... per time,
+warning; a pack without clips writes the bind pose. Formats: PLY, binary glTF (.glb: a static
+mesh, unit normals), OBJ and PC2. --times writes OUT_0001.EXT, ... per time,
 or with -o OUT.pc2 one point cache (evenly spaced times; start and spacing in seconds).
 Times count from the clip's first frame: source time = start_time (crowdbake inspect) + t.
 A PLY also gives per vertex where it came from (the pack's SRCV chunk): source_file (0: the
@@ -81,7 +83,7 @@ int cmdPose(int argc, char **argv) {
   float time = 0;
   bool ascii = false, quiet = false;
   app.add_option("PACK", path, "a .crowdpack file")->required();
-  app.add_option("-o,--output", output, "OUT.ply, OUT.obj or OUT.pc2 (written atomically)")
+  app.add_option("-o,--output", output, "OUT.ply, OUT.glb, OUT.obj or OUT.pc2 (written atomically)")
       ->required();
   app.add_option("--clip", opt.clip, "clip (default: the first)");
   auto *timeOpt =
@@ -96,8 +98,8 @@ int cmdPose(int argc, char **argv) {
   if (!parseArgs(app, argc, argv))
     return 0;
   const std::string ext = fs::path(output).extension().string();
-  if (ext != ".ply" && ext != ".obj" && ext != ".pc2")
-    throw UsageError("-o: expected a .ply, .obj or .pc2 file, got '" + output + "'");
+  if (ext != ".ply" && ext != ".glb" && ext != ".obj" && ext != ".pc2")
+    throw UsageError("-o: expected a .ply, .glb, .obj or .pc2 file, got '" + output + "'");
   const std::vector<float> times =
       timesText.empty() ? std::vector<float>{time} : parseTimes(timesText);
   const fs::path folder = fs::path(output).parent_path();
@@ -126,7 +128,8 @@ int cmdPose(int argc, char **argv) {
     const std::string file = times.size() == 1 ? output : numbered(output, k);
     pack::writeFileAtomic(file, ext == ".ply"
                                     ? plyBytes(positions, normals, mesh.indices, sources, ascii)
-                                    : objBytes(positions, normals, mesh.indices));
+                                : ext == ".glb" ? glbBytes(positions, normals, mesh.indices)
+                                                : objBytes(positions, normals, mesh.indices));
   }
   if (ext == ".pc2") {
     const float spacing =

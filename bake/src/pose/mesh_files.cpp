@@ -1,7 +1,10 @@
 #include "crowd/bake/mesh_files.h"
 
+#include <cmath>
 #include <cstdio>
 #include <cstring>
+
+#include <nlohmann/json.hpp>
 
 namespace crowd {
 
@@ -98,6 +101,73 @@ std::vector<uint8_t> pc2Bytes(const std::vector<std::vector<glm::vec3>> &samples
     for (const auto &v : s)
       for (float f : {v.x, v.y, v.z})
         put(out, f);
+  return out;
+}
+
+std::vector<uint8_t> glbBytes(const std::vector<glm::vec3> &p, const std::vector<glm::vec3> &n,
+                              const std::vector<uint32_t> &indices) {
+  // One buffer: positions, unit normals (glTF requires them; a zero normal becomes +y), indices.
+  std::vector<uint8_t> bin;
+  glm::vec3 lo(INFINITY), hi(-INFINITY);
+  for (const auto &v : p) {
+    lo = glm::min(lo, v);
+    hi = glm::max(hi, v);
+    for (float f : {v.x, v.y, v.z})
+      put(bin, f);
+  }
+  for (const auto &v : n) {
+    const float length = glm::length(v);
+    const glm::vec3 unit =
+        length > 1e-20f && std::isfinite(length) ? v / length : glm::vec3(0, 1, 0);
+    for (float f : {unit.x, unit.y, unit.z})
+      put(bin, f);
+  }
+  for (uint32_t i : indices)
+    put(bin, i);
+  const size_t vertexBytes = p.size() * 12;
+  using nlohmann::json;
+  auto view = [](size_t offset, size_t length, int target) {
+    return json{{"buffer", 0}, {"byteOffset", offset}, {"byteLength", length}, {"target", target}};
+  };
+  const json gltf = {
+      {"asset", {{"version", "2.0"}, {"generator", "crowdbake pose"}}},
+      {"scene", 0},
+      {"scenes", {{{"nodes", {0}}}}},
+      {"nodes", {{{"mesh", 0}}}},
+      {"meshes",
+       {{{"primitives", {{{"attributes", {{"POSITION", 0}, {"NORMAL", 1}}}, {"indices", 2}}}}}}},
+      {"buffers", {{{"byteLength", bin.size()}}}},
+      {"bufferViews",
+       {view(0, vertexBytes, 34962), view(vertexBytes, vertexBytes, 34962),
+        view(2 * vertexBytes, indices.size() * 4, 34963)}},
+      {"accessors",
+       {{{"bufferView", 0},
+         {"componentType", 5126},
+         {"count", p.size()},
+         {"type", "VEC3"},
+         {"min", {lo.x, lo.y, lo.z}},
+         {"max", {hi.x, hi.y, hi.z}}},
+        {{"bufferView", 1}, {"componentType", 5126}, {"count", n.size()}, {"type", "VEC3"}},
+        {{"bufferView", 2},
+         {"componentType", 5125},
+         {"count", indices.size()},
+         {"type", "SCALAR"}}}}};
+  std::string text = gltf.dump();
+  text.resize((text.size() + 3) / 4 * 4, ' ');
+  bin.resize((bin.size() + 3) / 4 * 4, 0);
+  std::vector<uint8_t> out;
+  append(out, "glTF");
+  put(out, uint32_t(2));
+  put(out, uint32_t(12 + 8 + text.size() + 8 + bin.size()));
+  put(out, uint32_t(text.size()));
+  append(out, "JSON");
+  append(out, text);
+  put(out, uint32_t(bin.size()));
+  out.push_back('B');
+  out.push_back('I');
+  out.push_back('N');
+  out.push_back(0);
+  out.insert(out.end(), bin.begin(), bin.end());
   return out;
 }
 
