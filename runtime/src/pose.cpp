@@ -11,14 +11,11 @@ namespace crowd::runtime {
 
 namespace {
 
-template <class List, class Name> std::string names(const List &list, Name name) {
-  std::string out;
-  for (const auto &item : list) {
-    if (!out.empty())
-      out += ", ";
-    out += name(item);
-  }
-  return out.empty() ? "none" : out;
+template <class List, class Name> std::vector<std::string> names(const List &list, Name name) {
+  std::vector<std::string> out;
+  for (const auto &item : list)
+    out.push_back(name(item));
+  return out;
 }
 
 } // namespace
@@ -30,8 +27,8 @@ PoseMesh poseMesh(const pack::AnimationPack &pack, const PoseOptions &o) {
                              : std::find_if(pack.clips.begin(), pack.clips.end(),
                                             [&](const pack::Clip &c) { return c.name == o.clip; });
     if (it == pack.clips.end())
-      throw Error("no clip named '" + o.clip + "' (clips: " +
-                  names(pack.clips, [](const pack::Clip &c) { return c.name; }) + ")");
+      throw unknownName("clip", o.clip,
+                        names(pack.clips, [](const pack::Clip &c) { return c.name; }));
     m.clip = &*it;
   }
   const auto draws = outfitSubMeshes(pack, false);
@@ -42,8 +39,7 @@ PoseMesh poseMesh(const pack::AnimationPack &pack, const PoseOptions &o) {
                                : std::find_if(list.begin(), list.end(),
                                               [&](const auto &f) { return f.name == o.outfit; });
     if (it == list.end())
-      throw Error("no outfit named '" + o.outfit +
-                  "' (outfits: " + names(list, [](const auto &f) { return f.name; }) + ")");
+      throw unknownName("outfit", o.outfit, names(list, [](const auto &f) { return f.name; }));
     outfit = size_t(it - list.begin());
     m.outfit = it->name;
   } else if (!o.outfit.empty()) {

@@ -168,13 +168,8 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
     clips.push_back(cf);
   }
   if (clips.empty()) {
-    if (!options.clip.empty()) {
-      std::string names;
-      for (const auto &clip : c.clips)
-        names += (names.empty() ? "" : ", ") + clip.name;
-      throw Error("no clip named '" + options.clip +
-                  "' (clips: " + (names.empty() ? "none" : names) + ")");
-    }
+    if (!options.clip.empty())
+      throw unknownName("clip", options.clip, c.clipNames());
     reporter.warn("no_animation", "no animation: baked the rest pose as one-frame clip 'rest'");
     clips.push_back({nullptr, "rest", 0, 0, 1, options.fps > 0 ? options.fps : 30.0});
   }

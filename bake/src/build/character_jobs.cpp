@@ -40,13 +40,8 @@ void keepClips(Character &c, const std::vector<std::string> &names, const std::s
   std::vector<AnimationClip> kept;
   for (const auto &name : names) {
     auto it = std::find_if(c.clips.begin(), c.clips.end(), [&](auto &k) { return k.name == name; });
-    if (it == c.clips.end()) {
-      std::string list;
-      for (const auto &k : c.clips)
-        list += (list.empty() ? "" : ", ") + k.name;
-      throw Error(file + ": no clip named '" + name +
-                  "' (clips: " + (list.empty() ? "none" : list) + ")");
-    }
+    if (it == c.clips.end())
+      throw Error(file + ": " + unknownName("clip", name, c.clipNames()).what());
     kept.push_back(*it);
   }
   c.clips = std::move(kept);

@@ -106,12 +106,8 @@ ImpostorBakeResult bakeImpostor(const Character &c, const ImpostorOptions &optio
   for (const auto &cl : c.clips)
     if (o.clip.empty() ? !clip : cl.name == o.clip)
       clip = &cl;
-  if (!o.clip.empty() && !clip) {
-    std::string names;
-    for (const auto &cl : c.clips)
-      names += (names.empty() ? "" : ", ") + cl.name;
-    throw Error("no clip named '" + o.clip + "' (clips: " + (names.empty() ? "none" : names) + ")");
-  }
+  if (!o.clip.empty() && !clip)
+    throw unknownName("clip", o.clip, c.clipNames());
   if (!clip)
     reporter.warn("no_animation", "no animation: the impostor shows the rest pose");
   if (c.mesh.parts.size() > 255)

@@ -81,6 +81,12 @@ struct Character {
   bool skinned = true; // false: the file has no skin (its meshes ride their nodes rigidly)
 
   size_t jointCount() const { return jointNodes.size(); }
+  std::vector<std::string> clipNames() const {
+    std::vector<std::string> names;
+    for (const auto &clip : clips)
+      names.push_back(clip.name);
+    return names;
+  }
   std::string jointName(size_t j) const { return nodes[size_t(jointNodes[j])].name; }
 };
 
