@@ -49,17 +49,30 @@ mat3x4 rowsFromQts(vec4 q, vec4 ts) {
                 vec4(s * 2 * (x * z - w * y), s * 2 * (y * z + w * x), s * (1 - 2 * (x * x + y * y)), ts.z));
 }
 
+// Hamilton product of quaternions stored (x, y, z, w).
+vec4 qmul(vec4 a, vec4 b) {
+  return vec4(a.w * b.xyz + b.w * a.xyz + cross(a.xyz, b.xyz), a.w * b.w - dot(a.xyz, b.xyz));
+}
+
 mat3x4 jointRows(int f0, int f1, float alpha, int joint) {
   if (u_encoding == 0) {
     return mat3x4(mix(texelFetch(u_animation, texelOf(f0, joint, 0), 0), texelFetch(u_animation, texelOf(f1, joint, 0), 0), alpha),
                   mix(texelFetch(u_animation, texelOf(f0, joint, 1), 0), texelFetch(u_animation, texelOf(f1, joint, 1), 0), alpha),
                   mix(texelFetch(u_animation, texelOf(f0, joint, 2), 0), texelFetch(u_animation, texelOf(f1, joint, 2), 0), alpha));
   }
+  // Dual-quaternion (screw-linear) blend of rotation and translation; scale blends linearly.
   vec4 q0 = texelFetch(u_animation, texelOf(f0, joint, 0), 0);
   vec4 q1 = texelFetch(u_animation, texelOf(f1, joint, 0), 0);
+  vec4 ts0 = texelFetch(u_animation, texelOf(f0, joint, 1), 0);
+  vec4 ts1 = texelFetch(u_animation, texelOf(f1, joint, 1), 0);
   if (dot(q0, q1) < 0) q1 = -q1;
-  vec4 ts = mix(texelFetch(u_animation, texelOf(f0, joint, 1), 0), texelFetch(u_animation, texelOf(f1, joint, 1), 0), alpha);
-  return rowsFromQts(normalize(mix(q0, q1, alpha)), ts);
+  vec4 real = mix(q0, q1, alpha);
+  vec4 dual = mix(0.5 * qmul(vec4(ts0.xyz, 0), q0), 0.5 * qmul(vec4(ts1.xyz, 0), q1), alpha);
+  float len = length(real);
+  real /= len;
+  dual /= len;
+  vec3 translation = 2.0 * qmul(dual, vec4(-real.xyz, real.w)).xyz;
+  return rowsFromQts(real, vec4(translation, mix(ts0.w, ts1.w, alpha)));
 }
 
 void main() {

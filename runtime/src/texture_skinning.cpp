@@ -22,6 +22,15 @@ JointRows rowsFromQts(glm::vec4 q, glm::vec4 ts) {
                     ts.z)};
 }
 
+// Hamilton product of quaternions stored (x, y, z, w), as the shader's qmul.
+glm::vec4 qmul(glm::vec4 a, glm::vec4 b) {
+  const glm::vec3 av(a), bv(b);
+  return glm::vec4(a.w * bv + b.w * av + glm::cross(av, bv), a.w * b.w - glm::dot(av, bv));
+}
+
+// The dual part of the rigid transform (rotation q, translation t): t q / 2.
+glm::vec4 dualOf(glm::vec4 q, glm::vec4 ts) { return 0.5f * qmul(glm::vec4(glm::vec3(ts), 0), q); }
+
 } // namespace
 
 JointRows sampleJoint(const pack::AnimationTexture &t, const pack::Clip &clip, uint32_t frame,
@@ -34,11 +43,20 @@ JointRows sampleJoint(const pack::AnimationTexture &t, const pack::Clip &clip, u
       r[k] = glm::mix(fetch(t, f0, joint, k), fetch(t, f1, joint, k), alpha);
     return r;
   }
+  // Rotation and translation blend as dual quaternions (screw-linear): a joint turning about a
+  // fixed pivot keeps turning about it between frames, where blending the translation linearly
+  // would cut the arc's chord. The uniform scale blends linearly.
   glm::vec4 q0 = fetch(t, f0, joint, 0), q1 = fetch(t, f1, joint, 0);
+  const glm::vec4 ts0 = fetch(t, f0, joint, 1), ts1 = fetch(t, f1, joint, 1);
   if (glm::dot(q0, q1) < 0)
     q1 = -q1;
-  glm::vec4 q = glm::normalize(glm::mix(q0, q1, alpha));
-  return rowsFromQts(q, glm::mix(fetch(t, f0, joint, 1), fetch(t, f1, joint, 1), alpha));
+  glm::vec4 real = glm::mix(q0, q1, alpha),
+            dual = glm::mix(dualOf(q0, ts0), dualOf(q1, ts1), alpha);
+  const float length = glm::length(real);
+  real /= length;
+  dual /= length;
+  const glm::vec3 translation(2.0f * qmul(dual, glm::vec4(-glm::vec3(real), real.w)));
+  return rowsFromQts(real, glm::vec4(translation, glm::mix(ts0.w, ts1.w, alpha)));
 }
 
 void frameAt(const pack::Clip &clip, float seconds, uint32_t &frame, float &alpha) {

@@ -1,13 +1,15 @@
 #!/usr/bin/env bash
-# Animation bake figures per clip of each asset and precision: bytes per joint per frame and the
-# error the player shows, led by the largest at any time (frame times, mid-frames and 64 seeded
-# random times) in millimetres at a 1.8 m character, and bake time.
-# Usage: tests/bench/anim_table.sh [OUTDIR] [FPS|source]
-#   (after ./run build; writes OUTDIR/anim_table.csv; FPS defaults to the bake's default)
+# Animation bake figures per clip of each asset: first what the error budget chose (rate,
+# precision, bytes per joint per frame, the largest error at any time in millimetres at a 1.8 m
+# character), then every precision at those rates (frame times, mid-frames and 64 seeded random
+# times), then every option the budget tried, charted as error against bytes per clip (SVG).
+# Usage: tests/bench/anim_table.sh [OUTDIR] [FPS|source|auto] [BUDGET_MM]
+#   (after ./run build; writes OUTDIR/anim_choice.csv, anim_table.csv, anim_options.csv and
+#   anim_options_ASSET_CLIP.svg; FPS and BUDGET default to the bake's defaults)
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 out=${1:-out/bench}
-fps=(${2:+--fps "$2"})
+fps=(${2:+--fps "$2"} ${3:+--error-budget "$3"})
 mkdir -p "$out"
 bin=build/bin/crowdbake
 $bin samples --out "$out/samples" >/dev/null
@@ -26,6 +28,39 @@ out, inputs = sys.argv[1], sys.argv[2:]
 cols = ["asset", "clip", "frames", "fps", "precision", "bytes_per_joint_per_frame",
         "max_error_any_time_mm", "max_at_frames_mm", "max_at_midframes_mm", "max_at_random_mm",
         "mean_at_random_mm", "bake_time_s"]
+def table(cols, rows, path):
+    print("| " + " | ".join(cols) + " |")
+    print("|" + "---|" * len(cols))
+    for row in rows:
+        print("| " + " | ".join(f"{x:.3f}" if isinstance(x, float) else str(x) for x in row) + " |")
+    with open(os.path.join(out, path), "w") as fh:
+        fh.write(",".join(cols) + "\n")
+        for row in rows: fh.write(",".join(str(x) for x in row) + "\n")
+
+choice, options = [], []
+for f in inputs:
+    name = os.path.splitext(os.path.basename(f))[0]
+    r = json.load(open(os.path.join(out, name + ".json")))
+    for c in r["clips"]:
+        choice.append([name, c["name"], c["frames"], round(c.get("source_fps", 0), 3),
+                       round(c["fps"], 3), r["precision"], r["bytes_per_joint_per_frame"],
+                       c["max_error_any_time_mm"], r["budget_met"], r["time_s"]])
+        for o in c.get("options_tried", []):
+            options.append([name, c["name"], o["precision"], round(o["fps"], 3), o["frames"],
+                            o["bytes"], o["max_error_any_time_mm"], o["meets_budget"],
+                            o["precision"] == r["precision"] and abs(o["fps"] - c["fps"]) < 1e-3])
+print("The budget's choice (error budget %s mm)" % r["error_budget_mm"])
+table(["asset", "clip", "frames", "source_fps", "fps", "precision", "bytes_per_joint_per_frame",
+       "max_error_any_time_mm", "budget_met", "bake_time_s"], choice, "anim_choice.csv")
+mean = sum(row[6] * row[2] for row in choice) / sum(row[2] for row in choice)
+print("mean bytes per joint per frame over every clip's frames: %.1f; worst error at any time: "
+      "%.3f mm" % (mean, max(row[7] for row in choice)))
+ocols = ["asset", "clip", "precision", "fps", "frames", "bytes", "max_error_any_time_mm",
+         "meets_budget", "chosen"]
+with open(os.path.join(out, "anim_options.csv"), "w") as fh:
+    fh.write(",".join(ocols) + "\n")
+    for row in options: fh.write(",".join(str(x) for x in row) + "\n")
+print("\nEvery precision at the chosen rates")
 rows = []
 for f in inputs:
     name = os.path.splitext(os.path.basename(f))[0]
@@ -40,12 +75,16 @@ for f in inputs:
                          c["max_error_at_midframes_model_units"] * mm,
                          c["max_error_at_random_times_model_units"] * mm,
                          c["mean_error_at_random_times_model_units"] * mm, r["time_s"]])
-print("| " + " | ".join(cols) + " |")
-print("|" + "---|" * len(cols))
-for row in rows:
-    print("| " + " | ".join(f"{x:.3f}" if isinstance(x, float) else str(x) for x in row) + " |")
-with open(os.path.join(out, "anim_table.csv"), "w") as fh:
-    fh.write(",".join(cols) + "\n")
-    for row in rows: fh.write(",".join(str(x) for x in row) + "\n")
+table(cols, rows, "anim_table.csv")
 print("mm: the character scaled to 1.8 m tall (its rest height; flat assets: its diagonal)")
 PY
+# Error against bytes of every option tried, one chart per clip, a line per precision.
+command -v node >/dev/null || { echo "node not found: no charts"; exit 0; }
+tail -n +2 "$out/anim_options.csv" | cut -d, -f1,2 | sort -u | while IFS=, read -r asset clip; do
+  svg="$out/anim_options_${asset}_${clip//[^A-Za-z0-9_-]/_}.svg"
+  node tests/bench/chart.js "$svg" "$asset $clip: error against bytes, every option tried" \
+    "texture bytes (log)" "max error at any time (mm at 1.8 m)" \
+    <(awk -F, -v a="$asset" -v c="$clip" 'NR == 1 || ($1 == a && $2 == c)' "$out/anim_options.csv") \
+    bytes max_error_any_time_mm precision log
+  echo "chart: $svg"
+done

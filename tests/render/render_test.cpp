@@ -583,7 +583,7 @@ TEST(Player, BadInputIsOneClearLine) {
   longClip.animation("long", 1, "translation", {0, 1000}, {0, 0, 0, 0, 1, 0});
   const std::string gltf = longClip.write(work(), "long_clip");
   ASSERT_EQ(run(std::string(CROWDBAKE) + " anim " + gltf + " -o " + work() +
-                "/wide.crowdpack --clip long --max-width 65536 --quiet")
+                "/wide.crowdpack --clip long --fps 30 --max-width 65536 --quiet")
                 .code,
             0);
   auto wide = oneCharacter();

@@ -207,7 +207,7 @@ const std::vector<Case> kCases = {
        b.j["skins"][0]["joints"][1] = 42;
        return b.write(d, "jn");
      }},
-    {"key_times_decreasing", "key times not strictly increasing",
+    {"key_times_decreasing", "key times decrease",
      [](const std::string &d) {
        auto b = quad();
        b.animation("back", 1, "translation", {1, 0}, {0, 0, 0, 0, 1, 0});

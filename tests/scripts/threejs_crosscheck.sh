@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# The three.js cross-check: every model of ../shared/assets/gltf is baked twice (crowdbake anim,
-# and crowdbake lod, whose vertices leave import order) and, for every clip,
+# The three.js cross-check: every model of ../shared/assets/gltf is baked twice (crowdbake anim
+# as float matrices, so frame times test the reading alone, and crowdbake lod at the error
+# budget's choice, whose vertices leave import order) and, for every clip,
 # three.js's pose of the glTF is compared vertex by vertex with crowdbake pose at every frame,
 # every mid-frame and the bake's 64 random times (threejs_pose.mjs). Skips (exit 77) where node,
 # three (installed by ./run test into .tools) or the shared models are absent.
@@ -18,7 +19,8 @@ check() { # check MODEL PACK REPORT
 for model in "$assets"/*/*.glb "$assets"/*/*.gltf; do
   [ -f "$model" ] || continue
   name=$(basename "${model%.*}")
-  "$bin/crowdbake" anim "$model" -o "$work/$name.crowdpack" --report "$work/$name.json" -q
+  "$bin/crowdbake" anim "$model" -o "$work/$name.crowdpack" --report "$work/$name.json" -q \
+    --precision float
   check "$model" "$work/$name.crowdpack" "$work/$name.json"
   "$bin/crowdbake" lod "$model" -o "$work/${name}_lod.crowdpack" --report "$work/${name}_lod.json" -q
   check "$model" "$work/${name}_lod.crowdpack" "$work/${name}_lod.json"

@@ -17,6 +17,14 @@ namespace {
 
 const Character &humanoid() { return test::sampleHumanoid(); }
 
+// The matrix layout at a fixed rate, which the layout tests below count in.
+AnimBakeOptions float30() {
+  AnimBakeOptions o;
+  o.fps = 30;
+  o.precision = "float";
+  return o;
+}
+
 AnimBakeResult bake(const Character &c, AnimBakeOptions o = {}) {
   Reporter r;
   r.quiet = true;
@@ -43,7 +51,7 @@ TEST(Samples, HumanoidHasWhatLaterBakesNeed) {
 
 TEST(AnimBake, FrameTimesMeetTheFp32TargetAndLoopsClose) {
   const Character &c = humanoid();
-  AnimBakeResult r = bake(c);
+  AnimBakeResult r = bake(c, float30());
   const auto &acc = r.accuracy[r.baked];
   EXPECT_EQ(acc.precision.name, "float");
   for (const auto &clip : acc.clips) {
@@ -68,7 +76,7 @@ TEST(AnimBake, FrameTimesMeetTheFp32TargetAndLoopsClose) {
 
 TEST(AnimBake, RowsWrapWithoutSplittingAFrame) {
   const Character &c = humanoid();
-  AnimBakeOptions o;
+  AnimBakeOptions o = float30();
   o.maxWidth = 22 * 3 * 5 + 17; // five frames fit, with room to spare
   AnimBakeResult r = bake(c, o);
   const auto &t = r.pack.animation;
@@ -86,10 +94,11 @@ TEST(AnimBake, RowsWrapWithoutSplittingAFrame) {
 }
 
 TEST(AnimBake, BytesDoNotDependOnThreadCount) {
-  AnimBakeOptions one, many;
+  AnimBakeOptions one, many; // the budget's search included
+  one.clip = many.clip = "run";
   one.threads = 1;
   many.threads = 7;
-  for (std::string p : {"float", "qts-half"}) {
+  for (std::string p : {"auto", "qts-half"}) {
     one.precision = many.precision = p;
     EXPECT_EQ(pack::packBytes(bake(humanoid(), one).pack),
               pack::packBytes(bake(humanoid(), many).pack))
@@ -150,8 +159,9 @@ TEST(TextureSkinning, FrameAtWrapsLoopsAndClampsOthers) {
   EXPECT_EQ(a, 0.0f);
 }
 
-// Every real glTF character in ../shared/assets/gltf, held to the fp32 target at frame times.
-TEST(RealAssets, EveryModelBakesWithinTheFp32Target) {
+// Every real glTF character in ../shared/assets/gltf: held to the fp32 target at frame times when
+// stored as float matrices, and within the default error budget at any time.
+TEST(RealAssets, EveryModelBakesWithinTheFp32TargetAndTheBudget) {
   std::string dir = CROWD_SHARED_ASSETS;
   if (!std::filesystem::exists(dir))
     GTEST_SKIP() << "shared assets absent at " << dir;
@@ -169,7 +179,10 @@ TEST(RealAssets, EveryModelBakesWithinTheFp32Target) {
     AnimBakeResult res = bakeAnimation(c, {}, r);
     pack::Reader reader(pack::packBytes(res.pack), f.string());
     EXPECT_NO_THROW(pack::loadAnimationPack(reader));
+    EXPECT_TRUE(res.budget.met) << res.budget.precision;
     for (const auto &clip : res.accuracy[res.baked].clips)
+      EXPECT_LE(clip.maxAnyTime() * res.mmPerUnit, 1.0) << clip.clip;
+    for (const auto &clip : res.accuracy[0].clips) // float, at the budget's rates
       EXPECT_LE(clip.maxAtFrames, 1e-5 * res.diagonal) << clip.clip;
   }
 }
@@ -203,12 +216,16 @@ TEST(AnimBake, AbsurdClipLengthsAreAClearError) {
   r.quiet = true;
   Character c = importGltf(b.write(test::tempDir("anim_absurd"), "q"), {}, r);
   try {
-    bakeAnimation(c, {}, r);
+    bakeAnimation(c, float30(), r);
     FAIL();
   } catch (const Error &e) {
     EXPECT_NE(std::string(e.what()).find("clip 'forever': "), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("needs more than 65536 frames"), std::string::npos);
   }
+  // The budget finds what the two keys need: two frames, exact between them.
+  const AnimBakeResult fit = bakeAnimation(c, {}, r);
+  EXPECT_EQ(fit.pack.clips.at(0).frameCount, 2u);
+  EXPECT_TRUE(fit.budget.met);
 }
 } // namespace
 
@@ -224,7 +241,7 @@ TEST(AnimBake, SourceRatePutsFramesOnTheKeys) {
   Character c = importGltf(b.write(test::tempDir("anim_source"), "q"), {}, r);
   AnimBakeOptions source;
   source.fps = 0;
-  AnimBakeResult onKeys = bakeAnimation(c, source, r), at30 = bakeAnimation(c, {}, r);
+  AnimBakeResult onKeys = bakeAnimation(c, source, r), at30 = bakeAnimation(c, float30(), r);
   EXPECT_EQ(onKeys.pack.clips[0].frameCount, 5u); // 4 fps: 0, 0.25, 0.5, 0.75, 1
   EXPECT_FLOAT_EQ(onKeys.pack.clips[0].fps, 4.0f);
   EXPECT_LE(onKeys.accuracy[0].clips[0].maxAtMidframes, 1e-6 * onKeys.diagonal);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 
 #include "crowd/bake/evaluate.h"
@@ -12,164 +13,97 @@
 
 namespace crowd {
 
-const std::vector<Precision> &precisions() {
-  using E = pack::JointEncoding;
-  using F = pack::TexelFormat;
-  static const std::vector<Precision> all = {{"float", E::Matrix3x4, F::RGBA32F},
-                                             {"half", E::Matrix3x4, F::RGBA16F},
-                                             {"qts", E::QuatTransScale, F::RGBA32F},
-                                             {"qts-half", E::QuatTransScale, F::RGBA16F}};
-  return all;
-}
-
-const Precision &precisionByName(const std::string &name) {
-  for (const auto &p : precisions())
-    if (p.name == name)
-      return p;
-  throw Error("unknown precision '" + name + "' (float, half, qts, qts-half)");
-}
-
-namespace {
-
-struct ClipFrames {
-  const AnimationClip *clip; // null: rest pose
-  std::string name;
-  double start, step; // frame i sits at start + i * step
-  uint32_t count;
-  double fps;
-};
-
-// Texels of one joint: 3 matrix rows, or quaternion + (translation, uniform scale).
-void encodeJoint(const glm::dmat4 &m, pack::JointEncoding enc, float *out) {
-  if (enc == pack::JointEncoding::Matrix3x4) {
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 4; ++c)
-        out[r * 4 + c] = float(m[c][r]);
-    return;
-  }
-  glm::dmat3 a(m);
-  double s = std::cbrt(glm::determinant(a));
-  if (s == 0)
-    s = 1e-30;
-  glm::dquat q = glm::normalize(glm::quat_cast(a / s));
-  if (q.w < 0)
-    q = -q; // canonical sign; the sampler picks the short arc between frames
-  const double v[8] = {q.x, q.y, q.z, q.w, m[3][0], m[3][1], m[3][2], s};
-  for (int k = 0; k < 8; ++k)
-    out[k] = float(v[k]);
-}
-
-pack::AnimationTexture buildTexture(const std::vector<std::vector<glm::dmat4>> &frames,
-                                    size_t jointCount, const Precision &p, uint32_t maxWidth) {
-  pack::AnimationTexture t;
-  t.encoding = p.encoding;
-  t.format = p.format;
-  t.jointCount = uint32_t(jointCount);
-  t.frameCount = uint32_t(frames.size());
-  uint64_t frameTexels = uint64_t(jointCount) * pack::texelsPerJoint(p.encoding);
-  t.framesPerRow = uint32_t(maxWidth / frameTexels);
-  if (t.framesPerRow == 0)
-    throw Error("a frame of " + std::to_string(jointCount) + " joints needs " +
-                std::to_string(frameTexels) + " texels, more than --max-width " +
-                std::to_string(maxWidth));
-  t.framesPerRow = std::min(t.framesPerRow, t.frameCount);
-  t.width = uint32_t(t.framesPerRow * frameTexels);
-  t.height = (t.frameCount + t.framesPerRow - 1) / t.framesPerRow;
-  if (t.height > limits::kTextureSide)
-    throw Error("animation texture would be taller than " + std::to_string(limits::kTextureSide) +
-                " rows");
-  size_t texelCount = size_t(t.width) * t.height;
-  std::vector<float> values(texelCount * 4, 0.0f);
-  for (uint32_t f = 0; f < t.frameCount; ++f)
-    for (uint32_t j = 0; j < jointCount; ++j) {
-      auto [x, y] = t.texelOf(f, j);
-      encodeJoint(frames[f][j], p.encoding, &values[(size_t(y) * t.width + x) * 4]);
-    }
-  if (p.format == pack::TexelFormat::RGBA32F) {
-    t.texels.resize(values.size() * 4);
-    std::memcpy(t.texels.data(), values.data(), t.texels.size());
-  } else {
-    t.texels.resize(values.size() * 2);
-    for (size_t i = 0; i < values.size(); ++i) {
-      uint16_t h = pack::floatToHalf(values[i]);
-      std::memcpy(&t.texels[i * 2], &h, 2);
-    }
-  }
-  return t;
-}
-
-// Frames per second that put a frame on every key of the clip's densest channel (30 when the
-// clip has one key), capped at 1000.
-double sourceRate(const AnimationClip &clip) {
-  double shortest = 0;
-  for (const auto &ch : clip.channels)
-    for (size_t k = 1; k < ch.times.size(); ++k) {
-      double dt = ch.times[k] - ch.times[k - 1];
-      if (dt > 1e-6 && (shortest == 0 || dt < shortest))
-        shortest = dt;
-    }
-  return shortest > 0 ? std::min(1000.0, 1.0 / shortest) : 30.0;
-}
-
-pack::SkinTexture buildSkin(const SkinnedMesh &m, uint32_t maxWidth) {
-  pack::SkinTexture s;
-  s.vertexCount = uint32_t(m.vertexCount());
-  uint64_t texels = uint64_t(s.vertexCount) * 2;
-  s.width = uint32_t(std::min<uint64_t>(maxWidth & ~1u, texels));
-  s.height = uint32_t((texels + s.width - 1) / s.width);
-  if (s.height > limits::kTextureSide)
-    throw Error("skin texture would be taller than " + std::to_string(limits::kTextureSide) +
-                " rows");
-  s.texels.assign(size_t(s.width) * s.height * 4, 0.0f);
-  for (size_t v = 0; v < m.vertexCount(); ++v)
-    for (int k = 0; k < 4; ++k) {
-      s.texels[v * 8 + size_t(k)] = float(m.joints[v][size_t(k)]);
-      s.texels[v * 8 + 4 + size_t(k)] = m.weights[v][k];
-    }
-  return s;
-}
-
-} // namespace
-
 void AnimBakeOptions::validate() const {
-  if (!(fps >= 0 && fps <= 1000))
-    throw Error("fps: must be in (0, 1000], or source (0)");
+  if (!(fps == kFpsFromBudget || (fps >= 0 && fps <= 1000)))
+    throw Error("fps: must be in (0, 1000], source or auto");
   if (maxWidth < 2 || maxWidth > limits::kTextureSide)
     throw Error("max-width: must be in [2, " + std::to_string(limits::kTextureSide) + "]");
   if (threads < 0 || threads > 1024)
     throw Error("threads: must be in [0, 1024]");
+  if (!(errorBudgetMm > 0 && errorBudgetMm <= 1e6))
+    throw Error("error-budget: must be in (0, 1e6] millimetres");
+  if (precision != "auto")
+    try {
+      precisionByName(precision);
+    } catch (const Error &e) {
+      throw Error(std::string("precision: ") + e.what() + " or auto");
+    }
+}
+
+double AnimBakeOptions::parseFps(const std::string &text) {
+  if (text == "auto")
+    return kFpsFromBudget;
+  if (text == "source")
+    return kFpsSource;
   try {
-    precisionByName(precision);
-  } catch (const Error &e) {
-    throw Error(std::string("precision: ") + e.what());
+    size_t used = 0;
+    const double fps = std::stod(text, &used);
+    if (used == text.size() && fps > 0 && fps <= 1000)
+      return fps;
+  } catch (const std::exception &) {
   }
+  throw Error("fps: expects auto, source or a number in (0, 1000], got '" + text + "'");
+}
+
+std::string AnimBakeOptions::fpsName(double fps) {
+  if (fps == kFpsFromBudget)
+    return "auto";
+  if (fps == kFpsSource)
+    return "source";
+  std::string s = std::to_string(fps);
+  s.erase(s.find_last_not_of('0') + 1);
+  if (s.back() == '.')
+    s.pop_back();
+  return s;
 }
 
 AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
                              Reporter &reporter) {
   options.validate();
-  const Precision &chosen = precisionByName(options.precision);
+  AnimBakeResult result;
+  result.diagonal = restDiagonal(c);
+  // A character's height is its extent along +y; a flat or lying asset (under a tenth of its
+  // diagonal tall) is scaled by its diagonal instead.
+  const double height = restExtent(c).y;
+  result.heightIsDiagonal = !(height >= 0.1 * result.diagonal);
+  result.mmPerUnit = kReferenceHeightMm / (result.heightIsDiagonal ? result.diagonal : height);
+  result.errorBudgetMm = options.errorBudgetMm;
+
+  std::vector<const AnimationClip *> sourceClips;
+  for (const auto &clip : c.clips)
+    if (options.clip.empty() || clip.name == options.clip)
+      sourceClips.push_back(&clip);
+  if (sourceClips.empty() && !options.clip.empty())
+    throw unknownName("clip", options.clip, c.clipNames());
+
+  // Each clip's rate and the pack's precision: forced, or the budget's choice.
+  BudgetChoice &budget = result.budget;
+  const bool forced = options.fps != AnimBakeOptions::kFpsFromBudget && options.precision != "auto";
+  if (forced || sourceClips.empty()) {
+    budget.precision = options.precision == "auto" ? "float" : options.precision;
+    for (const auto *clip : sourceClips)
+      budget.clips.push_back(
+          {clip->name, options.fps > 0 ? options.fps : sourceRate(*clip), sourceRate(*clip), {}});
+  } else {
+    BudgetSearch search;
+    search.budgetMm = options.errorBudgetMm;
+    search.mmPerUnit = result.mmPerUnit;
+    if (options.fps > 0)
+      search.rates = {options.fps};
+    search.sourceRateOnly = options.fps == AnimBakeOptions::kFpsSource;
+    for (const auto &p : precisions())
+      if (options.precision == "auto" || p.name == options.precision)
+        search.tried.push_back(&p);
+    search.maxWidth = options.maxWidth;
+    search.threads = options.threads;
+    budget = chooseByBudget(c, sourceClips, search);
+  }
+  const Precision &chosen = precisionByName(budget.precision);
 
   std::vector<ClipFrames> clips;
-  for (const auto &clip : c.clips) {
-    if (!options.clip.empty() && clip.name != options.clip)
-      continue;
-    double duration = clip.end - clip.start;
-    double fps = options.fps > 0 ? options.fps : sourceRate(clip);
-    double wanted = duration > 0 ? std::max(1.0, std::round(duration * fps)) : 0.0;
-    if (wanted >= double(limits::kClipFrames)) // before the cast: an absurd duration overflows it
-      throw Error("clip '" + clip.name + "': " + std::to_string(duration) + " s at " +
-                  std::to_string(fps) + " fps needs more than " +
-                  std::to_string(limits::kClipFrames) + " frames (use --fps or --clip)");
-    auto intervals = uint32_t(wanted);
-    ClipFrames cf{&clip,         clip.name,
-                  clip.start,    intervals ? duration / intervals : 0.0,
-                  intervals + 1, intervals ? intervals / duration : fps};
-    clips.push_back(cf);
-  }
+  for (size_t ci = 0; ci < sourceClips.size(); ++ci)
+    clips.push_back(planFrames(*sourceClips[ci], budget.clips[ci].fps));
   if (clips.empty()) {
-    if (!options.clip.empty())
-      throw unknownName("clip", options.clip, c.clipNames());
     reporter.warn("no_animation", "no animation: baked the rest pose as one-frame clip 'rest'");
     clips.push_back({nullptr, "rest", 0, 0, 1, options.fps > 0 ? options.fps : 30.0});
   }
@@ -195,13 +129,6 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
       midReference[f] = skinPositions(c, jointMatrices(c, cf.clip, cf.start + (i + 0.5) * cf.step));
   });
 
-  AnimBakeResult result;
-  result.diagonal = restDiagonal(c);
-  // A character's height is its extent along +y; a flat or lying asset (under a tenth of its
-  // diagonal tall) is scaled by its diagonal instead.
-  const double height = restExtent(c).y;
-  result.heightIsDiagonal = !(height >= 0.1 * result.diagonal);
-  result.mmPerUnit = kReferenceHeightMm / (result.heightIsDiagonal ? result.diagonal : height);
   auto &pk = result.pack;
 
   pk.skeleton.names.resize(c.jointCount());
@@ -235,13 +162,13 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
     first += cf.count;
   }
 
-  pk.skin = buildSkin(c.mesh, options.maxWidth); // the same for every precision
+  pk.skin = buildSkinTexture(c.mesh, options.maxWidth); // the same for every precision
   // Accuracy of every precision, with the player's interpolation (runtime/texture_skinning),
   // at every frame time, every mid-frame time and kRandomTimesPerClip seeded random times.
   const auto &all = precisions();
   std::vector<pack::AnimationTexture> textures;
   for (const auto &p : all)
-    textures.push_back(buildTexture(joints, c.jointCount(), p, options.maxWidth));
+    textures.push_back(buildAnimationTexture(joints, c.jointCount(), p, options.maxWidth));
   const size_t np = all.size();
   const uint32_t vertexCount = uint32_t(c.mesh.vertexCount());
   // Error of every precision at (frame, alpha) of pack clip `ci` against `exact`: max[p], sum[p].
@@ -266,18 +193,12 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
     if (!midReference[f].empty())
       measure(ci, i, 0.5f, midReference[f], &midMax[f * np], &midSum[f * np]);
   });
-  // Random times: uniform over each clip's duration, from a fixed seed per clip.
+  // Random times: uniform over each clip's duration, from a fixed seed per clip (the budget's).
   std::vector<std::pair<size_t, double>> randomTimes; // (clip, seconds into the clip)
-  for (size_t ci = 0; ci < clips.size(); ++ci) {
-    if (clips[ci].count < 2)
-      continue;
-    uint64_t state = 0x9e3779b97f4a7c15ull * (ci + 1);
-    for (uint32_t k = 0; k < kRandomTimesPerClip; ++k) {
-      state = state * 6364136223846793005ull + 1442695040888963407ull; // PCG's LCG step
-      const double u = double(state >> 11) * 0x1.0p-53;
-      randomTimes.push_back({ci, u * clips[ci].step * (clips[ci].count - 1)});
-    }
-  }
+  for (size_t ci = 0; ci < clips.size(); ++ci)
+    if (clips[ci].count > 1)
+      for (double t : seededTimes(ci, clips[ci].clip->end - clips[ci].clip->start))
+        randomTimes.push_back({ci, t});
   std::vector<double> randomMax(randomTimes.size() * np), randomSum(randomTimes.size() * np);
   parallelFor(randomTimes.size(), options.threads, [&](size_t r) {
     const auto [ci, t] = randomTimes[r];
@@ -313,6 +234,23 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
       pk.animation = std::move(textures[p]);
     }
     result.accuracy.push_back(std::move(pa));
+  }
+  budget.met = true; // from the full measure, frame times included
+  for (const auto &a : result.accuracy[result.baked].clips) {
+    const double mm = a.maxAnyTime() * result.mmPerUnit;
+    if (mm <= options.errorBudgetMm)
+      continue;
+    budget.met = false;
+    const auto text = [](double v) {
+      char buf[32];
+      std::snprintf(buf, sizeof buf, "%.3g", v);
+      return std::string(buf);
+    };
+    reporter.warn("error_budget_not_met",
+                  "clip '" + a.clip + "': the player errs by up to " + text(mm) + " mm at " +
+                      chosen.name + ", over the " + text(options.errorBudgetMm) +
+                      " mm budget (a step between keys, or a motion faster than the rates tried, "
+                      "cannot be met; see the report's options_tried)");
   }
 
   // Mesh, with a bounding sphere over every frame of every clip. Matrix blends keep mid-frame

@@ -50,6 +50,8 @@ ordered_json animFigures(const AnimBakeResult &r) {
   const auto &baked = r.accuracy[r.baked];
   f["precision"] = baked.precision.name;
   f["bytes_per_joint_per_frame"] = baked.precision.bytesPerJointPerFrame();
+  f["error_budget_mm"] = r.errorBudgetMm;
+  f["budget_met"] = r.budget.met;
   f["clips"] = ordered_json::array();
   for (size_t i = 0; i < r.pack.clips.size(); ++i) {
     const auto &c = r.pack.clips[i];
@@ -59,6 +61,17 @@ ordered_json animFigures(const AnimBakeResult &r) {
                        {"start_time", c.startTime},
                        {"loop", c.loop}};
     cj.update(clipErrorsJson(baked.clips.at(i), r));
+    if (i < r.budget.clips.size()) { // not the rest pose
+      const ClipBudget &b = r.budget.clips[i];
+      cj["source_fps"] = b.sourceFps;
+      for (const auto &o : b.tried) // empty where --fps and --precision forced the choice
+        cj["options_tried"].push_back({{"fps", o.fps},
+                                       {"precision", o.precision},
+                                       {"frames", o.frames},
+                                       {"bytes", o.bytes},
+                                       {"max_error_any_time_mm", o.maxErrorMm},
+                                       {"meets_budget", o.meets}});
+    }
     f["clips"].push_back(cj);
   }
   for (const auto &pa : r.accuracy)

@@ -64,6 +64,15 @@ uint32_t whole(const JsonChecker &c, const json &j, const Keys &keys, double lo,
   return uint32_t(v);
 }
 
+// "fps": "auto", "source" or a number given as text.
+double fpsOf(const JsonChecker &c, const std::string &text, const Keys &keys) {
+  try {
+    return AnimBakeOptions::parseFps(text);
+  } catch (const Error &e) {
+    c.fail(keys, e.what());
+  }
+}
+
 // Runs an option struct's validate() and turns its "field: what" into a located error.
 template <class Options> void validate(const JsonChecker &c, const Options &o, const Keys &keys) {
   try {
@@ -119,9 +128,14 @@ CharacterManifest parse(const JsonChecker &c, const json &j, const Keys &at,
   if (j.contains("anim")) {
     const Keys k = key("anim");
     const json &a = j["anim"];
-    c.onlyKeys(a, k, {"fps", "max_width", "precision"});
+    c.onlyKeys(a, k, {"fps", "max_width", "precision", "error_budget_mm"});
     if (a.contains("fps"))
-      m.anim.fps = a["fps"] == "source" ? 0 : c.number(a["fps"], key2("anim", "fps"), 1e-3, 1000);
+      m.anim.fps = a["fps"].is_string()
+                       ? fpsOf(c, c.string(a["fps"], key2("anim", "fps")), key2("anim", "fps"))
+                       : c.number(a["fps"], key2("anim", "fps"), 1e-3, 1000);
+    if (a.contains("error_budget_mm"))
+      m.anim.errorBudgetMm =
+          c.number(a["error_budget_mm"], key2("anim", "error_budget_mm"), 1e-6, 1e6);
     if (a.contains("max_width"))
       m.anim.maxWidth =
           whole(c, a["max_width"], key2("anim", "max_width"), 2, limits::kTextureSide);
@@ -230,7 +244,11 @@ nlohmann::ordered_json CharacterManifest::canonical() const {
   j["name"] = name;
   j["clips"] = clips;
   j["mesh"] = mesh;
-  j["anim"] = {{"fps", anim.fps}, {"max_width", anim.maxWidth}, {"precision", anim.precision}};
+  j["anim"] = {{"fps", anim.fps > 0 ? nlohmann::ordered_json(anim.fps)
+                                    : nlohmann::ordered_json(AnimBakeOptions::fpsName(anim.fps))},
+               {"max_width", anim.maxWidth},
+               {"precision", anim.precision},
+               {"error_budget_mm", anim.errorBudgetMm}};
   if (lod)
     j["lod"] = {{"floor", lodOptions.floorFraction}, {"poses", lodOptions.poses}};
   else

@@ -60,12 +60,31 @@ void BakeArgs::add(CLI::App &app) {
   files.add(app);
 }
 
-void addTextureOptions(CLI::App &app, AnimBakeOptions &anim) {
-  app.add_option("--max-width", anim.maxWidth, "texture width limit in texels")
+void addAnimOptions(CLI::App &app, AnimBakeOptions &anim) {
+  app.add_option("--error-budget", anim.errorBudgetMm,
+                 "largest error the player may show at any time, in mm at a 1.8 m character: "
+                 "per clip the frame rate and for the pack the precision with the fewest bytes "
+                 "that meet it (the report lists every option tried)")
       ->capture_default_str();
+  app.add_option_function<std::string>(
+         "--fps",
+         [&anim](const std::string &text) {
+           try {
+             anim.fps = AnimBakeOptions::parseFps(text);
+           } catch (const Error &e) {
+             throw CLI::ValidationError("--fps", e.what());
+           }
+         },
+         "sampling rate, frames per second (forces it); \"source\": each clip's own key rate, "
+         "so baked frames sit on the keys; \"auto\": the error budget picks from 10 to 120 fps "
+         "and the source rate")
+      ->default_str(AnimBakeOptions::fpsName(anim.fps));
   app.add_option("--precision", anim.precision,
                  "float (3 RGBA32F texels per joint), half (3 RGBA16F), qts (2 RGBA32F: "
-                 "quaternion, translation, uniform scale) or qts-half")
+                 "quaternion, translation, uniform scale) or qts-half (forces it); auto: the "
+                 "error budget picks")
+      ->capture_default_str();
+  app.add_option("--max-width", anim.maxWidth, "texture width limit in texels")
       ->capture_default_str();
 }
 

@@ -64,8 +64,8 @@ struct BakeArgs {
               int threads) const;
 };
 
-// --max-width and --precision of the animation texture (anim, lod, outfits).
-void addTextureOptions(CLI::App &app, AnimBakeOptions &anim);
+// --error-budget, --fps, --precision and --max-width of the animation bake (anim, lod, outfits).
+void addAnimOptions(CLI::App &app, AnimBakeOptions &anim);
 // --threads of any bake.
 void addThreads(CLI::App &app, int &threads);
 

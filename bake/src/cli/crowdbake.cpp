@@ -90,16 +90,11 @@ int cmdAnim(int argc, char **argv, const std::string &command) {
   crowd::AnimBakeOptions opt;
   crowd::LodOptions lodOpt;
   std::string clip, mesh;
-  std::string fpsText = CLI::detail::to_string(opt.fps);
   bool lodFlag = false;
   app.add_option("--clip", clip, "bake only this clip (default: every clip)");
   app.add_option("--mesh", mesh,
                  "bake only this mesh (default: every mesh bound to the largest skin)");
-  app.add_option("--fps", fpsText,
-                 "sampling rate, frames per second; \"source\" uses each clip's own key rate, "
-                 "so baked frames sit on the keys")
-      ->capture_default_str();
-  addTextureOptions(app, opt);
+  addAnimOptions(app, opt);
   addThreads(app, opt.threads);
   CLI::Option *lodOption = nullptr;
   if (!lodCommand)
@@ -123,18 +118,6 @@ int cmdAnim(int argc, char **argv, const std::string &command) {
   if (!parseArgs(app, argc, argv))
     return 0;
   b.files.finish();
-  if (fpsText == "source") {
-    opt.fps = 0;
-  } else {
-    try {
-      size_t used = 0;
-      opt.fps = std::stod(fpsText, &used);
-      if (used != fpsText.size() || !(opt.fps > 0))
-        throw std::invalid_argument(fpsText);
-    } catch (const std::exception &) {
-      throw UsageError("--fps: expects a number > 0 or source, got '" + fpsText + "'");
-    }
-  }
   validated(opt);
   validated(lodOpt);
   crowd::CharacterManifest m = b.manifest();

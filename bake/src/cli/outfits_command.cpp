@@ -71,15 +71,13 @@ int cmdOutfits(int argc, char **argv) {
                  "the 32x8 impostor views and 16 player-like views at every K-th frame of every "
                  "clip and compare pixels (0: no check); a differing pixel fails the bake")
       ->capture_default_str();
-  app.add_option("--fps", opt.anim.fps, "animation sampling rate, as in crowdbake anim")
-      ->capture_default_str();
-  addTextureOptions(app, opt.anim);
+  addAnimOptions(app, opt.anim);
   addThreads(app, vis.threads);
   if (!parseArgs(app, argc, argv))
     return 0;
   b.files.finish();
   vis.ground = !noGround;
-  vis.fps = opt.anim.fps;
+  vis.fps = opt.anim.fps > 0 ? opt.anim.fps : vis.fps;
   opt.anim.threads = vis.threads;
   validated(opt);
   CharacterManifest m = b.manifest();

@@ -893,9 +893,20 @@ private:
         out.times = *readAccessor(s.input, ctx + " input");
         if (out.times.empty())
           fail(ctx + ": sampler has no keyframes");
+        // Two keys at one time are read as a step (the later holds from that time on), with a
+        // warning: the specification asks for strictly increasing times.
+        size_t steps = 0;
         for (size_t k = 1; k < out.times.size(); ++k)
-          if (!(out.times[k] > out.times[k - 1]))
-            fail(ctx + " input: key times not strictly increasing at key " + std::to_string(k));
+          if (out.times[k] == out.times[k - 1])
+            ++steps;
+          else if (!(out.times[k] > out.times[k - 1]))
+            fail(ctx + " input: key times decrease at key " + std::to_string(k));
+        if (steps)
+          reporter_.warn("keys_at_one_time",
+                         ctx + ": " + std::to_string(steps) +
+                             " pairs of keys share a time: read as steps (the later key holds "
+                             "from that time)",
+                         steps);
         out.values = *readAccessor(s.output, ctx + " output");
         size_t comps = out.path == ChannelPath::Rotation ? 4 : 3;
         size_t per = out.interpolation == Interpolation::CubicSpline ? 3 : 1;

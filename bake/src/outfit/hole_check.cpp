@@ -37,27 +37,7 @@ DrawList drawList(const OutfitBakeResult &b, const std::vector<uint32_t> &triang
 HoleCheck checkHoles(const OutfitBakeResult &b, const HoleCheckOptions &o) {
   const auto &mesh = b.anim.pack.mesh;
   const auto &table = *b.anim.pack.outfits;
-  const glm::dvec3 centre(mesh.boundingSphere[0], mesh.boundingSphere[1], mesh.boundingSphere[2]);
-  const double radius = mesh.boundingSphere[3];
-  // The impostor camera set, then player-like views: eye height and 4 m away, 8 directions.
-  std::vector<raster::Camera> cameras;
-  for (uint32_t e = 0; e < o.elevations; ++e)
-    for (uint32_t a = 0; a < o.azimuths; ++a) {
-      double az = 2 * M_PI * a / o.azimuths, el = 0.5 * M_PI * (e + 0.5) / o.elevations;
-      glm::dvec3 dir(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
-      cameras.push_back(raster::orthographic(centre + dir * (2 * radius), centre, {0, 1, 0},
-                                             radius, radius, 0.5 * radius, 3.5 * radius));
-    }
-  for (double height : {1.7, 4.0})
-    for (int a = 0; a < 8; ++a) {
-      double az = 2 * M_PI * (a + 0.5) / 8;
-      glm::dvec3 eye(centre.x + 4 * std::sin(az), height, centre.z + 4 * std::cos(az));
-      cameras.push_back(raster::perspective(eye, centre, {0, 1, 0}, glm::radians(50.0), 1.0, 0.1,
-                                            100.0));
-    }
-
   HoleCheck check;
-  check.views = uint32_t(cameras.size());
   const auto frames = outfitFrames(b.merged, 30, o.frameStep);
   check.frames = uint32_t(frames.size());
   std::vector<std::vector<glm::vec3>> posed;
@@ -65,6 +45,37 @@ HoleCheck checkHoles(const OutfitBakeResult &b, const HoleCheckOptions &o) {
     auto p = skinPositions(b.merged, jointMatrices(b.merged, clip, time));
     posed.emplace_back(p.begin(), p.end());
   }
+  // Framed on the exact poses it renders (not the pack's bounding sphere, which depends on how
+  // the animation is stored): their box's centre and the farthest vertex from it.
+  glm::vec3 lo(INFINITY), hi(-INFINITY);
+  for (const auto &p : posed)
+    for (const auto &q : p) {
+      lo = glm::min(lo, q);
+      hi = glm::max(hi, q);
+    }
+  const glm::dvec3 centre((lo + hi) * 0.5f);
+  double radius = 0;
+  for (const auto &p : posed)
+    for (const auto &q : p)
+      radius = std::max(radius, glm::length(glm::dvec3(q) - centre));
+  // The impostor camera set, then player-like views: eye height and 4 m away, 8 directions.
+  std::vector<raster::Camera> cameras;
+  for (uint32_t e = 0; e < o.elevations; ++e)
+    for (uint32_t a = 0; a < o.azimuths; ++a) {
+      double az = 2 * M_PI * a / o.azimuths, el = 0.5 * M_PI * (e + 0.5) / o.elevations;
+      glm::dvec3 dir(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
+      cameras.push_back(raster::orthographic(centre + dir * (2 * radius), centre, {0, 1, 0}, radius,
+                                             radius, 0.5 * radius, 3.5 * radius));
+    }
+  for (double height : {1.7, 4.0})
+    for (int a = 0; a < 8; ++a) {
+      double az = 2 * M_PI * (a + 0.5) / 8;
+      glm::dvec3 eye(centre.x + 4 * std::sin(az), height, centre.z + 4 * std::cos(az));
+      cameras.push_back(
+          raster::perspective(eye, centre, {0, 1, 0}, glm::radians(50.0), 1.0, 0.1, 100.0));
+    }
+
+  check.views = uint32_t(cameras.size());
   const int n = int(o.texels);
   for (const auto &outfit : table.outfits) {
     HoleCheck::PerOutfit r;

@@ -6,39 +6,36 @@
 #include <string>
 #include <vector>
 
+#include "crowd/bake/anim_budget.h"
+#include "crowd/bake/anim_frames.h"
 #include "crowd/bake/character.h"
 #include "crowd/bake/report.h"
 #include "crowd/formats/chunks.h"
 
 namespace crowd {
 
-// A stored precision: how joints are encoded and in which texel format.
-struct Precision {
-  std::string name; // "float", "half", "qts", "qts-half"
-  pack::JointEncoding encoding;
-  pack::TexelFormat format;
-  double bytesPerJointPerFrame() const {
-    return pack::texelsPerJoint(encoding) * pack::bytesPerTexel(format);
-  }
-};
-const std::vector<Precision> &precisions();
-const Precision &precisionByName(const std::string &name); // throws on an unknown name
-
 struct AnimBakeOptions {
-  std::string clip;         // bake only this clip; empty: every clip
-  double fps = 30;          // target sampling rate; each clip's rate is adjusted so its last
-                            // frame lands exactly on its end time. 0: the source's own rate
-                            // (its shortest key interval), so frames sit on the keys
+  static constexpr double kFpsFromBudget = -1; // fps: the error budget picks each clip's rate
+  static constexpr double kFpsSource = 0;      // fps: each clip's own key rate (sourceRate)
+  std::string clip;                            // bake only this clip; empty: every clip
+  // Sampling rate: a number forces it (each clip's rate is adjusted so its last frame lands
+  // exactly on its end time), kFpsSource puts frames on the keys, kFpsFromBudget (default)
+  // lets the budget choose from kRateLadder and the source rate.
+  double fps = kFpsFromBudget;
   uint32_t maxWidth = 4096; // animation and skin texture width limit, texels
-  std::string precision = "float";
+  // A name from precisions() forces it; "auto" (default) lets the budget choose.
+  std::string precision = "auto";
+  // The largest error the player may show at any time, millimetres at a kReferenceHeightMm
+  // character: the budget picks the fewest bytes that meet it (see anim_budget.h).
+  double errorBudgetMm = 1.0;
   int threads = 0; // 0: all cores; output bytes never depend on it
   // Throws crowd::Error naming the first field out of range ("fps: ...").
   void validate() const;
+  // --fps and the manifest's "fps": "auto", "source" or a number in (0, 1000]; throws Error.
+  static double parseFps(const std::string &text);
+  static std::string fpsName(double fps); // the inverse, for reports and cache keys
 };
 
-// Seeded random times per clip at which the player's pose is measured, besides every frame time
-// and every mid-frame time.
-inline constexpr uint32_t kRandomTimesPerClip = 64;
 // Millimetre figures are scaled to a character this tall (its rest pose's extent along +y).
 inline constexpr double kReferenceHeightMm = 1800;
 
@@ -63,9 +60,11 @@ struct AnimBakeResult {
   pack::AnimationPack pack; // provenance is left to the caller
   double diagonal = 0;      // rest-pose bounding-box diagonal: the unit of relative errors
   double mmPerUnit = 0;     // model units to millimetres, the character kReferenceHeightMm tall
-  bool heightIsDiagonal = false; // flat assets: the diagonal stands for the height
+  bool heightIsDiagonal = false;           // flat assets: the diagonal stands for the height
   std::vector<PrecisionAccuracy> accuracy; // every precision; the baked one is `baked`
   size_t baked = 0;
+  double errorBudgetMm = 0;
+  BudgetChoice budget; // how the rates and the precision were chosen, every option tried
 };
 
 AnimBakeResult bakeAnimation(const Character &character, const AnimBakeOptions &options,

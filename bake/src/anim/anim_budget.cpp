@@ -1,0 +1,175 @@
+#include "crowd/bake/anim_budget.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "crowd/bake/evaluate.h"
+#include "crowd/bake/parallel.h"
+#include "crowd/formats/limits.h"
+#include "crowd/runtime/texture_skinning.h"
+
+namespace crowd {
+namespace {
+
+std::vector<double> ratesFor(const BudgetSearch &s, double source) {
+  if (s.sourceRateOnly)
+    return {source};
+  std::vector<double> rates = s.rates;
+  if (rates.empty()) {
+    rates.assign(kRateLadder.begin(), kRateLadder.end());
+    rates.push_back(source);
+  }
+  std::sort(rates.begin(), rates.end());
+  rates.erase(std::unique(rates.begin(), rates.end(),
+                          [](double a, double b) { return std::abs(a - b) < 1e-4 * b; }),
+              rates.end());
+  return rates;
+}
+
+// Largest vertex error of each texture, against exact evaluation, at the clip's frame times
+// (`joints`: their exact matrices), its mid-frames and the seeded random times.
+std::vector<double> maxErrors(const Character &c, const ClipFrames &f,
+                              const std::vector<std::vector<glm::dmat4>> &joints,
+                              const std::vector<pack::AnimationTexture> &textures,
+                              const pack::SkinTexture &skin, const std::vector<double> &randomTimes,
+                              const std::vector<std::vector<glm::dvec3>> &randomExact,
+                              int threads) {
+  pack::Clip clip;
+  clip.fps = float(f.fps);
+  clip.frameCount = f.count;
+  const size_t frames = f.count, mids = f.count - 1, np = textures.size();
+  const size_t n = frames + mids + randomTimes.size();
+  std::vector<double> perTime(n * np, 0.0);
+  parallelFor(n, threads, [&](size_t k) {
+    uint32_t frame;
+    float alpha;
+    std::vector<glm::dvec3> computed;
+    const std::vector<glm::dvec3> *exact = &computed;
+    if (k < frames) {
+      frame = uint32_t(k);
+      alpha = 0.0f;
+      computed = skinPositions(c, joints[k]);
+    } else if (k < frames + mids) {
+      frame = uint32_t(k - frames);
+      alpha = 0.5f;
+      computed =
+          skinPositions(c, jointMatrices(c, f.clip, f.start + (double(frame) + 0.5) * f.step));
+    } else {
+      runtime::frameAt(clip, float(randomTimes[k - frames - mids]), frame, alpha);
+      exact = &randomExact[k - frames - mids];
+    }
+    for (size_t p = 0; p < np; ++p)
+      for (uint32_t v = 0; v < exact->size(); ++v) {
+        const glm::dvec3 got(
+            runtime::skinVertex(textures[p], skin, clip, frame, alpha, v, c.mesh.positions[v]));
+        perTime[k * np + p] = std::max(perTime[k * np + p], glm::length(got - (*exact)[v]));
+      }
+  });
+  std::vector<double> out(np, 0.0);
+  for (size_t k = 0; k < n; ++k)
+    for (size_t p = 0; p < np; ++p)
+      out[p] = std::max(out[p], perTime[k * np + p]);
+  return out;
+}
+
+// Every option of one clip, trying rates lowest first and dropping a precision once it meets the
+// budget; best[p] gets the option chosen for precision p.
+ClipBudget searchClip(const Character &c, const AnimationClip &clip, size_t clipIndex,
+                      const BudgetSearch &s, const pack::SkinTexture &skin,
+                      std::vector<size_t> &best) {
+  ClipBudget cb;
+  cb.clip = clip.name;
+  cb.sourceFps = sourceRate(clip);
+  const double duration = clip.end - clip.start;
+  const size_t np = s.tried.size();
+  const auto bytes = [&](uint32_t frames, const Precision &p) {
+    return uint64_t(double(frames) * double(c.jointCount()) * p.bytesPerJointPerFrame());
+  };
+  const auto rates = ratesFor(s, cb.sourceFps);
+  if (!(duration > 0)) { // one frame: every rate stores the same pose
+    for (size_t p = 0; p < np; ++p) {
+      best[p] = cb.tried.size();
+      cb.tried.push_back({rates.front(), s.tried[p]->name, 1, bytes(1, *s.tried[p]), 0, true});
+    }
+    return cb;
+  }
+  const auto randomTimes = seededTimes(clipIndex, duration);
+  std::vector<std::vector<glm::dvec3>> randomExact(randomTimes.size());
+  parallelFor(randomTimes.size(), s.threads, [&](size_t k) {
+    randomExact[k] = skinPositions(c, jointMatrices(c, &clip, clip.start + randomTimes[k]));
+  });
+  std::vector<size_t> open(np);
+  for (size_t p = 0; p < np; ++p)
+    open[p] = p;
+  for (double rate : rates) {
+    if (open.empty())
+      break;
+    if (!cb.tried.empty() && duration * rate >= double(limits::kClipFrames))
+      break; // higher rates would not fit a clip
+    const ClipFrames f = planFrames(clip, rate);
+    std::vector<std::vector<glm::dmat4>> joints(f.count);
+    parallelFor(f.count, s.threads, [&](size_t i) {
+      joints[i] = jointMatrices(c, &clip, f.start + double(i) * f.step);
+    });
+    std::vector<pack::AnimationTexture> textures;
+    for (size_t p : open)
+      textures.push_back(buildAnimationTexture(joints, c.jointCount(), *s.tried[p], s.maxWidth));
+    const auto errors =
+        maxErrors(c, f, joints, textures, skin, randomTimes, randomExact, s.threads);
+    std::vector<size_t> still;
+    for (size_t k = 0; k < open.size(); ++k) {
+      const size_t p = open[k];
+      const double mm = errors[k] * s.mmPerUnit;
+      const bool meets = mm <= s.budgetMm;
+      if (meets || best[p] == SIZE_MAX ||
+          mm < cb.tried[best[p]].maxErrorMm * 0.99) // else the lower rate stays the best
+        best[p] = cb.tried.size();
+      cb.tried.push_back(
+          {f.fps, s.tried[p]->name, f.count, bytes(f.count, *s.tried[p]), mm, meets});
+      if (!meets)
+        still.push_back(p);
+    }
+    open = std::move(still);
+  }
+  return cb;
+}
+
+} // namespace
+
+BudgetChoice chooseByBudget(const Character &c, const std::vector<const AnimationClip *> &clips,
+                            const BudgetSearch &s) {
+  const size_t np = s.tried.size();
+  const pack::SkinTexture skin = buildSkinTexture(c.mesh, s.maxWidth);
+  BudgetChoice out;
+  std::vector<std::vector<size_t>> best(clips.size(), std::vector<size_t>(np, SIZE_MAX));
+  for (size_t ci = 0; ci < clips.size(); ++ci)
+    out.clips.push_back(searchClip(c, *clips[ci], ci, s, skin, best[ci]));
+  // The precision: fewest bytes among those meeting the budget everywhere, else the smallest
+  // worst error (within 1%, the fewer bytes).
+  size_t chosen = 0;
+  std::vector<uint64_t> bytes(np, 0);
+  std::vector<double> worst(np, 0);
+  std::vector<bool> met(np, true);
+  for (size_t p = 0; p < np; ++p)
+    for (size_t ci = 0; ci < clips.size(); ++ci) {
+      const BudgetOption &o = out.clips[ci].tried[best[ci][p]];
+      bytes[p] += o.bytes;
+      worst[p] = std::max(worst[p], o.maxErrorMm);
+      met[p] = met[p] && o.meets;
+    }
+  for (size_t p = 1; p < np; ++p) {
+    const bool better = met[chosen]
+                            ? met[p] && bytes[p] < bytes[chosen]
+                            : met[p] || worst[p] < worst[chosen] * 0.99 ||
+                                  (worst[p] <= worst[chosen] * 1.01 && bytes[p] < bytes[chosen]);
+    if (better)
+      chosen = p;
+  }
+  out.precision = s.tried[chosen]->name;
+  out.met = met[chosen];
+  for (size_t ci = 0; ci < clips.size(); ++ci)
+    out.clips[ci].fps = out.clips[ci].tried[best[ci][chosen]].fps;
+  return out;
+}
+
+} // namespace crowd
