@@ -2,6 +2,8 @@
 // Skinned instancing: joint transforms come from the animation texture (two frames, blended
 // exactly as runtime/src/texture_skinning.cpp does on the CPU), ids and weights from the
 // skin-weight texture, per-instance data from one buffer indexed by the instance's id (an instanced attribute).
+// An instance changing clip crossfades: both clips' joints blend as dual quaternions
+// (blendJoints in runtime/src/texture_skinning.cpp).
 
 layout(location = 0) in vec3 a_position;
 layout(location = 1) in vec3 a_normal;
@@ -14,6 +16,7 @@ layout(binding = 1) uniform sampler2D u_skin;      // RGBA32F: ids, weights
 struct Instance {
   vec4 rows[3]; // world transform, 3x4
   vec4 params;  // clip, time offset (s), speed, palette
+  vec4 fade;    // clip faded from (-1: none), its time offset (s), fade start (s), fade length (s)
 };
 layout(std430, binding = 0) readonly buffer Clips { vec4 clips[]; }; // fps, frames, first, loop
 layout(std430, binding = 1) readonly buffer Instances { Instance instances[]; };
@@ -30,7 +33,7 @@ uniform int u_subMeshCount;
 // Naive path: one draw per instance, its data in uniforms instead of the buffer.
 uniform bool u_naive;
 uniform vec4 u_rows[3];
-uniform vec4 u_params;
+uniform vec4 u_params[2]; // an Instance's params and fade
 
 out vec3 v_normal;
 out vec4 v_colour; // A: how much the diffuse texture applies
@@ -54,6 +57,66 @@ vec4 qmul(vec4 a, vec4 b) {
   return vec4(a.w * b.xyz + b.w * a.xyz + cross(a.xyz, b.xyz), a.w * b.w - dot(a.xyz, b.xyz));
 }
 
+struct Rigid {
+  vec4 real, dual; // unit dual quaternion: rotation and translation
+  float scale;
+};
+
+Rigid mixRigid(Rigid a, Rigid b, float w) {
+  if (dot(a.real, b.real) < 0) {
+    b.real = -b.real;
+    b.dual = -b.dual;
+  }
+  vec4 real = mix(a.real, b.real, w);
+  float len = length(real);
+  return Rigid(real / len, mix(a.dual, b.dual, w) / len, mix(a.scale, b.scale, w));
+}
+
+mat3x4 rowsOf(Rigid r) {
+  vec3 translation = 2.0 * qmul(r.dual, vec4(-r.real.xyz, r.real.w)).xyz;
+  return rowsFromQts(r.real, vec4(translation, r.scale));
+}
+
+Rigid rigidOfQts(vec4 q, vec4 ts) { return Rigid(q, 0.5 * qmul(vec4(ts.xyz, 0), q), ts.w); }
+
+// Scale: the columns' mean length; rotation: the scaled 3x3 part's quaternion (Shepperd).
+Rigid rigidOf(mat3x4 m) {
+  float scale = (length(vec3(m[0].x, m[1].x, m[2].x)) + length(vec3(m[0].y, m[1].y, m[2].y)) +
+                 length(vec3(m[0].z, m[1].z, m[2].z))) / 3.0;
+  mat3x4 r = m * (1.0 / scale);
+  vec4 q;
+  float trace = r[0].x + r[1].y + r[2].z;
+  if (trace > 0) {
+    float s = 2.0 * sqrt(trace + 1.0);
+    q = vec4((r[2].y - r[1].z) / s, (r[0].z - r[2].x) / s, (r[1].x - r[0].y) / s, 0.25 * s);
+  } else if (r[0].x > r[1].y && r[0].x > r[2].z) {
+    float s = 2.0 * sqrt(1.0 + r[0].x - r[1].y - r[2].z);
+    q = vec4(0.25 * s, (r[0].y + r[1].x) / s, (r[0].z + r[2].x) / s, (r[2].y - r[1].z) / s);
+  } else if (r[1].y > r[2].z) {
+    float s = 2.0 * sqrt(1.0 + r[1].y - r[0].x - r[2].z);
+    q = vec4((r[0].y + r[1].x) / s, 0.25 * s, (r[1].z + r[2].y) / s, (r[0].z - r[2].x) / s);
+  } else {
+    float s = 2.0 * sqrt(1.0 + r[2].z - r[0].x - r[1].y);
+    q = vec4((r[0].z + r[2].x) / s, (r[1].z + r[2].y) / s, 0.25 * s, (r[1].x - r[0].y) / s);
+  }
+  q = normalize(q);
+  return Rigid(q, 0.5 * qmul(vec4(m[0].w, m[1].w, m[2].w, 0), q), scale);
+}
+
+Rigid frameRigid(int frame, int joint) {
+  if (u_encoding == 0)
+    return rigidOf(mat3x4(texelFetch(u_animation, texelOf(frame, joint, 0), 0),
+                          texelFetch(u_animation, texelOf(frame, joint, 1), 0),
+                          texelFetch(u_animation, texelOf(frame, joint, 2), 0)));
+  return rigidOfQts(texelFetch(u_animation, texelOf(frame, joint, 0), 0),
+                    texelFetch(u_animation, texelOf(frame, joint, 1), 0));
+}
+
+// A joint between two frames as a rigid transform, each frame converted on its own.
+Rigid jointRigid(int f0, int f1, float alpha, int joint) {
+  return mixRigid(frameRigid(f0, joint), frameRigid(f1, joint), alpha);
+}
+
 mat3x4 jointRows(int f0, int f1, float alpha, int joint) {
   if (u_encoding == 0) {
     return mat3x4(mix(texelFetch(u_animation, texelOf(f0, joint, 0), 0), texelFetch(u_animation, texelOf(f1, joint, 0), 0), alpha),
@@ -61,39 +124,42 @@ mat3x4 jointRows(int f0, int f1, float alpha, int joint) {
                   mix(texelFetch(u_animation, texelOf(f0, joint, 2), 0), texelFetch(u_animation, texelOf(f1, joint, 2), 0), alpha));
   }
   // Dual-quaternion (screw-linear) blend of rotation and translation; scale blends linearly.
-  vec4 q0 = texelFetch(u_animation, texelOf(f0, joint, 0), 0);
-  vec4 q1 = texelFetch(u_animation, texelOf(f1, joint, 0), 0);
-  vec4 ts0 = texelFetch(u_animation, texelOf(f0, joint, 1), 0);
-  vec4 ts1 = texelFetch(u_animation, texelOf(f1, joint, 1), 0);
-  if (dot(q0, q1) < 0) q1 = -q1;
-  vec4 real = mix(q0, q1, alpha);
-  vec4 dual = mix(0.5 * qmul(vec4(ts0.xyz, 0), q0), 0.5 * qmul(vec4(ts1.xyz, 0), q1), alpha);
-  float len = length(real);
-  real /= len;
-  dual /= len;
-  vec3 translation = 2.0 * qmul(dual, vec4(-real.xyz, real.w)).xyz;
-  return rowsFromQts(real, vec4(translation, mix(ts0.w, ts1.w, alpha)));
+  return rowsOf(jointRigid(f0, f1, alpha, joint));
+}
+
+// The two frames of a clip around scene time u_time and the blend between them.
+struct ClipTime {
+  int f0, f1;
+  float alpha;
+};
+
+ClipTime clipTime(float clipIndex, float offset, float speed) {
+  vec4 clip = clips[int(clipIndex)]; // fps, frames, first, loop
+  float last = clip.y - 1.0;
+  float f = (u_time * speed + offset) * clip.x;
+  if (clip.w > 0.5 && last > 0) f = f - last * floor(f / last);
+  f = clamp(f, 0.0, last);
+  int frame = int(floor(f));
+  return ClipTime(int(clip.z) + min(frame, int(last)), int(clip.z) + min(frame + 1, int(last)),
+                  f - float(frame));
 }
 
 void main() {
   vec4 rows[3];
-  vec4 params;
+  vec4 params, fade;
   if (u_naive) {
     rows = u_rows;
-    params = u_params;
+    params = u_params[0];
+    fade = u_params[1];
   } else {
     rows = instances[a_instance].rows;
     params = instances[a_instance].params;
+    fade = instances[a_instance].fade;
   }
-  vec4 clip = clips[int(params.x)];
-  float last = clip.y - 1.0;
-  float f = (u_time * params.z + params.y) * clip.x;
-  if (clip.w > 0.5 && last > 0) f = f - last * floor(f / last);
-  f = clamp(f, 0.0, last);
-  int frame = int(floor(f));
-  float alpha = f - float(frame);
-  int f0 = int(clip.z) + min(frame, int(last));
-  int f1 = int(clip.z) + min(frame + 1, int(last));
+  ClipTime now = clipTime(params.x, params.y, params.z);
+  // The new clip's share of a crossfade (ClipState::weightAt); below 1 the old clip blends in.
+  float weight = fade.x < 0.0 || fade.w <= 0.0 ? 1.0 : clamp((u_time - fade.z) / fade.w, 0.0, 1.0);
+  ClipTime before = clipTime(max(fade.x, 0.0), fade.y, params.z);
 
   int texel = gl_VertexID * 2;
   vec4 ids = texelFetch(u_skin, ivec2(texel % u_skinWidth, texel / u_skinWidth), 0);
@@ -102,7 +168,10 @@ void main() {
   vec3 skinned = vec3(0), normal = vec3(0);
   for (int k = 0; k < 4; ++k) {
     if (weights[k] == 0.0) continue;
-    mat3x4 m = jointRows(f0, f1, alpha, int(ids[k]));
+    mat3x4 m = weight < 1.0
+        ? rowsOf(mixRigid(jointRigid(before.f0, before.f1, before.alpha, int(ids[k])),
+                          jointRigid(now.f0, now.f1, now.alpha, int(ids[k])), weight))
+        : jointRows(now.f0, now.f1, now.alpha, int(ids[k]));
     skinned += weights[k] * (p * m);
     normal += weights[k] * (vec4(a_normal, 0.0) * m);
   }

@@ -5,6 +5,7 @@
 struct Instance {
   vec4 rows[3]; // world transform, 3x4 (rotation about +Y, translation)
   vec4 params;  // clip, time offset (s), speed, palette
+  vec4 fade;    // crowd.vert's; an instance in a fade never draws as an impostor
 };
 layout(std430, binding = 0) readonly buffer Clips { vec4 clips[]; }; // fps, frames, first, loop
 layout(std430, binding = 1) readonly buffer Instances { Instance instances[]; };

@@ -53,14 +53,22 @@ unsigned buildProgram(const char *vertex, const char *fragment, const char *name
   return p;
 }
 
+constexpr size_t kInstanceFloats = 20;
+
 struct CrowdRenderer::Character {
   const pack::AnimationPack *pack = nullptr;
   const pack::Impostor *impostor = nullptr;
   // Mesh, normals, indices of every LOD level, clips, instances, palettes, UVs, geometry ids
   // (sorted by level), impostor ids, views, draw commands.
   unsigned vao = 0, buffers[11] = {}, textures[5] = {};
-  std::vector<float> instanceData; // per instance: 3 rows + params, 16 floats
+  // Per instance: 3 rows, params (clip, time offset, speed, palette) and fade (clip faded from
+  // or -1, its time offset, fade start, fade length): kInstanceFloats floats.
+  std::vector<float> instanceData;
   uint32_t instanceCount = 0;
+  std::vector<uint32_t> sceneIndex; // per instance: its index in the scene
+  std::vector<uint32_t> clipOf;     // per scene clip: the pack's
+  std::vector<uint8_t> clipFits;    // per scene clip: the impostor's clip
+  std::vector<uint8_t> outfitFits;  // per instance: the impostor shows its outfit
   uint32_t mipLevels = 0;
   // Per LOD level, per sub-mesh and one past the last: where its triangles start in buffers[2].
   std::vector<uint32_t> levelStarts;
@@ -164,7 +172,7 @@ void checkTexturesFit(const pack::AnimationPack &p, const pack::Impostor *m,
 CrowdRenderer::CrowdRenderer(const std::vector<const pack::AnimationPack *> &packs,
                              const std::vector<const pack::Impostor *> &impostors,
                              const Scene &scene)
-    : light_(scene.lightDirection) {
+    : scene_(scene), schedule_(scene_), light_(scene.lightDirection) {
   program_ = buildProgram(kCrowdVert, kCrowdFrag, "crowd");
   impostorProgram_ = buildProgram(kImpostorVert, kImpostorFrag, "impostor");
   for (size_t pi = 0; pi < packs.size(); ++pi) {
@@ -176,7 +184,7 @@ CrowdRenderer::CrowdRenderer(const std::vector<const pack::AnimationPack *> &pac
     checkTexturesFit(p, c->impostor, scene.packNames[pi]);
     selection_.addCharacter(p, c->impostor);
     // Clip of each scene clip name in this pack ("" = the first clip).
-    std::vector<uint32_t> clipOf;
+    std::vector<uint32_t> &clipOf = c->clipOf;
     for (const auto &name : scene.clipNames) {
       uint32_t found = name.empty() ? 0 : UINT32_MAX;
       for (uint32_t k = 0; k < p.clips.size() && found == UINT32_MAX; ++k)
@@ -190,6 +198,7 @@ CrowdRenderer::CrowdRenderer(const std::vector<const pack::AnimationPack *> &pac
                     "' (clips: " + names + ")");
       }
       clipOf.push_back(found);
+      c->clipFits.push_back(c->impostor && p.clips[found].name == c->impostor->clip);
     }
     // Outfit of each scene outfit name in this pack ("" = the first, or none).
     std::vector<uint32_t> outfitOf;
@@ -212,37 +221,26 @@ CrowdRenderer::CrowdRenderer(const std::vector<const pack::AnimationPack *> &pac
       }
       outfitOf.push_back(uint32_t(it - list.begin()));
     }
-    for (const auto &inst : scene.instances) {
+    for (uint32_t i = 0; i < scene.instances.size(); ++i) {
+      const Instance &inst = scene.instances[i];
       if (inst.pack != pi)
         continue;
       float cy = float(std::cos(inst.yaw)), sy = float(std::sin(inst.yaw));
       glm::vec3 t(inst.position);
-      const float d[16] = {cy,
-                           0,
-                           sy,
-                           t.x,
-                           0,
-                           1,
-                           0,
-                           t.y,
-                           -sy,
-                           0,
-                           cy,
-                           t.z,
-                           float(clipOf[inst.clip]),
-                           float(inst.timeOffset),
-                           float(inst.speed),
-                           float(inst.palette)};
-      c->instanceData.insert(c->instanceData.end(), d, d + 16);
+      const float d[12] = {cy, 0, sy, t.x, 0, 1, 0, t.y, -sy, 0, cy, t.z};
+      c->instanceData.insert(c->instanceData.end(), d, d + 12);
+      c->instanceData.resize(c->instanceData.size() + 8);
+      c->sceneIndex.push_back(i);
       c->outfitOf.push_back(outfitOf[inst.outfit]);
-      ++c->instanceCount;
       // An outfit's impostor shows only that outfit; a bare-body impostor any.
-      const bool impostorFits =
-          c->impostor && p.clips[clipOf[inst.clip]].name == c->impostor->clip &&
+      c->outfitFits.push_back(
+          c->impostor &&
           (c->impostor->outfit.empty() ||
-           (p.outfits && p.outfits->outfits[outfitOf[inst.outfit]].name == c->impostor->outfit));
-      selection_.addInstance(glm::vec3(inst.position), float(inst.yaw), impostorFits);
+           (p.outfits && p.outfits->outfits[outfitOf[inst.outfit]].name == c->impostor->outfit)));
+      selection_.addInstance(glm::vec3(inst.position), float(inst.yaw), false);
+      ++c->instanceCount;
     }
+    updateClips(*c, characters_.size() - 1, 0.0);
     std::vector<float> clips;
     for (const auto &cl : p.clips)
       clips.insert(clips.end(),
@@ -276,8 +274,9 @@ CrowdRenderer::CrowdRenderer(const std::vector<const pack::AnimationPack *> &pac
     upload(c->buffers[2], indices);
     upload(c->buffers[3], clips);
     if (c->instanceData.empty())
-      c->instanceData.assign(16, 0.0f);
-    upload(c->buffers[4], c->instanceData);
+      c->instanceData.assign(kInstanceFloats, 0.0f);
+    glNamedBufferStorage(c->buffers[4], GLsizeiptr(c->instanceData.size() * sizeof(float)),
+                         c->instanceData.data(), schedule_.dynamic() ? GL_DYNAMIC_STORAGE_BIT : 0);
     upload(c->buffers[5], colours);
     // Which instances draw as geometry, and which as impostors: rewritten every frame.
     const size_t queued =
@@ -349,14 +348,45 @@ CrowdRenderer::~CrowdRenderer() {
   glDeleteProgram(impostorProgram_);
 }
 
+void CrowdRenderer::updateClips(Character &c, size_t ci, double seconds) {
+  auto &eligible = selection_.characters[ci].eligible;
+  for (uint32_t i = 0; i < c.instanceCount; ++i) {
+    const ClipState &s = schedule_.at(c.sceneIndex[i], seconds);
+    float *d = &c.instanceData[i * kInstanceFloats + 12];
+    const Instance &inst = scene_.instances[c.sceneIndex[i]];
+    const float params[8] = {float(c.clipOf[s.clip]),
+                             float(s.offset),
+                             float(inst.speed),
+                             float(inst.palette),
+                             s.from < 0 ? -1.0f : float(c.clipOf[size_t(s.from)]),
+                             float(s.fromOffset),
+                             float(s.fadeStart),
+                             float(s.fadeSeconds)};
+    std::copy(params, params + 8, d);
+    // Mid-fade, an instance draws as geometry: the impostor shows one clip.
+    eligible[i] = c.clipFits[s.clip] && c.outfitFits[i] && s.weightAt(seconds) >= 1.0f;
+  }
+}
+
 DrawStats CrowdRenderer::draw(const FrameView &view, float seconds, const DrawOptions &options) {
   DrawStats stats;
   const bool naive = options.path == DrawPath::Naive;
+  double clipsMs = 0;
+  if (schedule_.dynamic())
+    for (size_t ci = 0; ci < characters_.size(); ++ci) {
+      Character &c = *characters_[ci];
+      const auto t0 = std::chrono::steady_clock::now();
+      updateClips(c, ci, seconds);
+      clipsMs +=
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+      glNamedBufferSubData(c.buffers[4], 0, GLsizeiptr(c.instanceData.size() * sizeof(float)),
+                           c.instanceData.data());
+    }
 
   const auto chosen = selection_.select(view, options);
   stats.visible = chosen.visible;
   stats.impostors = chosen.impostors;
-  stats.cullSelectMs = chosen.milliseconds;
+  stats.cullSelectMs = chosen.milliseconds + clipsMs;
 
   glUseProgram(program_);
   auto loc = [&](const char *name) { return glGetUniformLocation(program_, name); };
@@ -365,6 +395,7 @@ DrawStats CrowdRenderer::draw(const FrameView &view, float seconds, const DrawOp
   glUniform3fv(loc("u_lightDirection"), 1, glm::value_ptr(light_));
   glUniform1i(loc("u_naive"), naive);
   const int subMeshLoc = loc("u_subMesh"), rowsLoc = loc("u_rows"), paramsLoc = loc("u_params");
+  static_assert(kInstanceFloats == 20); // u_params[2]: an instance's params and fade
   for (size_t ci = 0; ci < characters_.size(); ++ci) {
     Character *c = characters_[ci].get();
     const auto &chosen = selection_.characters[ci];
@@ -421,8 +452,8 @@ DrawStats CrowdRenderer::draw(const FrameView &view, float seconds, const DrawOp
           const auto &draws = queues.draws(c->outfitOf[i]);
           if (!std::binary_search(draws.begin(), draws.end(), uint32_t(s)))
             continue;
-          glUniform4fv(rowsLoc, 3, &c->instanceData[size_t(i) * 16]);
-          glUniform4fv(paramsLoc, 1, &c->instanceData[size_t(i) * 16 + 12]);
+          glUniform4fv(rowsLoc, 3, &c->instanceData[i * kInstanceFloats]);
+          glUniform4fv(paramsLoc, 2, &c->instanceData[i * kInstanceFloats + 12]);
           glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT, offset);
           ++stats.drawCalls;
           stats.triangles += uint64_t(count / 3);

@@ -73,4 +73,13 @@ Scene previewScene(const std::string &packPath, const pack::CharacterPack &p,
   return s;
 }
 
+void crossfadeFrom(Scene &next, const PreviewChoice &previous, const PreviewChoice &chosen,
+                   double now, double seconds) {
+  if (previous.clip < 0 || chosen.clip < 0 || previous.clip == chosen.clip ||
+      previous.outfit != chosen.outfit)
+    return;
+  for (auto &inst : next.instances)
+    inst.fade = {previous.clip, inst.timeOffset, now, seconds};
+}
+
 } // namespace crowd::runtime

@@ -70,7 +70,6 @@ public:
     }
     weights.resize(names.size(), 1.0);
   }
-
 };
 
 // Equal weights pick uniformly, as scenes did before weights were allowed (same instances).
@@ -134,11 +133,11 @@ Scene parseScene(const std::string &text, const std::string &path, size_t instan
   const json &in = j["instances"];
   c.onlyKeys(in, {"instances"},
              {"count", "pack", "placement", "clip", "outfit", "outfit_order", "time_offset",
-              "speed", "seed"});
-  std::mt19937_64 rng(
-      uint64_t(c.number(in.value("seed", json(1)), {"instances", "seed"}, 0, 1e15)));
-  size_t count = size_t(c.number(in.value("count", json(1)), {"instances", "count"}, 1,
-                                   double(limits::kInstances)));
+              "speed", "seed", "switch"});
+  const auto seed = uint64_t(c.number(in.value("seed", json(1)), {"instances", "seed"}, 0, 1e15));
+  std::mt19937_64 rng(seed);
+  size_t count = size_t(
+      c.number(in.value("count", json(1)), {"instances", "count"}, 1, double(limits::kInstances)));
   if (instanceOverride)
     count = instanceOverride;
   uint32_t pack = 0;
@@ -159,6 +158,29 @@ Scene parseScene(const std::string &text, const std::string &path, size_t instan
   if (order != "random" && order != "cycle")
     c.fail({"instances", "outfit_order"}, "expected \"random\" or \"cycle\"");
   s.clipNames = clips;
+  if (in.contains("switch")) {
+    const json &sw = in["switch"];
+    const std::vector<std::string> at = {"instances", "switch"};
+    c.onlyKeys(sw, at, {"every", "fade"});
+    if (!sw.contains("every"))
+      c.fail(at, "expected {\"every\": seconds or {\"min\", \"max\"}, \"fade\": seconds}");
+    const json &every = sw["every"];
+    if (every.is_object()) {
+      c.onlyKeys(every, {"instances", "switch", "every"}, {"min", "max"});
+      s.switching.minEvery = c.number(every.value("min", json(1.0)),
+                                      {"instances", "switch", "every", "min"}, 0.01, 1e6);
+      s.switching.maxEvery =
+          c.number(every.value("max", json(s.switching.minEvery)),
+                   {"instances", "switch", "every", "max"}, s.switching.minEvery, 1e6);
+    } else {
+      s.switching.minEvery = s.switching.maxEvery =
+          c.number(every, {"instances", "switch", "every"}, 0.01, 1e6);
+    }
+    s.switching.fade = c.number(sw.value("fade", json(0.3)), {"instances", "switch", "fade"}, 0,
+                                s.switching.minEvery);
+    s.switching.weights = clipWeights;
+    s.switching.seed = seed;
+  }
 
   json placement = in.value("placement", json{{"type", "grid"}});
   std::string type = placement.value("type", "grid");

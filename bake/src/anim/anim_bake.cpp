@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "crowd/bake/evaluate.h"
+#include "crowd/bake/fade_accuracy.h"
 #include "crowd/bake/parallel.h"
 #include "crowd/formats/error.h"
 #include "crowd/formats/limits.h"
@@ -252,6 +253,8 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
                       " mm budget (a step between keys, or a motion faster than the rates tried, "
                       "cannot be met; see the report's options_tried)");
   }
+
+  result.fades = measureFades(c, sourceClips, pk, options.threads);
 
   // Mesh, with a bounding sphere over every frame of every clip. Matrix blends keep mid-frame
   // positions inside the frames' hull; the baked precision's worst error is added on top.

@@ -1,5 +1,7 @@
 #include "crowd/bake/anim_report.h"
 
+#include "crowd/bake/fade_accuracy.h"
+
 namespace crowd {
 
 using nlohmann::ordered_json;
@@ -74,6 +76,12 @@ ordered_json animFigures(const AnimBakeResult &r) {
     }
     f["clips"].push_back(cj);
   }
+  if (r.fades.pairs) // the player's crossfades between clips, against the exact fade
+    f["crossfades"] = {{"pairs", r.fades.pairs},
+                       {"samples_per_pair", kFadeSamplesPerPair},
+                       {"max_error_mm", r.fades.maxError * r.mmPerUnit},
+                       {"mean_error_mm", r.fades.meanError * r.mmPerUnit},
+                       {"max_error", r.fades.maxError / r.diagonal}};
   for (const auto &pa : r.accuracy)
     f["precisions"].push_back(precisionJson(pa, r));
   return f;

@@ -43,14 +43,15 @@ clip that has an impostor (a character pack's, or the impostor pack a scene name
 impostors once one impostor texel is no bigger than a pixel (all of a type in one more instanced
 draw). In a clothed pack each instance wears the outfit the scene gives it ("outfit": a name, a
 list, or {name: weight}) and draws only the body parts it leaves visible, through a render queue
-per sub-mesh.
+per sub-mesh. With "switch" in a scene's instances ({"every": {"min": 3, "max": 8}, "fade": 0.3})
+each instance changes clip every 3 to 8 s, crossfading over 0.3 s on the GPU.
 
 A pack given without a scene file is previewed: every (clip, outfit) pair in a row framed by the
 pack's bounding sphere, the same row far behind (where impostors take over), and a turntable
 camera. --clip and --outfit narrow the row.
 
 Without --headless a window opens: drag with the left mouse button to orbit, scroll to zoom,
-W/A/S/D to move, Esc to quit. Keys: C next clip, O next outfit (pack previews), L next level of
+W/A/S/D to move, Esc to quit. Keys: C next clip (crossfading from one clip to the next), O next outfit (pack previews), L next level of
 detail (auto, 100%, 50%, 25%, 10%, 5%), I next drawing (hybrid, geometry only, impostors only).
 The title shows the choice, frame time, visible instances, triangles against the budget and draw
 calls.)";
@@ -418,6 +419,7 @@ int interactive(GLFWwindow *win, Options o, const Crowd &crowd, crowd::runtime::
   auto start = std::chrono::steady_clock::now(), lastTitle = start;
   double frameMs = 0;
   bool userCamera = false;
+  auto previewShown = choice; // the choice the scene shows
   while (!glfwWindowShouldClose(win)) {
     auto t0 = std::chrono::steady_clock::now();
     double t = o.startTime + std::chrono::duration<double>(t0 - start).count();
@@ -436,7 +438,9 @@ int interactive(GLFWwindow *win, Options o, const Crowd &crowd, crowd::runtime::
     }
     if (rebuild) {
       auto camera = scene.camera;
+      const auto shown = std::exchange(previewShown, choice);
       scene = preview(choice);
+      crowd::runtime::crossfadeFrom(scene, shown, choice, t);
       if (userCamera)
         scene.camera = camera;
       renderer = crowd.renderer(scene);

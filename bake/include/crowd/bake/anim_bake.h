@@ -56,6 +56,12 @@ struct PrecisionAccuracy {
   std::vector<ClipAccuracy> clips;
 };
 
+// Crossfades between the pack's clips against the exact fade (fade_accuracy.h), in model units.
+struct FadeAccuracy {
+  uint32_t pairs = 0; // ordered pairs of clips measured
+  double maxError = 0, meanError = 0;
+};
+
 struct AnimBakeResult {
   pack::AnimationPack pack; // provenance is left to the caller
   double diagonal = 0;      // rest-pose bounding-box diagonal: the unit of relative errors
@@ -65,6 +71,7 @@ struct AnimBakeResult {
   size_t baked = 0;
   double errorBudgetMm = 0;
   BudgetChoice budget; // how the rates and the precision were chosen, every option tried
+  FadeAccuracy fades;  // at the baked precision
 };
 
 AnimBakeResult bakeAnimation(const Character &character, const AnimBakeOptions &options,

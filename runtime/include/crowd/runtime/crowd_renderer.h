@@ -7,7 +7,8 @@
 // pack draw hybrid: instances of the impostor's clip past the one-texel-per-pixel distance (with
 // hysteresis) as impostors, all of one type in one instanced draw. Instances of a clothed pack
 // (crowdbake outfits) draw their outfit's sub-meshes only, through per-sub-mesh render queues of
-// the visible instances (render_queues.h). Needs a current GL 4.5 context.
+// the visible instances (render_queues.h). Instances changing clip (clip_switch.h) crossfade on
+// the GPU. Needs a current GL 4.5 context.
 #pragma once
 #include <cstdint>
 #include <memory>
@@ -18,6 +19,7 @@
 
 #include "crowd/formats/chunks.h"
 #include "crowd/formats/impostor.h"
+#include "crowd/runtime/clip_switch.h"
 #include "crowd/runtime/lod_select.h"
 #include "crowd/runtime/scene.h"
 
@@ -29,7 +31,8 @@ struct DrawStats {
   uint32_t visible = 0;     // of the instances, those inside the frustum (drawn)
   uint32_t impostors = 0;   // of the visible, those drawn as impostors
   uint64_t triangles = 0;   // two per impostor
-  double cullSelectMs = 0;  // CPU time of culling, the impostor split, LOD selection and queues
+  double cullSelectMs = 0;  // CPU time of the clip schedule, culling, the impostor split, LOD
+                            // selection and queues
 };
 
 class CrowdRenderer {
@@ -49,6 +52,11 @@ public:
 
 private:
   struct Character;
+  // Writes the instances' clips and fades at `seconds` (the schedule's) into character ci's
+  // instance data, and which of them may draw as impostors.
+  void updateClips(Character &c, size_t ci, double seconds);
+  Scene scene_;
+  ClipSchedule schedule_;
   std::vector<std::unique_ptr<Character>> characters_;
   CrowdSelection selection_; // its characters are characters_, in order
   unsigned program_ = 0, impostorProgram_ = 0;

@@ -18,4 +18,12 @@ struct PreviewChoice {
 Scene previewScene(const std::string &packPath, const pack::CharacterPack &pack,
                    const PreviewChoice &choice = {});
 
+// How long the preview's clip key crossfades.
+constexpr double kClipKeyFadeSeconds = 0.3;
+
+// Starts `next` (the preview of `chosen`) in a crossfade from `previous`'s clip at scene time
+// `now`, when both show one clip (then the row is the same instances); otherwise leaves it.
+void crossfadeFrom(Scene &next, const PreviewChoice &previous, const PreviewChoice &chosen,
+                   double now, double seconds = kClipKeyFadeSeconds);
+
 } // namespace crowd::runtime

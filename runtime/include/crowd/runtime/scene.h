@@ -1,6 +1,6 @@
 // Scene files for crowdplay (JSON): the packs to load, instance count and placement, per-instance
-// clip, outfit, time offset and speed, colour palettes per sub-mesh region, camera (with an optional
-// keyframed path), light and triangle budget. Errors name the file, line and column.
+// clip, outfit, time offset and speed, colour palettes per sub-mesh region, camera (with an
+// optional keyframed path), light and triangle budget. Errors name the file, line and column.
 #pragma once
 #include <array>
 #include <cstdint>
@@ -25,6 +25,23 @@ struct Camera {
   void at(double t, glm::dvec3 &eye, glm::dvec3 &look) const;
 };
 
+// A crossfade an instance starts in: from scene clip `from` (-1: none), played at
+// `seconds * speed + fromOffset`, over [start, start + seconds] of scene time.
+struct ClipFade {
+  int32_t from = -1;
+  double fromOffset = 0, start = 0, seconds = 0;
+};
+
+// The scene's "switch": every instance changes clip after a seeded random interval of
+// [minEvery, maxEvery] seconds (the first within maxEvery), to another of the scene's clips
+// drawn by `weights`, crossfading over `fade` seconds (clip_switch.h).
+struct ClipSwitching {
+  double minEvery = 0, maxEvery = 0, fade = 0.3;
+  std::vector<double> weights; // per scene clip
+  uint64_t seed = 1;
+  bool enabled() const { return maxEvery > 0; }
+};
+
 // One placed character. World transform: translation + rotation about +Y.
 struct Instance {
   uint32_t pack = 0;
@@ -34,6 +51,7 @@ struct Instance {
   double timeOffset = 0, speed = 1;
   uint32_t palette = 0;
   uint32_t outfit = 0; // indexes Scene::outfitNames
+  ClipFade fade;
 };
 
 struct Scene {
@@ -49,6 +67,7 @@ struct Scene {
   // resolved by the player against each clothed pack's outfit table.
   std::vector<std::string> outfitNames = {""};
   std::vector<Instance> instances;
+  ClipSwitching switching;
   // palettes[p] maps region (sub-mesh) names to colours; "default" applies to the rest.
   std::vector<std::vector<std::pair<std::string, glm::vec3>>> palettes;
   Camera camera;

@@ -20,9 +20,23 @@ using JointRows = std::array<glm::vec4, 3>;
 JointRows sampleJoint(const pack::AnimationTexture &texture, const pack::Clip &clip, uint32_t frame,
                       float alpha, uint32_t joint);
 
+// A joint's transform in a crossfade, `weight` of the way from `from` to `to` (0: `from`): both
+// taken as a rotation, translation and uniform scale and blended as dual quaternions, the same
+// screw-linear blend that qts frames use. What rows carry beyond that (shear, non-uniform scale)
+// is lost during a fade, and only then.
+JointRows blendJoints(const JointRows &from, const JointRows &to, float weight);
+
 // Frame index and blend factor for a time in seconds since the clip started: looping clips
 // wrap over frameCount - 1 intervals (the closing frame equals the first), others clamp.
 void frameAt(const pack::Clip &clip, float seconds, uint32_t &frame, float &alpha);
+
+// A time in a clip: its frame and blend factor (frameAt).
+struct ClipTime {
+  const pack::Clip *clip = nullptr;
+  uint32_t frame = 0;
+  float alpha = 0;
+};
+ClipTime clipTimeAt(const pack::Clip &clip, float seconds);
 
 glm::vec3 skinVertex(const pack::AnimationTexture &texture, const pack::SkinTexture &skin,
                      const pack::Clip &clip, uint32_t frame, float alpha, uint32_t vertex,
@@ -36,5 +50,13 @@ struct SkinnedVertex {
 SkinnedVertex skinVertex(const pack::AnimationTexture &texture, const pack::SkinTexture &skin,
                          const pack::Clip &clip, uint32_t frame, float alpha, uint32_t vertex,
                          const glm::vec3 &position, const glm::vec3 &normal);
+
+// A vertex in a crossfade from one clip time to another: each clip's joint as a rigid transform
+// (matrix frames converted one by one, then blended screw-linearly), the two blended as
+// blendJoints does. From weight 1 on, `to` alone as skinVertex gives it: matrix packs step from
+// the screw-linear to the linear blend between frames when a fade ends.
+SkinnedVertex skinVertexFaded(const pack::AnimationTexture &texture, const pack::SkinTexture &skin,
+                              const ClipTime &from, const ClipTime &to, float weight,
+                              uint32_t vertex, const glm::vec3 &position, const glm::vec3 &normal);
 
 } // namespace crowd::runtime

@@ -1,0 +1,85 @@
+#include "crowd/bake/fade_accuracy.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "crowd/bake/evaluate.h"
+#include "crowd/bake/parallel.h"
+#include "crowd/runtime/texture_skinning.h"
+
+namespace crowd {
+
+double sourceSeconds(const AnimationClip &source, const pack::Clip &baked, double seconds) {
+  const double duration = source.end - source.start;
+  if (baked.loop && duration > 0)
+    seconds -= duration * std::floor(seconds / duration);
+  return source.start + std::clamp(seconds, 0.0, std::max(duration, 0.0));
+}
+
+std::vector<glm::dmat4> blendedJoints(const std::vector<glm::dmat4> &from,
+                                      const std::vector<glm::dmat4> &to, float weight) {
+  auto rows = [](const glm::dmat4 &m) {
+    runtime::JointRows r;
+    for (int i = 0; i < 3; ++i)
+      r[size_t(i)] = glm::vec4(float(m[0][i]), float(m[1][i]), float(m[2][i]), float(m[3][i]));
+    return r;
+  };
+  std::vector<glm::dmat4> out(from.size(), glm::dmat4(1.0));
+  for (size_t j = 0; j < from.size(); ++j) {
+    const auto r = runtime::blendJoints(rows(from[j]), rows(to[j]), weight);
+    for (int i = 0; i < 3; ++i)
+      for (int col = 0; col < 4; ++col)
+        out[j][col][i] = double(r[size_t(i)][col]);
+  }
+  return out;
+}
+
+FadeAccuracy measureFades(const Character &c, const std::vector<const AnimationClip *> &sources,
+                          const pack::AnimationPack &pack, int threads) {
+  std::vector<std::pair<uint32_t, uint32_t>> all, pairs;
+  for (uint32_t a = 0; a < sources.size(); ++a)
+    for (uint32_t b = 0; b < sources.size(); ++b)
+      if (a != b)
+        all.push_back({a, b});
+  for (size_t k = 0; k < std::min<size_t>(all.size(), kFadePairs); ++k) // spread over the list
+    pairs.push_back(all[k * all.size() / std::min<size_t>(all.size(), kFadePairs)]);
+  FadeAccuracy out;
+  out.pairs = uint32_t(pairs.size());
+  const size_t samples = pairs.size() * kFadeSamplesPerPair;
+  const uint32_t vertices = uint32_t(c.mesh.vertexCount());
+  std::vector<double> max(samples), sum(samples);
+  parallelFor(samples, threads, [&](size_t s) {
+    const auto [a, b] = pairs[s / kFadeSamplesPerPair];
+    uint64_t state = 0x9e3779b97f4a7c15ull * (s + 1);
+    auto uniform = [&] { // PCG's LCG step, as the clips' seeded times
+      state = state * 6364136223846793005ull + 1442695040888963407ull;
+      return double(state >> 11) * 0x1.0p-53;
+    };
+    const double ta = uniform() * (sources[a]->end - sources[a]->start),
+                 tb = uniform() * (sources[b]->end - sources[b]->start);
+    const auto weight = float(uniform());
+    const auto exact = skinPositions(
+        c,
+        blendedJoints(jointMatrices(c, sources[a], sourceSeconds(*sources[a], pack.clips[a], ta)),
+                      jointMatrices(c, sources[b], sourceSeconds(*sources[b], pack.clips[b], tb)),
+                      weight));
+    const auto from = runtime::clipTimeAt(pack.clips[a], float(ta)),
+               to = runtime::clipTimeAt(pack.clips[b], float(tb));
+    for (uint32_t v = 0; v < vertices; ++v) {
+      const double e = glm::length(
+          glm::dvec3(runtime::skinVertexFaded(pack.animation, pack.skin, from, to, weight, v,
+                                              c.mesh.positions[v], glm::vec3(0.0f))
+                         .position) -
+          exact[v]);
+      max[s] = std::max(max[s], e);
+      sum[s] += e;
+    }
+  });
+  for (size_t s = 0; s < samples; ++s) {
+    out.maxError = std::max(out.maxError, max[s]);
+    out.meanError += sum[s] / (double(vertices) * double(samples));
+  }
+  return out;
+}
+
+} // namespace crowd

@@ -1,0 +1,247 @@
+// The player's vertex shader (shaders/crowd.vert) against its CPU mirror
+// (runtime/texture_skinning.cpp), vertex by vertex: the shader runs on the GL driver (Mesa
+// llvmpipe under xvfb-run here and in CI) with transform feedback capturing its skinned positions,
+// for every precision, at frame times, between frames and through crossfades between clips. The
+// crossfade is also measured against the exact one: the glTF's own joint transforms at both
+// clips' times, blended the same way (blendJoints), so the figure is what baking costs a fade.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+
+#include <epoxy/gl.h>
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+#include <gtest/gtest.h>
+
+#include "../unit/gltf_writer.h"
+#include "crowd/bake/anim_bake.h"
+#include "crowd/bake/evaluate.h"
+#include "crowd/bake/fade_accuracy.h"
+#include "crowd/bake/import.h"
+#include "crowd/runtime/clip_switch.h"
+#include "crowd/runtime/texture_skinning.h"
+#include "crowd/samples/samples.h"
+#include "crowd_shaders.h"
+
+using namespace crowd;
+
+namespace {
+
+struct Baked {
+  Character character;
+  AnimBakeResult result;
+};
+
+// The sample humanoid (walk, run, idle) at a precision; "auto" is the default bake.
+const Baked &humanoid(const std::string &precision) {
+  static std::map<std::string, Baked> baked;
+  auto it = baked.find(precision);
+  if (it != baked.end())
+    return it->second;
+  static const std::string dir = [] {
+    std::string d = test::tempDir("gpu_skinning");
+    samples::writeSamples(d);
+    return d;
+  }();
+  Reporter rep;
+  rep.quiet = true;
+  Baked b{importGltf(dir + "/humanoid.glb", {}, rep), {}};
+  AnimBakeOptions o;
+  o.precision = precision;
+  if (precision != "auto")
+    o.fps = 30;
+  b.result = bakeAnimation(b.character, o, rep);
+  return baked.emplace(precision, std::move(b)).first->second;
+}
+
+// A hidden GL 4.5 core window for the test's lifetime.
+class Gl : public ::testing::Test {
+protected:
+  static void SetUpTestSuite() {
+    if (!glfwInit())
+      return;
+    glfwWindowHint(GLFW_VISIBLE, GLFW_FALSE);
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 5);
+    glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+    window_ = glfwCreateWindow(64, 64, "gpu_skinning", nullptr, nullptr);
+    if (window_)
+      glfwMakeContextCurrent(window_);
+  }
+  static void TearDownTestSuite() {
+    if (window_)
+      glfwDestroyWindow(window_);
+    glfwTerminate();
+  }
+  void SetUp() override {
+    if (!window_)
+      GTEST_SKIP() << "no OpenGL 4.5 core context (run under xvfb-run with Mesa)";
+  }
+  static GLFWwindow *window_;
+};
+GLFWwindow *Gl::window_ = nullptr;
+
+// One instance at the origin with `params` (clip, time offset, speed, palette) and `fade` (clip
+// faded from or -1, its time offset, fade start, fade length) at scene time `seconds`: the
+// shader's skinned positions.
+std::vector<glm::vec3> shaderPositions(const pack::AnimationPack &p, glm::vec4 params,
+                                       glm::vec4 fade, float seconds) {
+  unsigned vs = glCreateShader(GL_VERTEX_SHADER);
+  glShaderSource(vs, 1, &kCrowdVert, nullptr);
+  glCompileShader(vs);
+  unsigned program = glCreateProgram();
+  glAttachShader(program, vs);
+  const char *captured[] = {"gl_Position"};
+  glTransformFeedbackVaryings(program, 1, captured, GL_INTERLEAVED_ATTRIBS);
+  glLinkProgram(program);
+  int ok = 0;
+  glGetProgramiv(program, GL_LINK_STATUS, &ok);
+  EXPECT_TRUE(ok) << "crowd.vert does not link alone";
+
+  const auto &t = p.animation;
+  const bool half = t.format == pack::TexelFormat::RGBA16F;
+  unsigned textures[2], buffers[6], vao;
+  glCreateTextures(GL_TEXTURE_2D, 2, textures);
+  glTextureStorage2D(textures[0], 1, half ? GL_RGBA16F : GL_RGBA32F, GLsizei(t.width),
+                     GLsizei(t.height));
+  glTextureSubImage2D(textures[0], 0, 0, 0, GLsizei(t.width), GLsizei(t.height), GL_RGBA,
+                      half ? GL_HALF_FLOAT : GL_FLOAT, t.texels.data());
+  glTextureStorage2D(textures[1], 1, GL_RGBA32F, GLsizei(p.skin.width), GLsizei(p.skin.height));
+  glTextureSubImage2D(textures[1], 0, 0, 0, GLsizei(p.skin.width), GLsizei(p.skin.height), GL_RGBA,
+                      GL_FLOAT, p.skin.texels.data());
+  std::vector<float> clips;
+  for (const auto &cl : p.clips)
+    clips.insert(clips.end(),
+                 {cl.fps, float(cl.frameCount), float(cl.firstFrame), cl.loop ? 1.0f : 0.0f});
+  const size_t n = p.mesh.positions.size() / 3;
+  const float colour[4] = {1, 1, 1, 0};
+  glCreateBuffers(6, buffers);
+  glNamedBufferStorage(buffers[0], GLsizeiptr(clips.size() * 4), clips.data(), 0);
+  glNamedBufferStorage(buffers[1], 16, colour, 0);
+  glNamedBufferStorage(buffers[2], GLsizeiptr(n * 12), p.mesh.positions.data(), 0);
+  glNamedBufferStorage(buffers[3], GLsizeiptr(n * 12), p.mesh.normals.data(), 0);
+  glNamedBufferStorage(buffers[4], GLsizeiptr(n * 16), nullptr, GL_MAP_READ_BIT);
+  glNamedBufferStorage(buffers[5], 80, nullptr, 0); // the unread instance buffer
+  glCreateVertexArrays(1, &vao);
+  for (unsigned a = 0; a < 2; ++a) {
+    glVertexArrayVertexBuffer(vao, a, buffers[2 + a], 0, 12);
+    glEnableVertexArrayAttrib(vao, a);
+    glVertexArrayAttribFormat(vao, a, 3, GL_FLOAT, GL_FALSE, 0);
+    glVertexArrayAttribBinding(vao, a, a);
+  }
+  glUseProgram(program);
+  auto loc = [&](const char *name) { return glGetUniformLocation(program, name); };
+  const float identity[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  const float rows[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+  const glm::vec4 instance[2] = {params, fade};
+  glUniformMatrix4fv(loc("u_viewProjection"), 1, GL_FALSE, identity);
+  glUniform1f(loc("u_time"), seconds);
+  glUniform1i(loc("u_encoding"), int(t.encoding));
+  glUniform1i(loc("u_jointCount"), int(t.jointCount));
+  glUniform1i(loc("u_framesPerRow"), int(t.framesPerRow));
+  glUniform1i(loc("u_skinWidth"), int(p.skin.width));
+  glUniform1i(loc("u_subMeshCount"), 1);
+  glUniform1i(loc("u_subMesh"), 0);
+  glUniform1i(loc("u_naive"), 1);
+  glUniform4fv(loc("u_rows"), 3, rows);
+  glUniform4fv(loc("u_params"), 2, &instance[0].x);
+  glBindTextureUnit(0, textures[0]);
+  glBindTextureUnit(1, textures[1]);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, buffers[0]);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, buffers[5]);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, buffers[1]);
+  glBindBufferBase(GL_TRANSFORM_FEEDBACK_BUFFER, 0, buffers[4]);
+  glBindVertexArray(vao);
+  glEnable(GL_RASTERIZER_DISCARD);
+  glBeginTransformFeedback(GL_POINTS);
+  glDrawArrays(GL_POINTS, 0, GLsizei(n));
+  glEndTransformFeedback();
+  glDisable(GL_RASTERIZER_DISCARD);
+  std::vector<glm::vec4> out(n);
+  glGetNamedBufferSubData(buffers[4], 0, GLsizeiptr(n * 16), out.data());
+  EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
+  glDeleteVertexArrays(1, &vao);
+  glDeleteBuffers(6, buffers);
+  glDeleteTextures(2, textures);
+  glDeleteProgram(program);
+  glDeleteShader(vs);
+  return {out.begin(), out.end()};
+}
+
+struct Errors {
+  double max = 0, sum = 0;
+  size_t count = 0;
+  void add(double e) { max = std::max(max, e), sum += e, ++count; }
+  double mean() const { return count ? sum / double(count) : 0; }
+};
+
+TEST_F(Gl, TheShaderSkinsAsItsCpuMirrorAtEveryPrecision) {
+  for (const char *precision : {"float", "half", "qts", "qts-half"}) {
+    const Baked &b = humanoid(precision);
+    const auto &p = b.result.pack;
+    Errors e;
+    for (float seconds : {0.0f, 0.4f, 0.5167f, 1.23f}) {
+      const auto gpu = shaderPositions(p, {1, 0, 1, 0}, {-1, 0, 0, 0}, seconds); // run
+      const auto at = runtime::clipTimeAt(p.clips[1], seconds);
+      for (size_t v = 0; v < gpu.size(); ++v)
+        e.add(glm::length(gpu[v] - runtime::skinVertex(p.animation, p.skin, p.clips[1], at.frame,
+                                                       at.alpha, uint32_t(v),
+                                                       b.character.mesh.positions[v])));
+    }
+    std::printf("%-8s GPU vs CPU mirror: max %.5f mm, mean %.5f mm over %zu vertices\n", precision,
+                e.max * b.result.mmPerUnit, e.mean() * b.result.mmPerUnit, e.count);
+    EXPECT_LE(e.max * b.result.mmPerUnit, 0.01) << precision;
+  }
+}
+
+TEST_F(Gl, CrossfadesMatchTheCpuMirrorAndTheExactBlend) {
+  for (const char *precision : {"auto", "float", "qts"}) {
+    const Baked &b = humanoid(precision);
+    const auto &p = b.result.pack;
+    const Character &c = b.character;
+    ASSERT_EQ(p.clips[0].name, "walk");
+    ASSERT_EQ(p.clips[1].name, "run");
+    // Walk (time offset 0.3 s) fading into run (time offset -2 s) over 0.3 s from 2 s on.
+    const float walkOffset = 0.3f, runOffset = -2.0f, start = 2.0f, length = 0.3f;
+    Errors mirror, exact;
+    for (int k = 0; k <= 12; ++k) {
+      const float seconds = start - 0.05f + 0.4f * float(k) / 12.0f;
+      const auto gpu =
+          shaderPositions(p, {1, runOffset, 1, 0}, {0, walkOffset, start, length}, seconds);
+      const float w =
+          runtime::ClipState{1, runOffset, 0, walkOffset, start, length}.weightAt(seconds);
+      const auto from = runtime::clipTimeAt(p.clips[0], seconds + walkOffset);
+      const auto to = runtime::clipTimeAt(p.clips[1], seconds + runOffset);
+      // The exact fade: the glTF's joints at both clips' times, blended as the player blends.
+      const auto reference = skinPositions(
+          c,
+          blendedJoints(jointMatrices(c, &c.clips[0],
+                                      sourceSeconds(c.clips[0], p.clips[0], seconds + walkOffset)),
+                        jointMatrices(c, &c.clips[1],
+                                      sourceSeconds(c.clips[1], p.clips[1], seconds + runOffset)),
+                        w));
+      for (size_t v = 0; v < gpu.size(); ++v) {
+        const auto cpu = runtime::skinVertexFaded(p.animation, p.skin, from, to, w, uint32_t(v),
+                                                  c.mesh.positions[v], glm::vec3(0.0f));
+        mirror.add(glm::length(gpu[v] - cpu.position));
+        exact.add(glm::length(glm::dvec3(gpu[v]) - reference[v]));
+      }
+    }
+    const double mm = b.result.mmPerUnit;
+    // What the two clips err by alone, at any time the bake measured.
+    const auto &clipErrors = b.result.accuracy[b.result.baked].clips;
+    const double clipsMm = std::max(clipErrors[0].maxAnyTime(), clipErrors[1].maxAnyTime()) * mm;
+    std::printf("%-8s crossfade walk -> run, 13 times over 0.4 s: GPU vs CPU mirror max %.5f mm; "
+                "GPU vs exact fade max %.3f mm, mean %.3f mm (the clips alone: up to %.3f mm)\n",
+                precision, mirror.max * mm, exact.max * mm, exact.mean() * mm, clipsMm);
+    EXPECT_LE(mirror.max * mm, 0.01) << precision;
+    // A fade costs no more than its clips do; at default settings that is the 1 mm budget.
+    EXPECT_LE(exact.max * mm, 1.05 * clipsMm + 0.01) << precision;
+    if (std::string(precision) == "auto") {
+      EXPECT_LE(exact.max * mm, 1.0);
+    }
+  }
+}
+
+} // namespace
