@@ -21,6 +21,12 @@ struct Instance {
 layout(std430, binding = 0) readonly buffer Clips { vec4 clips[]; }; // fps, frames, first, loop
 layout(std430, binding = 1) readonly buffer Instances { Instance instances[]; };
 layout(std430, binding = 2) readonly buffer Palettes { vec4 colours[]; };
+// Morph targets (runtime::morphSlotWords): per animation frame kMorphSlots slots (first offset
+// pair, first vertex, vertex count, weight bits), and per target vertex a position and a normal
+// offset.
+layout(std430, binding = 3) readonly buffer MorphSlots { ivec4 morphSlots[]; };
+layout(std430, binding = 4) readonly buffer MorphOffsets { vec4 morphOffsets[]; };
+const int kMorphSlots = 8; // pack::kMorphSlots
 
 uniform mat4 u_viewProjection;
 uniform float u_time;
@@ -30,6 +36,7 @@ uniform int u_framesPerRow;
 uniform int u_skinWidth;
 uniform int u_subMesh;
 uniform int u_subMeshCount;
+uniform bool u_morphs; // the pack has morph targets
 // Naive path: one draw per instance, its data in uniforms instead of the buffer.
 uniform bool u_naive;
 uniform vec4 u_rows[3];
@@ -144,6 +151,25 @@ ClipTime clipTime(float clipIndex, float offset, float speed) {
                   f - float(frame));
 }
 
+// Adds `factor` times the offsets of frame `frame`'s active morph targets (addMorphs in
+// runtime/src/texture_skinning.cpp).
+void addMorphs(int frame, float factor, inout vec3 p, inout vec3 n) {
+  for (int s = 0; s < kMorphSlots; ++s) {
+    ivec4 slot = morphSlots[frame * kMorphSlots + s];
+    float w = intBitsToFloat(slot.w) * factor;
+    int local = gl_VertexID - slot.y;
+    if (w == 0.0 || local < 0 || local >= slot.z) continue;
+    int k = 2 * (slot.x + local);
+    p += w * morphOffsets[k].xyz;
+    n += w * morphOffsets[k + 1].xyz;
+  }
+}
+
+void addMorphs(ClipTime t, float factor, inout vec3 p, inout vec3 n) {
+  addMorphs(t.f0, factor * (1.0 - t.alpha), p, n);
+  addMorphs(t.f1, factor * t.alpha, p, n);
+}
+
 void main() {
   vec4 rows[3];
   vec4 params, fade;
@@ -164,7 +190,14 @@ void main() {
   int texel = gl_VertexID * 2;
   vec4 ids = texelFetch(u_skin, ivec2(texel % u_skinWidth, texel / u_skinWidth), 0);
   vec4 weights = texelFetch(u_skin, ivec2((texel + 1) % u_skinWidth, (texel + 1) / u_skinWidth), 0);
-  vec4 p = vec4(a_position, 1.0);
+  vec3 bindPosition = a_position, bindNormal = a_normal;
+  if (u_morphs && weight < 1.0) {
+    addMorphs(before, 1.0 - weight, bindPosition, bindNormal);
+    addMorphs(now, weight, bindPosition, bindNormal);
+  } else if (u_morphs) {
+    addMorphs(now, 1.0, bindPosition, bindNormal);
+  }
+  vec4 p = vec4(bindPosition, 1.0);
   vec3 skinned = vec3(0), normal = vec3(0);
   for (int k = 0; k < 4; ++k) {
     if (weights[k] == 0.0) continue;
@@ -173,7 +206,7 @@ void main() {
                           jointRigid(now.f0, now.f1, now.alpha, int(ids[k])), weight))
         : jointRows(now.f0, now.f1, now.alpha, int(ids[k]));
     skinned += weights[k] * (p * m);
-    normal += weights[k] * (vec4(a_normal, 0.0) * m);
+    normal += weights[k] * (vec4(bindNormal, 0.0) * m);
   }
   vec3 world = vec3(dot(rows[0], vec4(skinned, 1)), dot(rows[1], vec4(skinned, 1)), dot(rows[2], vec4(skinned, 1)));
   v_normal = vec3(dot(rows[0].xyz, normal), dot(rows[1].xyz, normal), dot(rows[2].xyz, normal));

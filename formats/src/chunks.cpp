@@ -421,6 +421,16 @@ AnimationPack loadAnimationPack(const Reader &reader) {
                   std::to_string(p.sources->vertexCount()) + " vertices, the mesh has " +
                   std::to_string(p.mesh.vertexCount()) + ")");
   }
+  if (const ChunkEntry *morphs = reader.find(kMorphs)) {
+    p.morphs = decodeMorphs(reader.payload(*morphs), ctx(kMorphs));
+    if (p.morphs->vertexCount != p.mesh.vertexCount() ||
+        p.morphs->frameCount() != p.animation.frameCount)
+      throw Error(ctx(kMorphs) + ": sized for another mesh or animation (" +
+                  std::to_string(p.morphs->vertexCount) + " vertices and " +
+                  std::to_string(p.morphs->frameCount()) + " frames; the mesh has " +
+                  std::to_string(p.mesh.vertexCount()) + ", the animation texture " +
+                  std::to_string(p.animation.frameCount) + ")");
+  }
   if (p.animation.jointCount != p.skeleton.jointCount())
     throw Error(ctx(kAnimationTexture) +
                 ", field 'joint count': " + std::to_string(p.animation.jointCount) +
@@ -459,6 +469,8 @@ std::vector<uint8_t> packBytes(const AnimationPack &p) {
     w.add(kOutfits, kChunkVersion, encode(*p.outfits));
   if (p.sources)
     w.add(kSourceMap, kChunkVersion, encode(*p.sources));
+  if (p.morphs)
+    w.add(kMorphs, kChunkVersion, encode(*p.morphs));
   return w.bytes();
 }
 

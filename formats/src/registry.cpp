@@ -177,6 +177,23 @@ Description describeSourceMap(std::span<const uint8_t> b, uint32_t, const std::s
   return d;
 }
 
+Description describeMorphs(std::span<const uint8_t> b, uint32_t, const std::string &ctx) {
+  Morphs m = decodeMorphs(b, ctx);
+  uint32_t mostActive = 0;
+  for (uint32_t f = 0; f < m.frameCount(); ++f) {
+    uint32_t active = 0;
+    for (uint32_t s = 0; s < kMorphSlots; ++s)
+      active += m.slots[size_t(f) * kMorphSlots + s].weight != 0;
+    mostActive = std::max(mostActive, active);
+  }
+  Description d;
+  d.add("targets", number(double(m.targets.size())))
+      .add("frames", number(m.frameCount()))
+      .add("offset_vertices", number(double(m.offsets.size() / 8)))
+      .add("most_active_in_a_frame", number(mostActive));
+  return d;
+}
+
 Description describeImpostor(std::span<const uint8_t> b, uint32_t version, const std::string &ctx) {
   Impostor m = decodeImpostor(b, version, ctx);
   uint64_t used = 0;
@@ -252,6 +269,7 @@ const std::vector<ChunkCodec> &chunkCodecs() {
       {kLod, "continuous LOD", 1, kChunkVersion, describeLod},
       {kOutfits, "outfits", 1, kChunkVersion, describeOutfits},
       {kSourceMap, "vertex sources", 1, kChunkVersion, describeSourceMap},
+      {kMorphs, "morph targets", 1, kChunkVersion, describeMorphs},
       {kImpostor, "impostor", 1, kImpostorVersion, describeImpostor, imagesImpostor},
   };
   return codecs;

@@ -12,6 +12,7 @@
 #include "crowd/formats/error.h"
 #include "crowd/runtime/impostor_runtime.h"
 #include "crowd/runtime/render_queues.h"
+#include "crowd/runtime/texture_skinning.h"
 #include "crowd_shaders.h" // generated at build time from shaders/
 
 namespace crowd::runtime {
@@ -59,8 +60,8 @@ struct CrowdRenderer::Character {
   const pack::AnimationPack *pack = nullptr;
   const pack::Impostor *impostor = nullptr;
   // Mesh, normals, indices of every LOD level, clips, instances, palettes, UVs, geometry ids
-  // (sorted by level), impostor ids, views, draw commands.
-  unsigned vao = 0, buffers[11] = {}, textures[5] = {};
+  // (sorted by level), impostor ids, views, draw commands, morph slots and offsets.
+  unsigned vao = 0, buffers[13] = {}, textures[5] = {};
   // Per instance: 3 rows, params (clip, time offset, speed, palette) and fade (clip faded from
   // or -1, its time offset, fade start, fade length): kInstanceFloats floats.
   std::vector<float> instanceData;
@@ -79,7 +80,7 @@ struct CrowdRenderer::Character {
 
   ~Character() {
     glDeleteVertexArrays(1, &vao);
-    glDeleteBuffers(11, buffers);
+    glDeleteBuffers(13, buffers);
     glDeleteTextures(5, textures);
   }
 };
@@ -265,7 +266,7 @@ CrowdRenderer::CrowdRenderer(const std::vector<const pack::AnimationPack *> &pac
       indices.insert(indices.end(), level.begin(), level.end());
     }
     glCreateVertexArrays(1, &c->vao);
-    glCreateBuffers(11, c->buffers);
+    glCreateBuffers(13, c->buffers);
     auto upload = [](unsigned b, const auto &v) {
       glNamedBufferStorage(b, GLsizeiptr(v.size() * sizeof(v[0])), v.data(), 0);
     };
@@ -278,6 +279,8 @@ CrowdRenderer::CrowdRenderer(const std::vector<const pack::AnimationPack *> &pac
     glNamedBufferStorage(c->buffers[4], GLsizeiptr(c->instanceData.size() * sizeof(float)),
                          c->instanceData.data(), schedule_.dynamic() ? GL_DYNAMIC_STORAGE_BIT : 0);
     upload(c->buffers[5], colours);
+    upload(c->buffers[11], morphSlotWords(p.morphs ? &*p.morphs : nullptr));
+    upload(c->buffers[12], p.morphs ? p.morphs->offsets : std::vector<float>(8, 0.0f));
     // Which instances draw as geometry, and which as impostors: rewritten every frame.
     const size_t queued =
         std::max(c->queues[0].capacity(c->instanceCount), c->queues[1].capacity(c->instanceCount));
@@ -440,6 +443,9 @@ DrawStats CrowdRenderer::draw(const FrameView &view, float seconds, const DrawOp
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, c->buffers[3]);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, c->buffers[4]);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, c->buffers[5]);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, c->buffers[11]);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, c->buffers[12]);
+    glUniform1i(loc("u_morphs"), p.morphs ? 1 : 0);
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, c->buffers[10]);
     size_t command = 0;
     for (size_t s = 0; s < subMeshes; ++s) {

@@ -94,8 +94,11 @@ void poseAt(const pack::AnimationPack &pack, const PoseMesh &mesh, float seconds
       normals[k] = normal;
       continue;
     }
-    const auto s =
-        skinVertex(pack.animation, pack.skin, *mesh.clip, frame, alpha, v, position, normal);
+    SkinnedVertex bind{position, normal};
+    if (pack.morphs)
+      bind = morphVertex(*pack.morphs, {mesh.clip, frame, alpha}, v, bind);
+    const auto s = skinVertex(pack.animation, pack.skin, *mesh.clip, frame, alpha, v, bind.position,
+                              bind.normal);
     positions[k] = s.position;
     normals[k] = s.normal;
   }

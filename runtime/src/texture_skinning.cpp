@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 namespace crowd::runtime {
 namespace {
@@ -171,6 +172,64 @@ glm::vec3 skinVertex(const pack::AnimationTexture &t, const pack::SkinTexture &s
                      const pack::Clip &clip, uint32_t frame, float alpha, uint32_t vertex,
                      const glm::vec3 &position) {
   return skinVertex(t, skin, clip, frame, alpha, vertex, position, glm::vec3(0.0f)).position;
+}
+
+namespace {
+
+// Adds `factor` times the offsets of the active targets of global frame `frame` to `out`.
+void addMorphs(const pack::Morphs &m, uint32_t frame, float factor, uint32_t vertex,
+               SkinnedVertex &out) {
+  for (uint32_t s = 0; s < pack::kMorphSlots; ++s) {
+    const pack::Morphs::Slot &slot = m.slots[size_t(frame) * pack::kMorphSlots + s];
+    const float w = slot.weight * factor;
+    const pack::Morphs::Target &t = m.targets[size_t(slot.target)];
+    if (w == 0.0f || vertex < t.firstVertex || vertex - t.firstVertex >= t.vertexCount)
+      continue;
+    const float *o = &m.offsets[t.firstOffset + size_t(vertex - t.firstVertex) * 8];
+    out.position += w * glm::vec3(o[0], o[1], o[2]);
+    out.normal += w * glm::vec3(o[4], o[5], o[6]);
+  }
+}
+
+// A clip time's morph offsets, `factor` of them, added to `out`.
+void addMorphs(const pack::Morphs &m, const ClipTime &at, float factor, uint32_t vertex,
+               SkinnedVertex &out) {
+  const auto [f0, f1] = framesOf(*at.clip, at.frame);
+  addMorphs(m, f0, factor * (1.0f - at.alpha), vertex, out);
+  addMorphs(m, f1, factor * at.alpha, vertex, out);
+}
+
+} // namespace
+
+SkinnedVertex morphVertex(const pack::Morphs &m, const ClipTime &at, uint32_t vertex,
+                          SkinnedVertex bind) {
+  addMorphs(m, at, 1.0f, vertex, bind);
+  return bind;
+}
+
+SkinnedVertex morphVertexFaded(const pack::Morphs &m, const ClipTime &from, const ClipTime &to,
+                               float weight, uint32_t vertex, SkinnedVertex bind) {
+  if (weight >= 1.0f)
+    return morphVertex(m, to, vertex, bind);
+  addMorphs(m, from, 1.0f - weight, vertex, bind);
+  addMorphs(m, to, weight, vertex, bind);
+  return bind;
+}
+
+std::vector<int32_t> morphSlotWords(const pack::Morphs *m) {
+  std::vector<int32_t> words;
+  if (!m) {
+    words.assign(size_t(pack::kMorphSlots) * 4, 0);
+    return words;
+  }
+  for (const auto &slot : m->slots) {
+    const auto &t = m->targets[size_t(slot.target)];
+    int32_t bits;
+    std::memcpy(&bits, &slot.weight, 4);
+    words.insert(words.end(), {int32_t(t.firstOffset / 8), int32_t(t.firstVertex),
+                               int32_t(t.vertexCount), bits});
+  }
+  return words;
 }
 
 SkinnedVertex skinVertexFaded(const pack::AnimationTexture &t, const pack::SkinTexture &skin,

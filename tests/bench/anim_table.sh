@@ -14,7 +14,7 @@ mkdir -p "$out"
 bin=build/bin/crowdbake
 $bin samples --out "$out/samples" >/dev/null
 inputs=("$out/samples/humanoid.glb")
-for m in CesiumMan Fox RiggedFigure RecursiveSkeletons RiggedSimple SimpleSkin; do
+for m in CesiumMan Fox RiggedFigure RecursiveSkeletons RiggedSimple SimpleSkin AnimatedMorphCube; do
   f=$(ls ../shared/assets/gltf/$m/*.gl* 2>/dev/null | head -1 || true)
   [ -n "$f" ] && inputs+=("$f")
 done

@@ -149,7 +149,7 @@ int main(int argc, char **argv) {
     std::vector<std::vector<glm::dvec3>> frames; // every clip at 30 fps
     for (const auto &clip : c.clips)
       for (double t = clip.start; t <= clip.end + 1e-9; t += 1.0 / 30)
-        frames.push_back(crowd::skinPositions(c, crowd::jointMatrices(c, &clip, t)));
+        frames.push_back(crowd::posedPositions(c, &clip, t));
     const char *names[3] = {"ours", "ours_bind_only", "meshopt"};
     for (int method = 0; method < 3; ++method)
       for (size_t k = 0; k < 4; ++k) {

@@ -119,7 +119,7 @@ TEST(Player, DrawsWhatWasBakedAgainstTheCpuReference) {
   Character c = importGltf(work() + "/humanoid.glb", {}, rep);
   ASSERT_TRUE(c.diffuse.has_value());
   auto joints = jointMatrices(c, &c.clips[0], 0.4);
-  auto pos = skinPositions(c, joints);
+  auto pos = skinPositions(c, joints, morphWeights(c, &c.clips[0], 0.4));
   std::vector<glm::vec3> p(pos.begin(), pos.end()), n(pos.size());
   for (size_t v = 0; v < pos.size(); ++v) {
     glm::dvec3 acc(0);

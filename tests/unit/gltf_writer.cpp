@@ -1,5 +1,7 @@
 #include "gltf_writer.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -77,18 +79,60 @@ int GltfBuilder::skinnedQuad() {
   return int(base + 2);
 }
 
+void GltfBuilder::morphTargets(int mesh, const std::vector<std::vector<float>> &offsets) {
+  auto &prim = j["meshes"][size_t(mesh)]["primitives"][0];
+  prim["targets"] = nlohmann::json::array();
+  for (const auto &target : offsets) {
+    const int acc = floats(target, "VEC3");
+    std::vector<float> lo(3, INFINITY), hi(3, -INFINITY);
+    for (size_t k = 0; k < target.size(); ++k)
+      lo[k % 3] = std::min(lo[k % 3], target[k]), hi[k % 3] = std::max(hi[k % 3], target[k]);
+    j["accessors"][size_t(acc)]["min"] = lo;
+    j["accessors"][size_t(acc)]["max"] = hi;
+    prim["targets"].push_back({{"POSITION", acc}});
+  }
+  j["meshes"][size_t(mesh)]["weights"] = std::vector<float>(offsets.size(), 0.0f);
+}
+
+int GltfBuilder::morphedQuad(int targets) {
+  const int node = skinnedQuad();
+  std::vector<std::vector<float>> offsets;
+  for (int t = 0; t < targets; ++t) {
+    offsets.push_back(std::vector<float>(12, 0.0f));
+    offsets.back()[10] = 0.01f * float(t + 1);
+  }
+  morphTargets(0, offsets);
+  const int anim = animation("wave", 1, "rotation", {0, 1, 2},
+                             {0, 0, 0, 1, 0, 0, 0.70710678f, 0.70710678f, 0, 0, 0, 1});
+  std::vector<float> weights;
+  for (float w : {0.0f, 1.0f, 0.0f})
+    weights.insert(weights.end(), size_t(targets), w);
+  channel(anim, node, "weights", {0, 1, 2}, weights);
+  return node;
+}
+
 int GltfBuilder::animation(const std::string &name, int node, const std::string &path,
                            const std::vector<float> &times, const std::vector<float> &values,
                            const std::string &interpolation) {
+  j["animations"].push_back({{"name", name},
+                             {"samplers", nlohmann::json::array()},
+                             {"channels", nlohmann::json::array()}});
+  const int anim = int(j["animations"].size() - 1);
+  channel(anim, node, path, times, values, interpolation);
+  return anim;
+}
+
+void GltfBuilder::channel(int anim, int node, const std::string &path,
+                          const std::vector<float> &times, const std::vector<float> &values,
+                          const std::string &interpolation) {
   int in = floats(times, "SCALAR");
   j["accessors"][size_t(in)]["min"] = {times.front()};
   j["accessors"][size_t(in)]["max"] = {times.back()};
-  int out = floats(values, path == "rotation" ? "VEC4" : "VEC3");
-  j["animations"].push_back(
-      {{"name", name},
-       {"samplers", {{{"input", in}, {"output", out}, {"interpolation", interpolation}}}},
-       {"channels", {{{"sampler", 0}, {"target", {{"node", node}, {"path", path}}}}}}});
-  return int(j["animations"].size() - 1);
+  int out = floats(values, path == "rotation" ? "VEC4" : path == "weights" ? "SCALAR" : "VEC3");
+  auto &a = j["animations"][size_t(anim)];
+  a["samplers"].push_back({{"input", in}, {"output", out}, {"interpolation", interpolation}});
+  a["channels"].push_back(
+      {{"sampler", a["samplers"].size() - 1}, {"target", {{"node", node}, {"path", path}}}});
 }
 
 std::string GltfBuilder::write(const std::string &dir, const std::string &name,

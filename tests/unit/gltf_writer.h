@@ -33,10 +33,21 @@ struct GltfBuilder {
   // A skinned two-joint strip of two triangles (4 vertices) bound to joints "a" and "b", with
   // node "b" a child of "a". Returns the mesh node.
   int skinnedQuad();
-  // Adds an animation with one channel and returns its index.
+  // Gives primitive 0 of mesh `mesh` one morph target per entry of `offsets` (POSITION offsets,
+  // xyz per vertex) with default weights 0.
+  void morphTargets(int mesh, const std::vector<std::vector<float>> &offsets);
+  // The skinned quad with `targets` morph targets, target t moving vertex 3 up by (t + 1) cm, and
+  // clip "wave": joint "b" turns 90 degrees about z while every weight goes 0 -> 1 -> 0 over 2 s.
+  // Returns the mesh node.
+  int morphedQuad(int targets);
+  // Adds an animation with one channel and returns its index ("weights": one value per target
+  // per key).
   int animation(const std::string &name, int node, const std::string &path,
                 const std::vector<float> &times, const std::vector<float> &values,
                 const std::string &interpolation = "LINEAR");
+  // Adds a channel to animation `anim`.
+  void channel(int anim, int node, const std::string &path, const std::vector<float> &times,
+               const std::vector<float> &values, const std::string &interpolation = "LINEAR");
 
   // Writes NAME.gltf (data-URI buffer) or, with external, NAME.gltf + NAME.bin.
   std::string write(const std::string &dir, const std::string &name, bool external = false) const;

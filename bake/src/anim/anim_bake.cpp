@@ -7,6 +7,7 @@
 
 #include "crowd/bake/evaluate.h"
 #include "crowd/bake/fade_accuracy.h"
+#include "crowd/bake/morph_frames.h"
 #include "crowd/bake/parallel.h"
 #include "crowd/formats/error.h"
 #include "crowd/formats/limits.h"
@@ -120,14 +121,16 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
                 " vertices is over the bake's limit of " + std::to_string(limits::kFrameVertices) +
                 " (the accuracy check keeps every frame's positions): use --fps or --clip");
   std::vector<std::vector<glm::dmat4>> joints(total);
+  std::vector<std::vector<double>> morphWeightsAt(total);
   std::vector<std::vector<glm::dvec3>> reference(total), midReference(total);
   parallelFor(total, options.threads, [&](size_t f) {
     const auto &cf = clips[frameList[f].first];
     uint32_t i = frameList[f].second;
     joints[f] = jointMatrices(c, cf.clip, cf.start + i * cf.step);
-    reference[f] = skinPositions(c, joints[f]);
+    morphWeightsAt[f] = morphWeights(c, cf.clip, cf.start + i * cf.step);
+    reference[f] = skinPositions(c, joints[f], morphWeightsAt[f]);
     if (i + 1 < cf.count)
-      midReference[f] = skinPositions(c, jointMatrices(c, cf.clip, cf.start + (i + 0.5) * cf.step));
+      midReference[f] = posedPositions(c, cf.clip, cf.start + (i + 0.5) * cf.step);
   });
 
   auto &pk = result.pack;
@@ -164,6 +167,14 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
   }
 
   pk.skin = buildSkinTexture(c.mesh, options.maxWidth); // the same for every precision
+  pk.morphs = buildMorphs(c.mesh, morphWeightsAt, &result.morphOverflow);
+  if (result.morphOverflow.frames)
+    reporter.warn("morph_slots_full",
+                  std::to_string(result.morphOverflow.frames) + " frames have more than " +
+                      std::to_string(pack::kMorphSlots) + " morph targets active (up to " +
+                      std::to_string(result.morphOverflow.mostActive) +
+                      "): the ones moving the mesh least are dropped; the errors include them",
+                  result.morphOverflow.frames);
   // Accuracy of every precision, with the player's interpolation (runtime/texture_skinning),
   // at every frame time, every mid-frame time and kRandomTimesPerClip seeded random times.
   const auto &all = precisions();
@@ -175,12 +186,13 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
   // Error of every precision at (frame, alpha) of pack clip `ci` against `exact`: max[p], sum[p].
   auto measure = [&](size_t ci, uint32_t frame, float alpha, const std::vector<glm::dvec3> &exact,
                      double *max, double *sum) {
+    const runtime::ClipTime at{&pk.clips[ci], frame, alpha};
     for (size_t p = 0; p < np; ++p)
       for (uint32_t v = 0; v < vertexCount; ++v) {
-        double e =
-            glm::length(glm::dvec3(runtime::skinVertex(textures[p], pk.skin, pk.clips[ci], frame,
-                                                       alpha, v, c.mesh.positions[v])) -
-                        exact[v]);
+        const glm::vec3 bind = morphedBind(c.mesh, pk.morphs, at, v);
+        double e = glm::length(glm::dvec3(runtime::skinVertex(textures[p], pk.skin, pk.clips[ci],
+                                                              frame, alpha, v, bind)) -
+                               exact[v]);
         max[p] = std::max(max[p], e);
         sum[p] += e;
       }
@@ -203,7 +215,7 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
   std::vector<double> randomMax(randomTimes.size() * np), randomSum(randomTimes.size() * np);
   parallelFor(randomTimes.size(), options.threads, [&](size_t r) {
     const auto [ci, t] = randomTimes[r];
-    const auto exact = skinPositions(c, jointMatrices(c, clips[ci].clip, clips[ci].start + t));
+    const auto exact = posedPositions(c, clips[ci].clip, clips[ci].start + t);
     uint32_t frame;
     float alpha;
     runtime::frameAt(pk.clips[ci], float(t), frame, alpha);

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "crowd/bake/evaluate.h"
+#include "crowd/bake/morph_frames.h"
 #include "crowd/bake/parallel.h"
 #include "crowd/formats/limits.h"
 #include "crowd/runtime/texture_skinning.h"
@@ -28,12 +29,13 @@ std::vector<double> ratesFor(const BudgetSearch &s, double source) {
 
 // Largest vertex error of each texture, against exact evaluation, at the clip's frame times
 // (`joints`: their exact matrices), its mid-frames and the seeded random times.
-std::vector<double> maxErrors(const Character &c, const ClipFrames &f,
-                              const std::vector<std::vector<glm::dmat4>> &joints,
-                              const std::vector<pack::AnimationTexture> &textures,
-                              const pack::SkinTexture &skin, const std::vector<double> &randomTimes,
-                              const std::vector<std::vector<glm::dvec3>> &randomExact,
-                              int threads) {
+std::vector<double>
+maxErrors(const Character &c, const ClipFrames &f,
+          const std::vector<std::vector<glm::dmat4>> &joints,
+          const std::vector<std::vector<double>> &morphs,
+          const std::vector<pack::AnimationTexture> &textures, const pack::SkinTexture &skin,
+          const std::optional<pack::Morphs> &morphFrames, const std::vector<double> &randomTimes,
+          const std::vector<std::vector<glm::dvec3>> &randomExact, int threads) {
   pack::Clip clip;
   clip.fps = float(f.fps);
   clip.frameCount = f.count;
@@ -48,20 +50,20 @@ std::vector<double> maxErrors(const Character &c, const ClipFrames &f,
     if (k < frames) {
       frame = uint32_t(k);
       alpha = 0.0f;
-      computed = skinPositions(c, joints[k]);
+      computed = skinPositions(c, joints[k], morphs[k]);
     } else if (k < frames + mids) {
       frame = uint32_t(k - frames);
       alpha = 0.5f;
-      computed =
-          skinPositions(c, jointMatrices(c, f.clip, f.start + (double(frame) + 0.5) * f.step));
+      computed = posedPositions(c, f.clip, f.start + (double(frame) + 0.5) * f.step);
     } else {
       runtime::frameAt(clip, float(randomTimes[k - frames - mids]), frame, alpha);
       exact = &randomExact[k - frames - mids];
     }
+    const runtime::ClipTime at{&clip, frame, alpha};
     for (size_t p = 0; p < np; ++p)
       for (uint32_t v = 0; v < exact->size(); ++v) {
-        const glm::dvec3 got(
-            runtime::skinVertex(textures[p], skin, clip, frame, alpha, v, c.mesh.positions[v]));
+        const glm::dvec3 got(runtime::skinVertex(textures[p], skin, clip, frame, alpha, v,
+                                                 morphedBind(c.mesh, morphFrames, at, v)));
         perTime[k * np + p] = std::max(perTime[k * np + p], glm::length(got - (*exact)[v]));
       }
   });
@@ -96,7 +98,7 @@ ClipBudget searchClip(const Character &c, const AnimationClip &clip, size_t clip
   const auto randomTimes = seededTimes(clipIndex, duration);
   std::vector<std::vector<glm::dvec3>> randomExact(randomTimes.size());
   parallelFor(randomTimes.size(), s.threads, [&](size_t k) {
-    randomExact[k] = skinPositions(c, jointMatrices(c, &clip, clip.start + randomTimes[k]));
+    randomExact[k] = posedPositions(c, &clip, clip.start + randomTimes[k]);
   });
   std::vector<size_t> open(np);
   for (size_t p = 0; p < np; ++p)
@@ -108,14 +110,17 @@ ClipBudget searchClip(const Character &c, const AnimationClip &clip, size_t clip
       break; // higher rates would not fit a clip
     const ClipFrames f = planFrames(clip, rate);
     std::vector<std::vector<glm::dmat4>> joints(f.count);
+    std::vector<std::vector<double>> morphs(f.count);
     parallelFor(f.count, s.threads, [&](size_t i) {
       joints[i] = jointMatrices(c, &clip, f.start + double(i) * f.step);
+      morphs[i] = morphWeights(c, &clip, f.start + double(i) * f.step);
     });
+    const auto morphFrames = buildMorphs(c.mesh, morphs);
     std::vector<pack::AnimationTexture> textures;
     for (size_t p : open)
       textures.push_back(buildAnimationTexture(joints, c.jointCount(), *s.tried[p], s.maxWidth));
-    const auto errors =
-        maxErrors(c, f, joints, textures, skin, randomTimes, randomExact, s.threads);
+    const auto errors = maxErrors(c, f, joints, morphs, textures, skin, morphFrames, randomTimes,
+                                  randomExact, s.threads);
     std::vector<size_t> still;
     for (size_t k = 0; k < open.size(); ++k) {
       const size_t p = open[k];

@@ -82,6 +82,16 @@ ordered_json animFigures(const AnimBakeResult &r) {
                        {"max_error_mm", r.fades.maxError * r.mmPerUnit},
                        {"mean_error_mm", r.fades.meanError * r.mmPerUnit},
                        {"max_error", r.fades.maxError / r.diagonal}};
+  if (const auto &m = r.pack.morphs) { // their error is inside every clip's figures
+    const MorphOverflow &o = r.morphOverflow;
+    f["morph_targets"] = {{"targets", m->targets.size()},
+                          {"slots_per_frame", pack::kMorphSlots},
+                          {"most_active_in_a_frame", o.mostActive},
+                          {"frames_over_slots", o.frames},
+                          {"largest_dropped_offset_mm", o.largestDropped * r.mmPerUnit},
+                          {"offset_vertices", m->offsets.size() / 8},
+                          {"bytes", (m->offsets.size() + m->slots.size() * 2) * sizeof(float)}};
+  }
   for (const auto &pa : r.accuracy)
     f["precisions"].push_back(precisionJson(pa, r));
   return f;

@@ -24,9 +24,10 @@ glm::dquat slerp(glm::dquat a, glm::dquat b, double s) {
   return a * (std::sin((1 - s) * theta) / sn) + b * (std::sin(s * theta) / sn);
 }
 
-// Value of a channel at time t: `out` gets 3 or 4 components.
-void sample(const Channel &ch, double t, double out[4]) {
-  const size_t n = ch.path == ChannelPath::Rotation ? 4 : 3;
+// Value of a channel at time t: `out` gets ch.components values.
+void sample(const Channel &ch, double t, double *out) {
+  const bool rotation = ch.path == ChannelPath::Rotation;
+  const size_t n = ch.components;
   const bool cubic = ch.interpolation == Interpolation::CubicSpline;
   const size_t stride = cubic ? 3 * n : n;
   const size_t valueOffset = cubic ? n : 0; // cubic keys are (in-tangent, value, out-tangent)
@@ -48,7 +49,7 @@ void sample(const Channel &ch, double t, double out[4]) {
         out[c] = v0[c];
       break;
     case Interpolation::Linear:
-      if (n == 4) {
+      if (rotation) {
         glm::dquat q = slerp(quatAt(ch.values, k0 * stride), quatAt(ch.values, k1 * stride), s);
         out[0] = q.x, out[1] = q.y, out[2] = q.z, out[3] = q.w;
       } else {
@@ -68,7 +69,7 @@ void sample(const Channel &ch, double t, double out[4]) {
     }
     }
   }
-  if (n == 4) {
+  if (rotation) {
     double len = std::sqrt(out[0] * out[0] + out[1] * out[1] + out[2] * out[2] + out[3] * out[3]);
     if (len > 0)
       for (size_t c = 0; c < 4; ++c)
@@ -88,6 +89,8 @@ std::vector<glm::dmat4> nodeGlobals(const Character &c, const AnimationClip *cli
   }
   if (clip)
     for (const auto &ch : clip->channels) {
+      if (ch.path == ChannelPath::Weights)
+        continue;
       double v[4];
       sample(ch, t, v);
       size_t n = size_t(ch.node);
@@ -124,11 +127,28 @@ std::vector<glm::dmat4> jointMatrices(const Character &c, const AnimationClip *c
   return out;
 }
 
-std::vector<glm::dvec3> skinPositions(const Character &c, const std::vector<glm::dmat4> &joints) {
+std::vector<double> morphWeights(const Character &c, const AnimationClip *clip, double t) {
+  std::vector<double> weights = c.mesh.morphDefaults;
+  if (clip)
+    for (const auto &ch : clip->channels) {
+      if (ch.path != ChannelPath::Weights)
+        continue;
+      for (const auto &g : c.morphGroups)
+        if (g.node == ch.node)
+          sample(ch, t, &weights[g.first]);
+    }
+  return weights;
+}
+
+std::vector<glm::dvec3> skinPositions(const Character &c, const std::vector<glm::dmat4> &joints,
+                                      const std::vector<double> &morphWeights) {
   const auto &m = c.mesh;
   std::vector<glm::dvec3> out(m.vertexCount());
   for (size_t v = 0; v < out.size(); ++v) {
-    glm::dvec4 p(glm::dvec3(m.positions[v]), 1.0);
+    glm::dvec3 morphed(m.positions[v]);
+    for (size_t k = 0; k < m.morphs.size(); ++k)
+      morphed += morphWeights[k] * glm::dvec3(m.morphs[k].positions[v]);
+    glm::dvec4 p(morphed, 1.0);
     glm::dvec3 acc(0.0);
     for (int k = 0; k < 4; ++k)
       if (m.weights[v][k] != 0)
@@ -138,8 +158,12 @@ std::vector<glm::dvec3> skinPositions(const Character &c, const std::vector<glm:
   return out;
 }
 
+std::vector<glm::dvec3> posedPositions(const Character &c, const AnimationClip *clip, double t) {
+  return skinPositions(c, jointMatrices(c, clip, t), morphWeights(c, clip, t));
+}
+
 glm::dvec3 restExtent(const Character &c) {
-  auto p = skinPositions(c, jointMatrices(c, nullptr, 0));
+  auto p = posedPositions(c, nullptr, 0);
   glm::dvec3 lo(INFINITY), hi(-INFINITY);
   for (const auto &q : p) {
     lo = glm::min(lo, q);

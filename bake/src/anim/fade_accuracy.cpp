@@ -58,19 +58,29 @@ FadeAccuracy measureFades(const Character &c, const std::vector<const AnimationC
     const double ta = uniform() * (sources[a]->end - sources[a]->start),
                  tb = uniform() * (sources[b]->end - sources[b]->start);
     const auto weight = float(uniform());
+    const double sa = sourceSeconds(*sources[a], pack.clips[a], ta),
+                 sb = sourceSeconds(*sources[b], pack.clips[b], tb);
+    // Morph weights blend linearly: the exact fade of the two clips' weights.
+    auto morphs = morphWeights(c, sources[a], sa);
+    const auto morphsTo = morphWeights(c, sources[b], sb);
+    for (size_t k = 0; k < morphs.size(); ++k)
+      morphs[k] += (morphsTo[k] - morphs[k]) * double(weight);
     const auto exact = skinPositions(
         c,
-        blendedJoints(jointMatrices(c, sources[a], sourceSeconds(*sources[a], pack.clips[a], ta)),
-                      jointMatrices(c, sources[b], sourceSeconds(*sources[b], pack.clips[b], tb)),
-                      weight));
+        blendedJoints(jointMatrices(c, sources[a], sa), jointMatrices(c, sources[b], sb), weight),
+        morphs);
     const auto from = runtime::clipTimeAt(pack.clips[a], float(ta)),
                to = runtime::clipTimeAt(pack.clips[b], float(tb));
     for (uint32_t v = 0; v < vertices; ++v) {
-      const double e = glm::length(
-          glm::dvec3(runtime::skinVertexFaded(pack.animation, pack.skin, from, to, weight, v,
-                                              c.mesh.positions[v], glm::vec3(0.0f))
-                         .position) -
-          exact[v]);
+      glm::vec3 bind = c.mesh.positions[v];
+      if (pack.morphs)
+        bind = runtime::morphVertexFaded(*pack.morphs, from, to, weight, v, {bind, glm::vec3(0)})
+                   .position;
+      const double e =
+          glm::length(glm::dvec3(runtime::skinVertexFaded(pack.animation, pack.skin, from, to,
+                                                          weight, v, bind, glm::vec3(0.0f))
+                                     .position) -
+                      exact[v]);
       max[s] = std::max(max[s], e);
       sum[s] += e;
     }

@@ -54,7 +54,7 @@ RestSphere restSphere(const CharacterManifest &m, const InputPolicy &policy) {
   quiet.quiet = true;
   const Character c = importGltf(m.body, io, quiet);
   RestSphere s;
-  const auto positions = skinPositions(c, jointMatrices(c, nullptr, 0));
+  const auto positions = posedPositions(c, nullptr, 0);
   glm::dvec3 lo(INFINITY), hi(-INFINITY);
   for (const auto &p : positions)
     lo = glm::min(lo, p), hi = glm::max(hi, p);

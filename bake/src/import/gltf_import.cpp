@@ -522,8 +522,7 @@ private:
     std::vector<std::vector<uint32_t>> partTriangles;
     std::vector<SkinnedMesh::Part> partLooks; // material look of each part
     auto &mesh = out_.mesh;
-    size_t moreThan4 = 0, renormalised = 0, morphTargets = 0, missingNormals = 0,
-           duplicatePrimitives = 0;
+    size_t moreThan4 = 0, renormalised = 0, missingNormals = 0, duplicatePrimitives = 0;
     std::map<std::string, uint32_t> vertexBases; // first vertex of each distinct vertex set
     std::set<std::string> seenPrimitives;
     checkMeshSize();
@@ -535,7 +534,6 @@ private:
         if (prim.mode != -1 && prim.mode != TINYGLTF_MODE_TRIANGLES)
           fail(ctx + ": mode " + std::to_string(prim.mode) +
                " is not supported (only triangle lists)");
-        morphTargets += prim.targets.size();
         auto attr = [&](const std::string &name) {
           auto it = prim.attributes.find(name);
           return it == prim.attributes.end() ? -1 : it->second;
@@ -667,6 +665,8 @@ private:
         }
         if (nrm.empty() && fresh)
           computeNormals(base, idx);
+        if (fresh)
+          readMorphTargets(mn, gm, prim, ctx, base, vc);
         hasUvs_ = hasUvs_ || !uv.empty();
         if (int image = baseColorImage(prim.material); image >= 0 && !uv.empty())
           trianglesPerImage_[image] += idx.size() / 3;
@@ -719,11 +719,6 @@ private:
                      std::to_string(renormalised) +
                          " vertices had weights not summing to 1: renormalised",
                      renormalised);
-    if (morphTargets)
-      reporter_.warn("morph_targets_ignored",
-                     std::to_string(morphTargets) +
-                         " morph targets are not baked yet: the mesh is baked without them",
-                     morphTargets);
     if (duplicatePrimitives)
       reporter_.warn("duplicate_primitives_dropped",
                      std::to_string(duplicatePrimitives) +
@@ -734,6 +729,67 @@ private:
                      std::to_string(missingNormals) +
                          " primitives had no NORMAL: computed from faces",
                      missingNormals);
+  }
+
+  // The morph targets of a primitive whose vertices were just appended at `base`: the node's
+  // group of targets is made with its first primitive (names from the mesh's extras, default
+  // weights from the node or the mesh); every target's offsets are stored per mesh vertex.
+  void readMorphTargets(const MeshNode &mn, const tinygltf::Mesh &gm,
+                        const tinygltf::Primitive &prim, const std::string &ctx, uint32_t base,
+                        size_t vc) {
+    auto &mesh = out_.mesh;
+    auto group = std::find_if(out_.morphGroups.begin(), out_.morphGroups.end(),
+                              [&](const MorphGroup &g) { return g.node == mn.node; });
+    if (group == out_.morphGroups.end() && !prim.targets.empty()) {
+      const size_t count = prim.targets.size();
+      if (mesh.morphs.size() + count > limits::kMorphTargets)
+        fail(ctx + ": more than " + std::to_string(limits::kMorphTargets) + " morph targets");
+      const auto &node = model_.nodes[size_t(mn.node)];
+      const auto &defaults = node.weights.empty() ? gm.weights : node.weights;
+      if (!defaults.empty() && defaults.size() != count)
+        fail(ctx + ": " + std::to_string(defaults.size()) + " default weights for " +
+             std::to_string(count) + " morph targets");
+      const tinygltf::Value names =
+          gm.extras.IsObject() ? gm.extras.Get("targetNames") : tinygltf::Value();
+      for (size_t t = 0; t < count; ++t) {
+        MorphTarget target;
+        if (names.IsArray() && t < names.ArrayLen() && names.Get(int(t)).IsString())
+          target.name = names.Get(int(t)).Get<std::string>();
+        if (target.name.empty())
+          target.name = gm.name + "." + std::to_string(t);
+        mesh.morphs.push_back(std::move(target));
+        mesh.morphDefaults.push_back(defaults.empty() ? 0.0 : defaults[t]);
+      }
+      out_.morphGroups.push_back({mn.node, uint32_t(mesh.morphs.size() - count), uint32_t(count)});
+      group = out_.morphGroups.end() - 1;
+    }
+    if (uint64_t(mesh.morphs.size()) * mesh.vertexCount() > limits::kMorphOffsets)
+      fail(ctx + ": " + std::to_string(mesh.morphs.size()) + " morph targets x " +
+           std::to_string(mesh.vertexCount()) + " vertices is over the limit of " +
+           std::to_string(limits::kMorphOffsets));
+    for (auto &target : mesh.morphs) {
+      target.positions.resize(mesh.vertexCount(), glm::vec3(0));
+      target.normals.resize(mesh.vertexCount(), glm::vec3(0));
+    }
+    const size_t expected = group == out_.morphGroups.end() ? 0 : group->count;
+    if (prim.targets.size() != expected)
+      fail(ctx + ": " + std::to_string(prim.targets.size()) + " morph targets, but the mesh's " +
+           "first primitive has " + std::to_string(expected) + " (glTF requires the same count)");
+    for (size_t t = 0; t < prim.targets.size(); ++t) {
+      auto &target = mesh.morphs[group->first + t];
+      for (const auto &[attribute, accessor] : prim.targets[t]) {
+        const bool position = attribute == "POSITION";
+        if (!position && attribute != "NORMAL")
+          continue; // tangents and the like do not reach the player
+        const std::string actx = ctx + ", morph target " + std::to_string(t) + " " + attribute;
+        if (accessorType(accessor, actx) != TINYGLTF_TYPE_VEC3 || accessorCount(accessor) != vc)
+          fail(actx + ": type or count differs from POSITION");
+        const auto data = readAccessor(accessor, actx);
+        auto &offsets = position ? target.positions : target.normals;
+        for (size_t v = 0; v < vc; ++v)
+          offsets[base + v] = glm::vec3((*data)[v * 3], (*data)[v * 3 + 1], (*data)[v * 3 + 2]);
+      }
+    }
   }
 
   // What identifies a primitive's vertices: its vertex attributes' accessors and, for a rigid
@@ -851,7 +907,7 @@ private:
   }
 
   void readAnimations() {
-    size_t weightChannels = 0;
+    size_t strayWeightChannels = 0;
     for (size_t ai = 0; ai < model_.animations.size(); ++ai) {
       const auto &anim = model_.animations[ai];
       AnimationClip clip;
@@ -861,23 +917,30 @@ private:
       for (size_t ci = 0; ci < anim.channels.size(); ++ci) {
         const auto &ch = anim.channels[ci];
         std::string ctx = actx + ", channel " + std::to_string(ci);
-        if (ch.target_path == "weights") {
-          ++weightChannels;
-          continue;
-        }
         Channel out;
         if (ch.target_node < 0 || size_t(ch.target_node) >= out_.nodes.size())
           fail(ctx + ": target node " + std::to_string(ch.target_node) + " does not exist");
         out.node = ch.target_node;
+        if (ch.target_path == "weights") {
+          auto group = std::find_if(out_.morphGroups.begin(), out_.morphGroups.end(),
+                                    [&](const MorphGroup &g) { return g.node == ch.target_node; });
+          if (group == out_.morphGroups.end()) { // no baked mesh of this node has targets
+            ++strayWeightChannels;
+            continue;
+          }
+          out.components = group->count;
+        }
         if (ch.target_path == "translation")
           out.path = ChannelPath::Translation;
         else if (ch.target_path == "rotation")
           out.path = ChannelPath::Rotation;
         else if (ch.target_path == "scale")
           out.path = ChannelPath::Scale;
+        else if (ch.target_path == "weights")
+          out.path = ChannelPath::Weights;
         else
           fail(ctx + ": unknown target path '" + ch.target_path + "'");
-        if (out_.nodes[size_t(out.node)].hasMatrix)
+        if (out_.nodes[size_t(out.node)].hasMatrix && out.path != ChannelPath::Weights)
           fail(ctx + ": animates node " + std::to_string(out.node) + " which has a matrix");
         if (ch.sampler < 0 || size_t(ch.sampler) >= anim.samplers.size())
           fail(ctx + ": sampler " + std::to_string(ch.sampler) + " does not exist");
@@ -908,7 +971,9 @@ private:
                              "from that time)",
                          steps);
         out.values = *readAccessor(s.output, ctx + " output");
-        size_t comps = out.path == ChannelPath::Rotation ? 4 : 3;
+        if (out.path == ChannelPath::Rotation)
+          out.components = 4;
+        const size_t comps = out.components;
         size_t per = out.interpolation == Interpolation::CubicSpline ? 3 : 1;
         if (out.values.size() != out.times.size() * comps * per)
           fail(ctx + " output: " + std::to_string(out.values.size()) + " values for " +
@@ -921,11 +986,12 @@ private:
       if (!clip.channels.empty())
         out_.clips.push_back(std::move(clip));
     }
-    if (weightChannels)
-      reporter_.warn("morph_animation_ignored",
-                     std::to_string(weightChannels) +
-                         " morph-weight animation channels are not baked yet",
-                     weightChannels);
+    if (strayWeightChannels)
+      reporter_.warn("morph_weights_without_targets",
+                     std::to_string(strayWeightChannels) +
+                         " morph-weight channels animate nodes whose baked mesh has no morph "
+                         "targets: ignored",
+                     strayWeightChannels);
   }
 
   std::string path_;

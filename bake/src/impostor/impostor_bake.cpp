@@ -28,14 +28,17 @@ struct Posed {
 
 Posed pose(const Character &c, const AnimationClip *clip, double t) {
   auto joints = jointMatrices(c, clip, t);
+  const auto morphs = morphWeights(c, clip, t);
   Posed p;
-  for (const auto &q : skinPositions(c, joints))
+  for (const auto &q : skinPositions(c, joints, morphs))
     p.positions.push_back(glm::vec3(q));
   for (size_t v = 0; v < c.mesh.vertexCount(); ++v) {
-    glm::dvec3 n(0);
+    glm::dvec3 bind(c.mesh.normals[v]), n(0);
+    for (size_t k = 0; k < morphs.size(); ++k)
+      bind += morphs[k] * glm::dvec3(c.mesh.morphs[k].normals[v]);
     for (int k = 0; k < 4; ++k)
-      n += double(c.mesh.weights[v][k]) * glm::dvec3(joints[c.mesh.joints[v][size_t(k)]] *
-                                                     glm::dvec4(glm::dvec3(c.mesh.normals[v]), 0));
+      n += double(c.mesh.weights[v][k]) *
+           glm::dvec3(joints[c.mesh.joints[v][size_t(k)]] * glm::dvec4(bind, 0));
     p.normals.push_back(glm::vec3(glm::length(n) > 0 ? glm::normalize(n) : n));
   }
   return p;

@@ -409,7 +409,7 @@ std::vector<std::vector<glm::vec3>> samplePoses(const Character &c, uint32_t cou
   for (uint32_t i = 0; i < count; ++i) { // round robin over the clips, mid-interval times
     const AnimationClip &clip = c.clips[i % c.clips.size()];
     double t = clip.start + (clip.end - clip.start) * (double(i / c.clips.size()) + 0.5) / perClip;
-    auto skinned = skinPositions(c, jointMatrices(c, &clip, t));
+    auto skinned = posedPositions(c, &clip, t);
     poses.emplace_back(skinned.begin(), skinned.end());
   }
   return poses;
@@ -432,7 +432,14 @@ pack::Lod applyLod(Character &c, const LodOptions &o, Reporter &reporter, LodRes
   LodResult r =
       bakeLod(in.positions, in.indices, o, reporter, subMeshGroups(in), samplePoses(c, o.poses));
   SkinnedMesh out;
+  out.morphDefaults = in.morphDefaults;
+  for (const auto &target : in.morphs)
+    out.morphs.push_back({target.name, {}, {}});
   for (uint32_t v : r.order) {
+    for (size_t t = 0; t < in.morphs.size(); ++t) {
+      out.morphs[t].positions.push_back(in.morphs[t].positions[v]);
+      out.morphs[t].normals.push_back(in.morphs[t].normals[v]);
+    }
     out.positions.push_back(in.positions[v]);
     out.normals.push_back(in.normals[v]);
     if (!in.uvs.empty())

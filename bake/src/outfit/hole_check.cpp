@@ -42,7 +42,7 @@ HoleCheck checkHoles(const OutfitBakeResult &b, const HoleCheckOptions &o) {
   check.frames = uint32_t(frames.size());
   std::vector<std::vector<glm::vec3>> posed;
   for (const auto &[clip, time] : frames) {
-    auto p = skinPositions(b.merged, jointMatrices(b.merged, clip, time));
+    auto p = posedPositions(b.merged, clip, time);
     posed.emplace_back(p.begin(), p.end());
   }
   // Framed on the exact poses it renders (not the pack's bounding sphere, which depends on how

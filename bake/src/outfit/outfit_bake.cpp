@@ -61,7 +61,16 @@ std::vector<size_t> appendGarments(Character &merged, const OutfitInput &outfit,
       ids[size_t(k)] = g.mesh.weights[v][k] > 0 ? map[ids[size_t(k)]] : 0;
     m.joints.push_back(ids);
     m.weights.push_back(g.mesh.weights[v]);
+    for (auto &target : m.morphs) { // the body's targets leave garments alone
+      target.positions.push_back(glm::vec3(0));
+      target.normals.push_back(glm::vec3(0));
+    }
   }
+  if (!g.mesh.morphs.empty())
+    reporter.warn("garment_morphs_dropped",
+                  who + ": its " + std::to_string(g.mesh.morphs.size()) +
+                      " morph targets are not carried (garments follow the skeleton only)",
+                  g.mesh.morphs.size());
   if (m.sources.size() + g.mesh.vertexCount() == m.vertexCount() &&
       g.mesh.sources.size() == g.mesh.vertexCount()) {
     for (auto source : g.mesh.sources) {

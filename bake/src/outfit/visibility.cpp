@@ -105,7 +105,7 @@ std::vector<uint8_t> hiddenBodyFaces(const Character &merged, uint32_t bodyTrian
   double ground = INFINITY;
   if (o.ground)
     for (const auto &[clip, time] : frames) {
-      const auto p = skinPositions(merged, jointMatrices(merged, clip, time));
+      const auto p = posedPositions(merged, clip, time);
       for (uint32_t i = 0; i < bodyTriangles * 3; ++i)
         ground = std::min(ground, p[idx[i]].y);
     }
@@ -114,7 +114,7 @@ std::vector<uint8_t> hiddenBodyFaces(const Character &merged, uint32_t bodyTrian
   for (const auto &[clip, time] : frames) {
     if (candidates.empty())
       break;
-    const auto p = skinPositions(merged, jointMatrices(merged, clip, time));
+    const auto p = posedPositions(merged, clip, time);
     auto point = [&](uint32_t v) { return K::Point_3(p[v].x, p[v].y, p[v].z); };
     soup.clear();
     for (uint32_t t : occluders) {

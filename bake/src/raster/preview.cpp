@@ -16,6 +16,11 @@ std::vector<uint8_t> renderPreview(const pack::AnimationPack &p, size_t clip, ui
   for (uint32_t v = 0; v < m.vertexCount(); ++v) {
     glm::vec3 bind(m.positions[v * 3], m.positions[v * 3 + 1], m.positions[v * 3 + 2]);
     glm::vec3 n(m.normals[v * 3], m.normals[v * 3 + 1], m.normals[v * 3 + 2]);
+    if (p.morphs) {
+      const auto morphed = runtime::morphVertex(*p.morphs, {&c, frame, 0.0f}, v, {bind, n});
+      bind = morphed.position;
+      n = morphed.normal;
+    }
     pos[v] = runtime::skinVertex(p.animation, p.skin, c, frame, 0, v, bind);
     // Normals through the same blend (no translation): good enough for shading a preview.
     nrm[v] = runtime::skinVertex(p.animation, p.skin, c, frame, 0, v, bind + n) - pos[v];

@@ -9,6 +9,7 @@
 #include "crowd/bake/anim_budget.h"
 #include "crowd/bake/anim_frames.h"
 #include "crowd/bake/character.h"
+#include "crowd/bake/morph_frames.h"
 #include "crowd/bake/report.h"
 #include "crowd/formats/chunks.h"
 
@@ -70,8 +71,9 @@ struct AnimBakeResult {
   std::vector<PrecisionAccuracy> accuracy; // every precision; the baked one is `baked`
   size_t baked = 0;
   double errorBudgetMm = 0;
-  BudgetChoice budget; // how the rates and the precision were chosen, every option tried
-  FadeAccuracy fades;  // at the baked precision
+  BudgetChoice budget;         // how the rates and the precision were chosen, every option tried
+  FadeAccuracy fades;          // at the baked precision
+  MorphOverflow morphOverflow; // morph targets that did not fit a frame's slots
 };
 
 AnimBakeResult bakeAnimation(const Character &character, const AnimBakeOptions &options,

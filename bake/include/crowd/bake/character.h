@@ -26,15 +26,16 @@ struct Node {
 };
 
 enum class Interpolation { Linear, Step, CubicSpline };
-enum class ChannelPath { Translation, Rotation, Scale };
+enum class ChannelPath { Translation, Rotation, Scale, Weights };
 
 struct Channel {
   int node = 0;
   ChannelPath path = ChannelPath::Translation;
   Interpolation interpolation = Interpolation::Linear;
   std::vector<double> times; // strictly increasing
-  // Components per key: 3 (T, S) or 4 (R, xyzw); CUBICSPLINE stores in-tangent, value,
-  // out-tangent per key, as glTF does.
+  // Components per key: 3 (T, S), 4 (R, xyzw), or the node's morph target count (weights);
+  // CUBICSPLINE stores in-tangent, value, out-tangent per key, as glTF does.
+  size_t components = 3;
   std::vector<double> values;
 };
 
@@ -42,6 +43,20 @@ struct AnimationClip {
   std::string name;
   double start = 0, end = 0; // seconds: the clip's key time range
   std::vector<Channel> channels;
+};
+
+// A morph target: per mesh vertex, the offset it adds at weight 1 (zero on vertices of other
+// meshes). Morphing comes before skinning, as glTF orders them.
+struct MorphTarget {
+  std::string name;
+  std::vector<glm::vec3> positions, normals; // per mesh vertex
+};
+
+// The morph targets one node's mesh brings: targets [first, first + count), driven by the node's
+// "weights" channels, `defaults` when no channel drives them.
+struct MorphGroup {
+  int node = 0;
+  uint32_t first = 0, count = 0;
 };
 
 struct SkinnedMesh {
@@ -53,6 +68,8 @@ struct SkinnedMesh {
   std::vector<uint32_t> indices;
   // Per vertex, where the importer read it (file 0; outfits renumber); empty when unknown.
   std::vector<pack::VertexSource> sources;
+  std::vector<MorphTarget> morphs;
+  std::vector<double> morphDefaults; // per target: its weight when no channel drives it
   struct Part {
     std::string name; // the material's
     uint32_t firstIndex = 0, indexCount = 0;
@@ -77,6 +94,7 @@ struct Character {
   std::vector<glm::dmat4> inverseBind; // per joint
   SkinnedMesh mesh;
   std::vector<AnimationClip> clips;
+  std::vector<MorphGroup> morphGroups;   // which node's weights drive which mesh.morphs
   std::optional<DiffuseTexture> diffuse; // the base-colour texture the mesh uses, if any
   bool skinned = true; // false: the file has no skin (its meshes ride their nodes rigidly)
 

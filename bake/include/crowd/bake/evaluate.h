@@ -11,8 +11,15 @@ namespace crowd {
 std::vector<glm::dmat4> nodeGlobals(const Character &c, const AnimationClip *clip, double t);
 // Joint matrices (global joint transform x inverse bind) at time t.
 std::vector<glm::dmat4> jointMatrices(const Character &c, const AnimationClip *clip, double t);
-// Skinned vertex positions for the given joint matrices.
-std::vector<glm::dvec3> skinPositions(const Character &c, const std::vector<glm::dmat4> &joints);
+// Morph target weights at time t of `clip` (null: the rest pose): the mesh's defaults where no
+// channel drives a target.
+std::vector<double> morphWeights(const Character &c, const AnimationClip *clip, double t);
+// Vertex positions for the given joint matrices and morph weights: morphed, then skinned.
+std::vector<glm::dvec3> skinPositions(const Character &c, const std::vector<glm::dmat4> &joints,
+                                      const std::vector<double> &morphWeights);
+// The vertices at time t of `clip` (null: the rest pose), exactly: the reference every accuracy
+// figure is measured against.
+std::vector<glm::dvec3> posedPositions(const Character &c, const AnimationClip *clip, double t);
 
 // Size of the bounding box of the rest-pose skinned mesh along x, y (glTF's up) and z.
 glm::dvec3 restExtent(const Character &c);

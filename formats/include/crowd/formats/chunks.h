@@ -22,6 +22,7 @@ inline constexpr uint32_t kDiffuseTexture = fourcc("TEXR");
 inline constexpr uint32_t kLod = fourcc("LODS");
 inline constexpr uint32_t kOutfits = fourcc("OUTF");
 inline constexpr uint32_t kSourceMap = fourcc("SRCV");
+inline constexpr uint32_t kMorphs = fourcc("MRPH");
 // The version written of every chunk above (formats/src/registry.cpp says which are read).
 inline constexpr uint32_t kChunkVersion = 1;
 
@@ -176,6 +177,28 @@ struct SourceMap {
   std::vector<VertexSource> expand() const; // per mesh vertex
 };
 
+// Morph targets: per target, the offsets it adds to the vertices it moves (a range of the mesh),
+// and per animation-texture frame up to kMorphSlots active targets with their weights. The
+// shader blends a frame's slots with the next frame's, as it blends their joints.
+inline constexpr uint32_t kMorphSlots = 8;
+struct Morphs {
+  struct Target {
+    std::string name;
+    uint32_t firstVertex = 0, vertexCount = 0; // the range of mesh vertices it moves
+    uint64_t firstOffset = 0; // where its range starts in `offsets` (the ranges, one after another)
+  };
+  struct Slot {
+    float target = 0; // a target index (an integer)
+    float weight = 0; // 0: the slot is unused
+  };
+  uint32_t vertexCount = 0; // the mesh's
+  std::vector<Target> targets;
+  // Per target, per vertex of its range: position offset xyz, 0, normal offset xyz, 0.
+  std::vector<float> offsets;
+  std::vector<Slot> slots; // kMorphSlots per frame
+  uint32_t frameCount() const { return uint32_t(slots.size() / kMorphSlots); }
+};
+
 std::vector<uint8_t> encode(const Provenance &);
 std::vector<uint8_t> encode(const Skeleton &);
 std::vector<uint8_t> encode(const std::vector<Clip> &);
@@ -186,6 +209,7 @@ std::vector<uint8_t> encode(const Texture &);
 std::vector<uint8_t> encode(const Lod &);
 std::vector<uint8_t> encode(const Outfits &);
 std::vector<uint8_t> encode(const SourceMap &);
+std::vector<uint8_t> encode(const Morphs &);
 
 // Decoders validate everything local to the chunk; `context` prefixes error messages.
 Provenance decodeProvenance(std::span<const uint8_t>, const std::string &context);
@@ -198,6 +222,7 @@ Texture decodeTexture(std::span<const uint8_t>, const std::string &context);
 Lod decodeLod(std::span<const uint8_t>, const std::string &context);
 Outfits decodeOutfits(std::span<const uint8_t>, const std::string &context);
 SourceMap decodeSourceMap(std::span<const uint8_t>, const std::string &context);
+Morphs decodeMorphs(std::span<const uint8_t>, const std::string &context);
 // Cross-checks an outfit table against the mesh it draws (sub-mesh counts and indices).
 void checkOutfits(const Outfits &, const Mesh &, const std::string &context);
 
@@ -214,6 +239,7 @@ struct AnimationPack {
   std::optional<Lod> lod;           // optional chunk: crowdbake lod, or anim --lod
   std::optional<Outfits> outfits;   // optional chunk: crowdbake outfits
   std::optional<SourceMap> sources; // optional chunk: every bake from glTF writes it
+  std::optional<Morphs> morphs;     // optional chunk: when the mesh has morph targets
 };
 AnimationPack loadAnimationPack(const Reader &reader);
 void writePack(const AnimationPack &pack, const std::string &path);

@@ -19,6 +19,9 @@ inline constexpr uint64_t kTriangles = uint64_t(1) << 22;        // per characte
 inline constexpr uint64_t kVertices = uint64_t(1) << 22;         // per character
 inline constexpr uint32_t kJoints = 65535;                       // joint ids are 16-bit
 inline constexpr int kImageSide = 8192;                          // decoded diffuse texture
+// Morph targets per character, and targets x vertices (dense offsets in the bake and the pack).
+inline constexpr uint32_t kMorphTargets = 1024;
+inline constexpr uint64_t kMorphOffsets = uint64_t(1) << 25;
 
 // Animation bakes: frames per clip, and frames x vertices (the exact reference positions the
 // accuracy check keeps, 48 bytes each).

@@ -5,6 +5,7 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <vector>
 
 #include <glm/glm.hpp>
 
@@ -55,6 +56,20 @@ SkinnedVertex skinVertex(const pack::AnimationTexture &texture, const pack::Skin
 // (matrix frames converted one by one, then blended screw-linearly), the two blended as
 // blendJoints does. From weight 1 on, `to` alone as skinVertex gives it: matrix packs step from
 // the screw-linear to the linear blend between frames when a fade ends.
+// The bind-pose vertex morphed at a clip time: each of the two frames' active targets adds its
+// offsets times its weight, the frames mixed by alpha (weights blend linearly, as glTF's linear
+// weight keys do). Morphing comes before skinning; the shader's morphed() does the same.
+SkinnedVertex morphVertex(const pack::Morphs &morphs, const ClipTime &at, uint32_t vertex,
+                          SkinnedVertex bind);
+// The same in a crossfade: the two clip times' offsets mixed by `weight` (1: `to` alone).
+SkinnedVertex morphVertexFaded(const pack::Morphs &morphs, const ClipTime &from, const ClipTime &to,
+                               float weight, uint32_t vertex, SkinnedVertex bind);
+
+// The shader's form of a pack's morph slots (its MorphSlots buffer): per slot 4 ints, the
+// target's first offset pair in the offsets, first vertex, vertex count and the weight's bits.
+// Without morphs, one frame of unused slots.
+std::vector<int32_t> morphSlotWords(const pack::Morphs *morphs);
+
 SkinnedVertex skinVertexFaded(const pack::AnimationTexture &texture, const pack::SkinTexture &skin,
                               const ClipTime &from, const ClipTime &to, float weight,
                               uint32_t vertex, const glm::vec3 &position, const glm::vec3 &normal);
