@@ -28,6 +28,10 @@ inline constexpr uint64_t kMorphOffsets = uint64_t(1) << 25;
 inline constexpr uint64_t kClipFrames = 65536; // 36 minutes at 30 fps
 inline constexpr uint64_t kFrameVertices = uint64_t(1) << 26;
 
+// Cloth caches (PC2, MDD): frames per cache; vertices per frame is kVertices. A cache is
+// streamed, so its byte size is bounded only by the input byte bound.
+inline constexpr uint32_t kCacheFrames = uint32_t(1) << 20;
+
 // Packs: texture sides and element counts a chunk may declare, chunks per container.
 inline constexpr uint32_t kTextureSide = 65536;
 inline constexpr uint64_t kChunkElements = uint64_t(1) << 32;

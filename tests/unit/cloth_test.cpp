@@ -1,0 +1,192 @@
+// Cloth caches (PC2, MDD) and pass 1 of the cloth-loop search, on caches made here whose loops
+// are known: a swing with twice the body's period (only even cycle counts close), a transient
+// that dies out (late loops close better), and noise (nothing closes).
+#include <cmath>
+#include <fstream>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "crowd/bake/loop_search.h"
+#include "crowd/bake/point_cache.h"
+#include "crowd/formats/error.h"
+#include "gltf_writer.h"
+
+using namespace crowd;
+
+namespace {
+
+using Frames = std::vector<std::vector<glm::vec3>>;
+
+// A skirt-like ring of `vertices` points swinging with period `period` frames, plus a
+// transient exp(-f / decay) (decay 0: none).
+Frames swinging(uint32_t frames, uint32_t vertices, double period, double decay = 0.0) {
+  Frames out(frames, std::vector<glm::vec3>(vertices));
+  for (uint32_t f = 0; f < frames; ++f)
+    for (uint32_t v = 0; v < vertices; ++v) {
+      const double a = 6.2831853 * v / vertices, phase = 6.2831853 * f / period;
+      const double swing = 0.1 * std::sin(phase + a) + (decay > 0 ? 0.2 * std::exp(-double(f) / decay) : 0);
+      out[f][v] = glm::vec3(0.3 * std::cos(a) + swing, 0.8 - 0.02 * std::cos(phase), 0.3 * std::sin(a));
+    }
+  return out;
+}
+
+std::string writeCache(const std::string &name, const std::vector<uint8_t> &bytes) {
+  const std::string path = test::tempDir("cloth") + "/" + name;
+  std::ofstream(path, std::ios::binary)
+      .write(reinterpret_cast<const char *>(bytes.data()), std::streamsize(bytes.size()));
+  return path;
+}
+
+std::string errorOf(const std::function<void()> &fn) {
+  try {
+    fn();
+  } catch (const Error &e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+ClothFrames inMemory(const Frames &frames) {
+  return [&frames](uint32_t f, uint32_t first, uint32_t count, std::vector<glm::vec3> &out) {
+    out.assign(frames[f].begin() + first, frames[f].begin() + first + count);
+  };
+}
+
+LoopSearch search(const Frames &frames, double cycle, int threads = 0) {
+  LoopSearchOptions o;
+  o.cycleFrames = cycle;
+  o.threads = threads;
+  return searchLoops(uint32_t(frames.size()), uint32_t(frames[0].size()), inMemory(frames), o);
+}
+
+} // namespace
+
+TEST(PointCache, Pc2AndMddRoundTripFrameByFrame) {
+  const Frames frames = swinging(7, 600, 5.0);
+  for (auto format : {PointCacheFormat::Pc2, PointCacheFormat::Mdd}) {
+    const bool mdd = format == PointCacheFormat::Mdd;
+    PointCacheReader r(writeCache(mdd ? "a.mdd" : "a.pc2", encodePointCache(format, frames, 24.0)),
+                       {});
+    EXPECT_EQ(r.info().frameCount, 7u);
+    EXPECT_EQ(r.info().vertexCount, 600u);
+    EXPECT_NEAR(r.info().fps, mdd ? 24.0 : 0.0, 1e-3); // PC2 stores no frame rate
+    std::vector<glm::vec3> out;
+    r.read(5, 550, 50, out); // a range of one frame, read on its own
+    for (uint32_t v = 0; v < 50; ++v)
+      EXPECT_EQ(out[v], frames[5][550 + v]);
+    r.readFrame(0, out);
+    EXPECT_EQ(out, frames[0]);
+  }
+}
+
+TEST(PointCache, DamagedFilesAreClearErrors) {
+  const Frames frames = swinging(4, 10, 5.0);
+  auto pc2 = encodePointCache(PointCacheFormat::Pc2, frames, 30.0);
+  auto mdd = encodePointCache(PointCacheFormat::Mdd, frames, 30.0);
+  const auto open = [](const std::string &name, const std::vector<uint8_t> &bytes) {
+    return errorOf([&] { PointCacheReader(writeCache(name, bytes), {}); });
+  };
+  auto cut = pc2;
+  cut.resize(cut.size() - 7);
+  EXPECT_NE(open("cut.pc2", cut).find("(truncated?)"), std::string::npos) << open("cut.pc2", cut);
+  auto lying = pc2;
+  lying[28] = 200; // frame count 200, file holds 4
+  EXPECT_NE(open("lie.pc2", lying).find("header says 200 frames of 10 vertices"), std::string::npos);
+  lying = pc2;
+  lying[16] = 0; // zero vertices
+  EXPECT_NE(open("zero.pc2", lying).find("0 vertices"), std::string::npos);
+  auto mddCut = mdd;
+  mddCut.resize(100);
+  EXPECT_NE(open("cut.mdd", mddCut).find("MDD header says 4 frames"), std::string::npos);
+  auto skewed = mdd;
+  skewed[8 + 3 * 4] ^= 0x40; // frame 3's time
+  EXPECT_NE(open("skew.mdd", skewed).find("uniform step"), std::string::npos) << open("skew.mdd", skewed);
+  EXPECT_NE(open("text.pc2", {'h', 'i'}).find("no POINTCACHE2 header"), std::string::npos);
+
+  Frames bad = frames;
+  bad[2][7].y = std::nanf("");
+  PointCacheReader r(writeCache("nan.pc2", encodePointCache(PointCacheFormat::Pc2, bad, 30)), {});
+  std::vector<glm::vec3> out;
+  EXPECT_NO_THROW(r.readFrame(1, out));
+  EXPECT_NE(errorOf([&] { r.readFrame(2, out); }).find("frame 2, vertex 7: position is not finite"),
+            std::string::npos);
+  EXPECT_NE(errorOf([&] { r.read(4, 0, 1, out); }).find("outside the cache"), std::string::npos);
+}
+
+TEST(LoopSearch, ASwingOfTwoCyclesClosesOnlyOnEvenCycles) {
+  // The cloth swings once every two body cycles of 16 frames: odd loops jump by the full swing.
+  const Frames frames = swinging(16 * 12, 300, 32.0);
+  const LoopSearch s = search(frames, 16.0);
+  ASSERT_EQ(s.candidates.size(), 5u);
+  for (const auto &c : s.candidates) {
+    EXPECT_EQ(c.cycles % 2, 0u) << c.start << " " << c.cycles;
+    EXPECT_EQ(c.length, 16 * c.cycles);
+    EXPECT_LT(c.positionJump, 1e-5);
+    EXPECT_LT(c.velocityJump, 1e-5);
+  }
+  EXPECT_GT(s.meanMotion, 0.001);
+  // An odd loop in the chart is far worse than the chosen one.
+  const size_t oddRow = 0; // 1 cycle
+  EXPECT_GT(s.distances[oddRow * frames.size() + 40], 1e-3);
+}
+
+TEST(LoopSearch, ATransientThatDiesOutIsLeftBehind) {
+  const Frames frames = swinging(20 * 15, 200, 20.0, 40.0);
+  const LoopSearch s = search(frames, 20.0);
+  const auto &best = s.candidates.front();
+  // The loop's seam is where the transient has faded most: the loop ends near the cache's end.
+  EXPECT_GT(best.start + best.length, frames.size() - 20);
+  EXPECT_LT(best.positionJump, s.meanMotion);
+  for (size_t i = 1; i < s.candidates.size(); ++i)
+    EXPECT_LE(best.distance, s.candidates[i].distance);
+}
+
+TEST(LoopSearch, NoiseNeverClosesAndThreadsDoNotChangeTheResult) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(-0.05f, 0.05f);
+  Frames frames(24 * 6, std::vector<glm::vec3>(700));
+  for (auto &frame : frames)
+    for (auto &p : frame)
+      p = {u(rng), 1.0f + u(rng), u(rng)};
+  const LoopSearch one = search(frames, 24.0, 1), two = search(frames, 24.0, 2);
+  ASSERT_EQ(one.candidates.size(), two.candidates.size());
+  for (size_t i = 0; i < one.candidates.size(); ++i) {
+    EXPECT_EQ(one.candidates[i].start, two.candidates[i].start);
+    EXPECT_EQ(one.candidates[i].distance, two.candidates[i].distance);
+  }
+  // The best seam still jumps about as far as any frame moves: the verdict's evidence.
+  EXPECT_GT(one.candidates.front().positionJump, 0.8 * one.meanMotion);
+  EXPECT_GT(one.candidates.front().velocityJump, 0.5 * one.meanVelocityChange);
+}
+
+TEST(LoopSearch, ShortCachesAndBadOptionsAreErrors) {
+  const Frames frames = swinging(30, 10, 16.0);
+  EXPECT_NE(errorOf([&] { search(frames, 16.0); }).find("needs at least 2 cycles"),
+            std::string::npos);
+  EXPECT_NE(errorOf([&] { search(frames, 0.5); }).find("cycle:"), std::string::npos);
+  LoopSearchOptions o;
+  o.cycleFrames = 8;
+  o.candidates = 0;
+  EXPECT_NE(errorOf([&] { o.validate(); }).find("candidates"), std::string::npos);
+}
+
+TEST(LoopSearch, StreamsFromAPointCacheAFewVerticesAtATime) {
+  const Frames frames = swinging(16 * 6, 1100, 32.0); // three blocks of vertices
+  PointCacheReader reader(writeCache("stream.pc2",
+                                     encodePointCache(PointCacheFormat::Pc2, frames, 30)), {});
+  uint32_t widest = 0;
+  const ClothFrames fromFile = [&](uint32_t f, uint32_t first, uint32_t count, auto &out) {
+    if (count < 1100)
+      widest = std::max(widest, count);
+    reader.read(f, first, count, out);
+  };
+  LoopSearchOptions o;
+  o.cycleFrames = 16;
+  const LoopSearch streamed = searchLoops(96, 1100, fromFile, o);
+  const LoopSearch held = search(frames, 16.0);
+  EXPECT_EQ(widest, 512u); // blocks of 512 vertices, not whole frames, during the search
+  ASSERT_EQ(streamed.candidates.size(), held.candidates.size());
+  EXPECT_EQ(streamed.candidates[0].start, held.candidates[0].start);
+  EXPECT_EQ(streamed.candidates[0].distance, held.candidates[0].distance);
+}
