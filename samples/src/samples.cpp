@@ -14,6 +14,7 @@
 #include <tiny_gltf.h>
 
 #include "crowd/formats/error.h"
+#include "rig.h"
 
 namespace crowd::samples {
 namespace {
@@ -590,6 +591,59 @@ void addClips(Builder &b) {
 }
 
 } // namespace
+
+namespace rig {
+
+Garment dress() {
+  const Part part = outfitParts(0)[0];
+  Garment g;
+  for (const auto &v : part.vertices) {
+    g.bind.push_back(v.p);
+    g.joints.push_back(v.j);
+    g.weights.push_back(v.w);
+  }
+  g.indices = part.indices;
+  g.pinned = 16 * 33 + 37; // the bodice tube (16 rings of 33) and the skirt's top ring
+  return g;
+}
+
+double clipPeriod(const std::string &clip) {
+  for (const auto &c : clips())
+    if (c.name == clip)
+      return c.period;
+  throw Error("samples: no clip named " + clip);
+}
+
+int joint(const std::string &name) {
+  for (int j = 0; j < kJointCount; ++j)
+    if (name == kJoints[j].name)
+      return j;
+  throw Error("samples: no joint named " + name);
+}
+
+Pose pose(const std::string &clip, double seconds) {
+  const double period = clipPeriod(clip);
+  const double phase = seconds / period - std::floor(seconds / period);
+  samples::Pose p;
+  for (const auto &c : clips())
+    if (c.name == clip)
+      p = c.pose(float(phase));
+  Pose out;
+  for (int j = 0; j < kJointCount; ++j) {
+    const int parent = kJoints[j].parent;
+    const glm::vec3 local =
+        j == Hips ? p.hips : kJoints[j].head - (parent >= 0 ? kJoints[parent].head : glm::vec3(0));
+    glm::mat4 m = glm::mat4_cast(p.rot[j]);
+    m[3] = glm::vec4(local, 1);
+    out.world.push_back(parent >= 0 ? out.world[size_t(parent)] * m : m);
+    glm::mat4 inverseBind(1);
+    inverseBind[3] = glm::vec4(-kJoints[j].head, 1);
+    out.skin.push_back(out.world.back() * inverseBind);
+  }
+  return out;
+}
+
+} // namespace rig
 
 void writeSamples(const std::string &dir) {
   std::error_code ec;

@@ -12,7 +12,7 @@ out=${1:-out/bench}
 fps=(${2:+--fps "$2"} ${3:+--error-budget "$3"})
 mkdir -p "$out"
 bin=build/bin/crowdbake
-$bin samples --out "$out/samples" >/dev/null
+$bin samples --no-cloth --out "$out/samples" >/dev/null
 inputs=("$out/samples/humanoid.glb")
 for m in CesiumMan Fox RiggedFigure RecursiveSkeletons RiggedSimple SimpleSkin AnimatedMorphCube; do
   f=$(ls ../shared/assets/gltf/$m/*.gl* 2>/dev/null | head -1 || true)

@@ -10,7 +10,7 @@ cd "$(dirname "$0")/../.."
 out=${1:-out/bench}
 mkdir -p "$out/impostor"
 bin=build/bin/crowdbake
-$bin samples --out "$out/impostor" > /dev/null
+$bin samples --no-cloth --out "$out/impostor" > /dev/null
 glb=$out/impostor/humanoid.glb
 row() { # REPORT -> CSV fields
   node -e '

@@ -13,7 +13,7 @@ mkdir -p "$out/lod"
   echo "build/bin/lod_bench is missing: apt-get install libmeshoptimizer-dev libcgal-dev, then ./run build" >&2
   exit 1
 }
-build/bin/crowdbake samples --out "$out/lod" > /dev/null
+build/bin/crowdbake samples --no-cloth --out "$out/lod" > /dev/null
 assets=("$out/lod/humanoid.glb")
 for a in CesiumMan Fox RiggedFigure; do
   f=$(ls ../shared/assets/gltf/$a/*.glb 2>/dev/null | head -1 || true)

@@ -2,8 +2,10 @@
 // (blocks of 512 vertices, on 1 thread and on all cores) against the obvious search it
 // replaces, run in the same process on the same cache held whole in memory: every (start,
 // cycles) pair compared vertex by vertex in double precision, one frame pair at a time.
+// With a cache file, pass 1 on it, and pass 2 on its candidates where it is the sample dress.
 // The cache is a swinging ring of VERTICES points with noise, CYCLES cycles of 32 frames.
 // Usage: loop_search_bench [VERTICES=5000] [CYCLES=40] [DIR=/tmp]
+//        loop_search_bench CACHE.pc2|CACHE.mdd CYCLE_FRAMES   (a real cache: time, candidates)
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -12,8 +14,10 @@
 #include <string>
 #include <vector>
 
+#include "crowd/bake/edge_match.h"
 #include "crowd/bake/loop_search.h"
 #include "crowd/bake/point_cache.h"
+#include "crowd/samples/cloth_caches.h"
 
 using namespace crowd;
 using Clock = std::chrono::steady_clock;
@@ -42,9 +46,57 @@ double naiveBest(const std::vector<std::vector<glm::vec3>> &f, uint32_t cycle) {
   return best;
 }
 
+// Pass 1 on a cache file: its time and every candidate's seam against the yardsticks.
+int searchFile(const std::string &path, double cycle) {
+  PointCacheReader reader(path, {});
+  LoopSearchOptions o;
+  o.cycleFrames = cycle;
+  const auto t0 = Clock::now();
+  const LoopSearch s = searchLoops(
+      reader.info().frameCount, reader.info().vertexCount,
+      [&](uint32_t f, uint32_t first, uint32_t count, auto &out) {
+        reader.read(f, first, count, out);
+      },
+      o);
+  std::printf("%s: %u vertices x %u frames, cycle %.2f frames: pass 1 %.3f s\n", path.c_str(),
+              reader.info().vertexCount, reader.info().frameCount, cycle, seconds(t0));
+  std::printf("mean per-frame motion %.4g, mean per-frame velocity change %.4g (cache units)\n",
+              s.meanMotion, s.meanVelocityChange);
+  for (const auto &c : s.candidates)
+    std::printf("start %4u  cycles %2u  distance %.3g  seam position jump %.3f x mean motion, "
+                "velocity jump %.3f x mean change\n",
+                c.start, c.cycles, c.distance, c.positionJump / s.meanMotion,
+                c.velocityJump / s.meanVelocityChange);
+  if (reader.info().vertexCount != samples::dressVertexCount())
+    return 0;
+  // Pass 2 where the cache is the sample dress (whose triangles the samples know).
+  const auto t1 = Clock::now();
+  std::vector<std::vector<double>> rows;
+  for (const auto &c : s.candidates) {
+    std::vector<glm::vec3> first, last;
+    reader.readFrame(c.start, first);
+    reader.readFrame(c.start + c.length, last);
+    rows.push_back(edgeDistances(first, last, samples::dressIndices(), {}));
+  }
+  std::printf("pass 2 (5 views, 160 px): %.3f s\n", seconds(t1));
+  for (size_t i = 0; i < rows.size(); ++i) {
+    double sum = 0.0;
+    std::printf("start %4u: edge distance per view (px)", s.candidates[i].start);
+    for (double d : rows[i]) {
+      sum += d;
+      std::printf(" %.2f", d);
+    }
+    std::printf(", sum %.2f\n", sum);
+  }
+  return 0;
+}
+
 } // namespace
 
 int main(int argc, char **argv) {
+  if (argc > 2 &&
+      (std::string(argv[1]).ends_with(".pc2") || std::string(argv[1]).ends_with(".mdd")))
+    return searchFile(argv[1], std::atof(argv[2]));
   const uint32_t vertices = argc > 1 ? uint32_t(std::atoi(argv[1])) : 5000;
   const uint32_t cycles = argc > 2 ? uint32_t(std::atoi(argv[2])) : 40;
   const std::string path = std::string(argc > 3 ? argv[3] : "/tmp") + "/loop_search_bench.pc2";
@@ -63,8 +115,8 @@ int main(int argc, char **argv) {
     std::ofstream(path, std::ios::binary)
         .write(reinterpret_cast<const char *>(bytes.data()), std::streamsize(bytes.size()));
   }
-  std::printf("cache: %u vertices x %u frames (%u cycles of %u), %.0f MB PC2\n", vertices,
-              frames, cycles, cycle, double(frames) * vertices * 12 / 1e6);
+  std::printf("cache: %u vertices x %u frames (%u cycles of %u), %.0f MB PC2\n", vertices, frames,
+              cycles, cycle, double(frames) * vertices * 12 / 1e6);
 
   auto t0 = Clock::now();
   const double naive = naiveBest(cache, cycle);
@@ -80,11 +132,12 @@ int main(int argc, char **argv) {
     o.cycleFrames = cycle;
     o.threads = threads;
     t0 = Clock::now();
-    result = searchLoops(frames, vertices,
-                         [&](uint32_t f, uint32_t first, uint32_t count, auto &out) {
-                           reader.read(f, first, count, out);
-                         },
-                         o);
+    result = searchLoops(
+        frames, vertices,
+        [&](uint32_t f, uint32_t first, uint32_t count, auto &out) {
+          reader.read(f, first, count, out);
+        },
+        o);
     timed[threads == 1 ? 0 : 1] = seconds(t0);
   }
   std::remove(path.c_str());

@@ -6,7 +6,7 @@ set -euo pipefail
 bin=$1 work=$2
 command -v xdotool >/dev/null || { echo "skip: xdotool is not installed (./run test installs it)"; exit 77; }
 rm -rf "$work" && mkdir -p "$work" && cd "$work"
-"$bin/crowdbake" samples --out s >/dev/null
+"$bin/crowdbake" samples --no-cloth --out s >/dev/null
 cat > pair.json <<'JSON'
 {"name": "pair", "body": "s/humanoid.glb", "clips": ["walk", "run"], "lod": {"poses": 2},
  "outfits": {"dress": "s/outfit_dress.glb"}, "visibility": {"frame_step": 8, "ring": 2},

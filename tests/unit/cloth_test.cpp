@@ -7,10 +7,13 @@
 
 #include <gtest/gtest.h>
 
+#include "crowd/bake/edge_match.h"
 #include "crowd/bake/loop_search.h"
 #include "crowd/bake/point_cache.h"
 #include "crowd/formats/error.h"
+#include "crowd/samples/cloth_caches.h"
 #include "gltf_writer.h"
+#include <map>
 
 using namespace crowd;
 
@@ -25,8 +28,10 @@ Frames swinging(uint32_t frames, uint32_t vertices, double period, double decay 
   for (uint32_t f = 0; f < frames; ++f)
     for (uint32_t v = 0; v < vertices; ++v) {
       const double a = 6.2831853 * v / vertices, phase = 6.2831853 * f / period;
-      const double swing = 0.1 * std::sin(phase + a) + (decay > 0 ? 0.2 * std::exp(-double(f) / decay) : 0);
-      out[f][v] = glm::vec3(0.3 * std::cos(a) + swing, 0.8 - 0.02 * std::cos(phase), 0.3 * std::sin(a));
+      const double swing =
+          0.1 * std::sin(phase + a) + (decay > 0 ? 0.2 * std::exp(-double(f) / decay) : 0);
+      out[f][v] =
+          glm::vec3(0.3 * std::cos(a) + swing, 0.8 - 0.02 * std::cos(phase), 0.3 * std::sin(a));
     }
   return out;
 }
@@ -92,7 +97,8 @@ TEST(PointCache, DamagedFilesAreClearErrors) {
   EXPECT_NE(open("cut.pc2", cut).find("(truncated?)"), std::string::npos) << open("cut.pc2", cut);
   auto lying = pc2;
   lying[28] = 200; // frame count 200, file holds 4
-  EXPECT_NE(open("lie.pc2", lying).find("header says 200 frames of 10 vertices"), std::string::npos);
+  EXPECT_NE(open("lie.pc2", lying).find("header says 200 frames of 10 vertices"),
+            std::string::npos);
   lying = pc2;
   lying[16] = 0; // zero vertices
   EXPECT_NE(open("zero.pc2", lying).find("0 vertices"), std::string::npos);
@@ -101,7 +107,8 @@ TEST(PointCache, DamagedFilesAreClearErrors) {
   EXPECT_NE(open("cut.mdd", mddCut).find("MDD header says 4 frames"), std::string::npos);
   auto skewed = mdd;
   skewed[8 + 3 * 4] ^= 0x40; // frame 3's time
-  EXPECT_NE(open("skew.mdd", skewed).find("uniform step"), std::string::npos) << open("skew.mdd", skewed);
+  EXPECT_NE(open("skew.mdd", skewed).find("uniform step"), std::string::npos)
+      << open("skew.mdd", skewed);
   EXPECT_NE(open("text.pc2", {'h', 'i'}).find("no POINTCACHE2 header"), std::string::npos);
 
   Frames bad = frames;
@@ -173,8 +180,8 @@ TEST(LoopSearch, ShortCachesAndBadOptionsAreErrors) {
 
 TEST(LoopSearch, StreamsFromAPointCacheAFewVerticesAtATime) {
   const Frames frames = swinging(16 * 6, 1100, 32.0); // three blocks of vertices
-  PointCacheReader reader(writeCache("stream.pc2",
-                                     encodePointCache(PointCacheFormat::Pc2, frames, 30)), {});
+  PointCacheReader reader(
+      writeCache("stream.pc2", encodePointCache(PointCacheFormat::Pc2, frames, 30)), {});
   uint32_t widest = 0;
   const ClothFrames fromFile = [&](uint32_t f, uint32_t first, uint32_t count, auto &out) {
     if (count < 1100)
@@ -189,4 +196,67 @@ TEST(LoopSearch, StreamsFromAPointCacheAFewVerticesAtATime) {
   ASSERT_EQ(streamed.candidates.size(), held.candidates.size());
   EXPECT_EQ(streamed.candidates[0].start, held.candidates[0].start);
   EXPECT_EQ(streamed.candidates[0].distance, held.candidates[0].distance);
+}
+
+// The sample caches (samples/src/cloth_sim.cpp), 12 cycles of each here (the samples simulate
+// 40; loop_search_bench and the cloth bake's report measure those): the loose skirts close
+// within the target (seam jumps under the mean per-frame motion and velocity change)
+// without repeating exactly; the stiff one settles; noise never closes.
+TEST(SampleCloth, LooseSkirtsCloseStiffOnesSettleNoiseNever) {
+  const auto ratios = [](const Frames &frames, double cycle) {
+    const LoopSearch s = search(frames, cycle);
+    const LoopCandidate &best = s.candidates.front();
+    EXPECT_EQ(best.length, std::lround(best.cycles * cycle));
+    return std::pair(best.positionJump / s.meanMotion, best.velocityJump / s.meanVelocityChange);
+  };
+  std::map<std::string, std::pair<double, double>> r;
+  for (const auto &sample : samples::cacheSamples()) {
+    samples::ClothSettings settings = sample.settings;
+    settings.cycles = std::min(settings.cycles, 12u);
+    const Frames frames = samples::simulateDress(settings);
+    EXPECT_EQ(frames[0].size(), samples::dressVertexCount());
+    const double cycle = settings.fps * (settings.clip == "run" ? 0.7 : 1.0);
+    r[sample.file] = ratios(frames, cycle);
+    std::printf("%s, %u cycles: seam position jump %.3f, velocity jump %.3f of the mean\n",
+                sample.file.c_str(), settings.cycles, r[sample.file].first, r[sample.file].second);
+  }
+  for (const char *loose : {"skirt_walk.pc2", "skirt_run.pc2"}) {
+    EXPECT_LE(r[loose].first, 1.0) << loose;
+    EXPECT_LE(r[loose].second, 1.0) << loose;
+    EXPECT_GT(r[loose].first, 2 * r["skirt_stiff.pc2"].first) << loose << ": repeats exactly";
+  }
+  EXPECT_LT(r["skirt_stiff.pc2"].first, 0.15);
+  const Frames noise = samples::noiseCache(30 * 4, 300);
+  EXPECT_GT(ratios(noise, 30.0).first, 0.8);
+}
+
+// Pass 2 on the sample dress: the same pose is 0 pixels from itself; a pose moved up is farther
+// the farther it moves; two poses half a stride apart differ.
+TEST(EdgeMatch, DistanceGrowsWithTheShiftAndIsZeroForTheSamePose) {
+  const Frames frames = samples::simulateDress({"walk", 1, 30.0, 16, 1e-7f, 2e-4f, 0.3});
+  const std::vector<uint32_t> &indices = samples::dressIndices();
+  EdgeMatchOptions o;
+  for (double d : edgeDistances(frames[10], frames[10], indices, o))
+    EXPECT_EQ(d, 0.0);
+  double previous = 0.0;
+  for (float shift : {0.005f, 0.02f, 0.06f}) { // a radius of ~0.5 m spans 80 pixels
+    std::vector<glm::vec3> moved = frames[10];
+    for (auto &p : moved)
+      p.y += shift;
+    const auto d = edgeDistances(frames[10], moved, indices, o);
+    ASSERT_EQ(d.size(), 5u);
+    double sum = 0.0;
+    for (double x : d)
+      sum += x;
+    std::printf("shift %.3f m: edge distance %.2f px per view\n", shift, sum / 5);
+    EXPECT_GT(sum, previous);
+    previous = sum;
+  }
+  // 0.06 m is about 9 pixels; edges running up and down (the skirt's sides) do not move, so the
+  // mean over every edge pixel is a fraction of that.
+  EXPECT_GT(previous / 5, 1.0);
+  EXPECT_GT(edgeDistances(frames[0], frames[15], indices, o)[0], 0.5); // half a stride apart
+  o.cannyHigh = 10;
+  EXPECT_NE(errorOf([&] { edgeDistances(frames[0], frames[1], indices, o); }).find("canny"),
+            std::string::npos);
 }

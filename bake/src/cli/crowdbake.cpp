@@ -9,6 +9,7 @@
 #include "crowd/bake/anim_bake.h"
 #include "crowd/bake/impostor_bake.h"
 #include "crowd/bake/lod_bake.h"
+#include "crowd/samples/cloth_caches.h"
 #include "crowd/samples/samples.h"
 
 using namespace crowd::cli;
@@ -22,7 +23,8 @@ usage: crowdbake <command> [options]
 commands:
   build     character manifests and libraries into character packs (jobs, content cache),
             locally or on a Slurm cluster
-  samples   write the bundled sample characters (humanoid and three outfits) as .glb
+  samples   write the bundled sample characters (humanoid and three outfits) as .glb, and
+            sample cloth caches (.pc2)
   anim      bake animation textures, skin weights and mesh from a glTF character
   lod       anim, plus continuous LOD: the mesh ordered for edge-collapse cuts at any vertex count
   outfits   body template + pre-fitted outfits: per outfit, which body sub-meshes are visible,
@@ -40,8 +42,11 @@ example:
 )";
 
 const char *const kSamplesHelp = R"(Writes humanoid.glb, outfit_dress.glb, outfit_jumper_skirt.glb
-and outfit_shirt_trousers.glb into DIR. The output is deterministic: the same bytes on every
-run.)";
+and outfit_shirt_trousers.glb into DIR, and the cloth caches of the dress's garment "dress" (PC2,
+30 fps, every vertex in the glTF's order; simulated, about 5 s): skirt_walk.pc2 and
+skirt_run.pc2 (a loose skirt over 40 walk or run cycles), skirt_stiff.pc2 (a stiff one that
+settles, 8 walk cycles) and noise.pc2 (never repeats). The output is deterministic: the same
+bytes on every run.)";
 
 const char *const kAnimHelp = R"(Samples every clip's joint matrices (global joint transform x
 inverse bind) into one animation texture, stores skin weights (2 texels per vertex) and the
@@ -70,12 +75,19 @@ int cmdSamples(int argc, char **argv) {
   CLI::App app(kSamplesHelp, "crowdbake samples");
   example(app, "crowdbake samples --out samples_out");
   std::string out;
+  bool noCloth = false;
   app.add_option("--out", out, "folder to write the samples into")->required();
+  app.add_flag("--no-cloth", noCloth, "skip the cloth caches (the characters only)");
   if (!parseArgs(app, argc, argv))
     return 0;
   crowd::samples::writeSamples(out);
   for (const auto &f : crowd::samples::kFiles)
     std::cout << out << "/" << f << "\n";
+  if (!noCloth) {
+    crowd::samples::writeClothCaches(out);
+    for (const auto &f : crowd::samples::kCacheFiles)
+      std::cout << out << "/" << f << "\n";
+  }
   return 0;
 }
 

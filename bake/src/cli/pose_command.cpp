@@ -7,6 +7,7 @@
 
 #include "commands.h"
 #include "crowd/bake/mesh_files.h"
+#include "crowd/bake/point_cache.h"
 #include "crowd/formats/character_pack.h"
 #include "crowd/formats/container.h"
 #include "crowd/runtime/pose.h"
@@ -138,7 +139,8 @@ int cmdPose(int argc, char **argv) {
       if (std::abs(times[k] - (times.front() + spacing * float(k))) >
           1e-4f * std::max(1.0f, spacing))
         throw UsageError("--times: a .pc2 stores evenly spaced samples; " + timesText + " is not");
-    pack::writeFileAtomic(output, pc2Bytes(samples, times.front(), spacing));
+    pack::writeFileAtomic(
+        output, encodePointCache(PointCacheFormat::Pc2, samples, 0.0, times.front(), spacing));
   }
   return 0;
 }

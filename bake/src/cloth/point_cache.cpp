@@ -69,8 +69,8 @@ PointCacheReader::PointCacheReader(const std::string &path, const InputPolicy &p
   }
   const char *name = pc2 ? "PC2" : "MDD";
   if (frames == 0 || frames > limits::kCacheFrames)
-    throw Error(path + ": " + name + " header says " + std::to_string(frames) +
-                " frames (1 to " + std::to_string(limits::kCacheFrames) + " allowed)");
+    throw Error(path + ": " + name + " header says " + std::to_string(frames) + " frames (1 to " +
+                std::to_string(limits::kCacheFrames) + " allowed)");
   if (info_.vertexCount == 0 || info_.vertexCount > limits::kVertices)
     throw Error(path + ": " + name + " header says " + std::to_string(info_.vertexCount) +
                 " vertices (1 to " + std::to_string(limits::kVertices) + " allowed)");
@@ -96,9 +96,9 @@ PointCacheReader::PointCacheReader(const std::string &path, const InputPolicy &p
         const double t = real(times.data() + 4 * f, true);
         const double prev = real(times.data() + 4 * (f - 1), true);
         if (!std::isfinite(t) || !(step > 0.0) || std::abs((t - prev) - step) > 1e-3 * step)
-          throw Error(path + ": MDD time of frame " + std::to_string(f) + " (" +
-                      std::to_string(t) + " s) breaks the uniform step of " +
-                      std::to_string(step) + " s; resample the cache to a fixed frame rate");
+          throw Error(path + ": MDD time of frame " + std::to_string(f) + " (" + std::to_string(t) +
+                      " s) breaks the uniform step of " + std::to_string(step) +
+                      " s; resample the cache to a fixed frame rate");
       }
       info_.fps = 1.0 / step;
       info_.startFrame = t0 * info_.fps;
@@ -108,10 +108,9 @@ PointCacheReader::PointCacheReader(const std::string &path, const InputPolicy &p
 
 void PointCacheReader::read(uint32_t frame, uint32_t first, uint32_t count,
                             std::vector<glm::vec3> &out) {
-  if (frame >= info_.frameCount || first > info_.vertexCount ||
-      count > info_.vertexCount - first)
-    throw Error(path_ + ": frame " + std::to_string(frame) + " vertices " +
-                std::to_string(first) + "+" + std::to_string(count) + " are outside the cache");
+  if (frame >= info_.frameCount || first > info_.vertexCount || count > info_.vertexCount - first)
+    throw Error(path_ + ": frame " + std::to_string(frame) + " vertices " + std::to_string(first) +
+                "+" + std::to_string(count) + " are outside the cache");
   raw_.resize(size_t(count) * 12);
   in_.seekg(std::streamoff(info_.dataOffset + (uint64_t(frame) * info_.vertexCount + first) * 12));
   in_.read(reinterpret_cast<char *>(raw_.data()), std::streamsize(raw_.size()));
@@ -130,8 +129,8 @@ void PointCacheReader::read(uint32_t frame, uint32_t first, uint32_t count,
 }
 
 std::vector<uint8_t> encodePointCache(PointCacheFormat format,
-                                      const std::vector<std::vector<glm::vec3>> &frames,
-                                      double fps) {
+                                      const std::vector<std::vector<glm::vec3>> &frames, double fps,
+                                      float pc2Start, float pc2Step) {
   const bool big = format == PointCacheFormat::Mdd;
   const uint32_t vertices = frames.empty() ? 0 : uint32_t(frames[0].size());
   std::vector<uint8_t> out;
@@ -149,8 +148,8 @@ std::vector<uint8_t> encodePointCache(PointCacheFormat format,
     out.assign(kPc2Magic, kPc2Magic + 12);
     put(1);
     put(vertices);
-    putReal(0.0f);
-    putReal(1.0f);
+    putReal(pc2Start);
+    putReal(pc2Step);
     put(uint32_t(frames.size()));
   }
   for (const auto &frame : frames) {

@@ -88,22 +88,6 @@ std::vector<uint8_t> objBytes(const std::vector<glm::vec3> &p, const std::vector
   return out;
 }
 
-std::vector<uint8_t> pc2Bytes(const std::vector<std::vector<glm::vec3>> &samples, float start,
-                              float spacing) {
-  std::vector<uint8_t> out(12, 0);
-  std::memcpy(out.data(), "POINTCACHE2", 11); // and a NUL
-  put(out, int32_t(1));
-  put(out, int32_t(samples.empty() ? 0 : samples[0].size()));
-  put(out, start);
-  put(out, spacing);
-  put(out, int32_t(samples.size()));
-  for (const auto &s : samples)
-    for (const auto &v : s)
-      for (float f : {v.x, v.y, v.z})
-        put(out, f);
-  return out;
-}
-
 std::vector<uint8_t> glbBytes(const std::vector<glm::vec3> &p, const std::vector<glm::vec3> &n,
                               const std::vector<uint32_t> &indices) {
   // One buffer: positions, unit normals (glTF requires them; a zero normal becomes +y), indices.

@@ -33,9 +33,9 @@ struct LoopSearchOptions {
 };
 
 struct LoopCandidate {
-  uint32_t start = 0;   // first frame of the loop
-  uint32_t length = 0;  // frames: plays start .. start + length - 1, then start again
-  uint32_t cycles = 0;  // body-clip cycles in the loop
+  uint32_t start = 0;      // first frame of the loop
+  uint32_t length = 0;     // frames: plays start .. start + length - 1, then start again
+  uint32_t cycles = 0;     // body-clip cycles in the loop
   double phaseError = 0.0; // |length - cycles x cycleFrames|, frames
   double distance = 0.0;   // filtered pass-1 distance, mean per vertex (cache units squared)
   // The seam unfiltered, mean over vertices (cache units): the position jump |p(s + L) - p(s)|

@@ -1,7 +1,7 @@
 // Posed meshes as files other tools read: PLY (binary little-endian or ASCII: x y z, nx ny nz
 // and the int source_file, source_node, source_mesh, source_primitive, source_vertex per
-// vertex, triangles), binary glTF (GLB), Wavefront OBJ (v, vn, f) and PC2 point caches (Blender's
-// "POINTCACHE2": positions of a fixed vertex list at evenly spaced samples).
+// vertex, triangles), binary glTF (GLB) and Wavefront OBJ (v, vn, f). Point caches (PC2) are
+// point_cache.h's.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -24,9 +24,5 @@ std::vector<uint8_t> objBytes(const std::vector<glm::vec3> &positions,
 std::vector<uint8_t> glbBytes(const std::vector<glm::vec3> &positions,
                               const std::vector<glm::vec3> &normals,
                               const std::vector<uint32_t> &indices);
-// `samples` all hold the same number of points; the header's start and spacing are in the
-// caller's unit (crowdbake pose: seconds).
-std::vector<uint8_t> pc2Bytes(const std::vector<std::vector<glm::vec3>> &samples, float start,
-                              float spacing);
 
 } // namespace crowd

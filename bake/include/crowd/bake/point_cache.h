@@ -27,9 +27,9 @@ struct PointCacheInfo {
   PointCacheFormat format = PointCacheFormat::Pc2;
   uint32_t vertexCount = 0;
   uint32_t frameCount = 0;
-  double fps = 0.0;         // from the file (MDD); 0 where the file stores none (PC2)
-  double startFrame = 0.0;  // PC2's start frame; MDD: first time x fps
-  uint64_t dataOffset = 0;  // byte offset of frame 0
+  double fps = 0.0;        // from the file (MDD); 0 where the file stores none (PC2)
+  double startFrame = 0.0; // PC2's start frame; MDD: first time x fps
+  uint64_t dataOffset = 0; // byte offset of frame 0
 };
 
 class PointCacheReader {
@@ -53,9 +53,10 @@ private:
 };
 
 // The bytes of a cache in `format`: frames[f][v]; every frame has the same vertex count.
-// `fps` sets MDD's times (and is ignored by PC2, which has no field for it).
+// `fps` sets MDD's times (PC2 has no field for it); `pc2Start` and `pc2Step` are PC2's start
+// frame and sample step (crowdbake pose writes seconds there).
 std::vector<uint8_t> encodePointCache(PointCacheFormat format,
-                                      const std::vector<std::vector<glm::vec3>> &frames,
-                                      double fps);
+                                      const std::vector<std::vector<glm::vec3>> &frames, double fps,
+                                      float pc2Start = 0.0f, float pc2Step = 1.0f);
 
 } // namespace crowd
