@@ -1,18 +1,21 @@
 // Cloth caches (PC2, MDD) and pass 1 of the cloth-loop search, on caches made here whose loops
 // are known: a swing with twice the body's period (only even cycle counts close), a transient
 // that dies out (late loops close better), and noise (nothing closes).
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <random>
 
 #include <gtest/gtest.h>
 
+#include "crowd/bake/cloth_input.h"
 #include "crowd/bake/edge_match.h"
 #include "crowd/bake/loop_search.h"
 #include "crowd/bake/point_cache.h"
 #include "crowd/formats/error.h"
 #include "crowd/samples/cloth_caches.h"
 #include "gltf_writer.h"
+#include "sample_character.h"
 #include <map>
 
 using namespace crowd;
@@ -259,4 +262,52 @@ TEST(EdgeMatch, DistanceGrowsWithTheShiftAndIsZeroForTheSamePose) {
   o.cannyHigh = 10;
   EXPECT_NE(errorOf([&] { edgeDistances(frames[0], frames[1], indices, o); }).find("canny"),
             std::string::npos);
+}
+
+// The sample dress's cache against the imported outfit: it fits garment "dress" (count and
+// order), a shuffled or shortened cache does not, PC2 needs --fps, and the root-frame reader
+// feeds the search (the sample clips stay in place: the root frame is the cache's).
+TEST(ClothInput, TheSampleCacheFitsItsGarmentAndAShuffledOneDoesNot) {
+  const auto outfits = test::sampleOutfits();
+  const Character &dress = outfits[0].character, &body = test::sampleHumanoid();
+  const AnimationClip &walk = body.clips[0];
+  ASSERT_EQ(walk.name, "walk");
+  const std::vector<uint32_t> ids = garmentVertices(dress, "dress");
+  ASSERT_EQ(ids.size(), samples::dressVertexCount());
+  EXPECT_NE(errorOf([&] { garmentVertices(dress, "cape"); }).find("no garment named 'cape'"),
+            std::string::npos);
+  Frames frames = samples::simulateDress({"walk", 3, 30.0, 16, 1e-7f, 2e-4f, 0.3});
+  PointCacheReader cache(writeCache("fit.pc2", encodePointCache(PointCacheFormat::Pc2, frames, 30)),
+                         {});
+  ClothCacheOptions o;
+  EXPECT_NE(errorOf([&] { cacheFps(cache, o); }).find("give --fps"), std::string::npos);
+  o.fps = 30;
+  EXPECT_EQ(cacheFps(cache, o), 30.0);
+  EXPECT_NO_THROW(checkGarment(cache, dress, ids, walk, o));
+
+  Frames shuffled = frames;
+  for (auto &f : shuffled)
+    std::reverse(f.begin(), f.end());
+  PointCacheReader wrong(
+      writeCache("shuffled.mdd", encodePointCache(PointCacheFormat::Mdd, shuffled, 30)), {});
+  EXPECT_EQ(cacheFps(wrong, {}), 30.0);
+  EXPECT_NE(errorOf([&] { checkGarment(wrong, dress, ids, walk, o); }).find("vertex order"),
+            std::string::npos);
+  Frames shorter = frames;
+  for (auto &f : shorter)
+    f.pop_back();
+  PointCacheReader fewer(
+      writeCache("short.pc2", encodePointCache(PointCacheFormat::Pc2, shorter, 30)), {});
+  EXPECT_NE(errorOf([&] {
+              checkGarment(fewer, dress, ids, walk, o);
+            }).find("1045 vertices, but the garment has 1046"),
+            std::string::npos);
+
+  LoopSearchOptions so;
+  so.cycleFrames = 30.0 * (walk.end - walk.start);
+  const LoopSearch viaRoot = searchLoops(uint32_t(frames.size()), uint32_t(ids.size()),
+                                         rootFrames(cache, body, walk, 30.0), so);
+  const LoopSearch direct = search(frames, so.cycleFrames);
+  EXPECT_EQ(viaRoot.candidates.front().start, direct.candidates.front().start);
+  EXPECT_NEAR(viaRoot.candidates.front().distance, direct.candidates.front().distance, 1e-9);
 }

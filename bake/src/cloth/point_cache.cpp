@@ -100,7 +100,12 @@ PointCacheReader::PointCacheReader(const std::string &path, const InputPolicy &p
                       " s) breaks the uniform step of " + std::to_string(step) +
                       " s; resample the cache to a fixed frame rate");
       }
-      info_.fps = 1.0 / step;
+      // The mean step over the whole cache (float times round each step), and whole rates
+      // exactly (30, not 29.9999995).
+      const double last = real(times.data() + 4 * (frames - 1), true);
+      info_.fps = double(frames - 1) / (last - t0);
+      if (std::abs(info_.fps - std::round(info_.fps)) < 1e-5 * info_.fps)
+        info_.fps = std::round(info_.fps);
       info_.startFrame = t0 * info_.fps;
     }
   }

@@ -1,0 +1,43 @@
+// A cloth cache as the cloth-loop bake reads it: checked against the garment it animates (a
+// part, by material name, of an outfit glTF), at the cache's frame rate, in the body's root frame.
+//   - The garment's vertices, in the order a cache lists them: every vertex its triangles use,
+//     in the glTF's order (primitive by primitive). The cache must have as many (a clear error
+//     otherwise), in the same order: frame 0 must lie on the garment skinned at the clip's start
+//     (the median vertex within `orderTolerance` of the garment's rest diagonal; free cloth
+//     swings, the median stays near). A cache whose vertices are shuffled fails this.
+//   - Frame rate: the file's (MDD) or `fps` (PC2 stores none; then `fps` is required).
+//   - Root frame: each frame's positions times the inverse of the skeleton's top joint's global
+//     transform at that frame's clip time (cache frame f is clip time f / fps, wrapping), so a
+//     clip that travels loops in place.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "crowd/bake/character.h"
+#include "crowd/bake/loop_search.h"
+#include "crowd/bake/point_cache.h"
+
+namespace crowd {
+
+struct ClothCacheOptions {
+  double fps = 0.0;            // --fps: the cache's frame rate; 0: the file's
+  double orderTolerance = 0.1; // of the garment's rest diagonal, for frame 0's median vertex
+  void validate() const;
+};
+
+// The vertex ids of part `garment` of `outfit`, ascending (the cache's order).
+std::vector<uint32_t> garmentVertices(const Character &outfit, const std::string &garment);
+
+// The cache's frame rate: the file's, else options.fps; an error naming the file if neither.
+double cacheFps(const PointCacheReader &cache, const ClothCacheOptions &options);
+
+// Throws a clear error when the cache does not fit the garment (count, then order).
+void checkGarment(PointCacheReader &cache, const Character &outfit,
+                  const std::vector<uint32_t> &garment, const AnimationClip &clip,
+                  const ClothCacheOptions &options);
+
+// Frames of `cache` in `body`'s root frame at `fps`, for searchLoops. Holds references.
+ClothFrames rootFrames(PointCacheReader &cache, const Character &body, const AnimationClip &clip,
+                       double fps);
+
+} // namespace crowd

@@ -1,0 +1,99 @@
+#include "crowd/bake/cloth_input.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "crowd/bake/evaluate.h"
+#include "crowd/formats/error.h"
+
+namespace crowd {
+
+namespace {
+
+double clipTime(const AnimationClip &clip, uint32_t frame, double fps) {
+  const double duration = clip.end - clip.start, t = frame / fps;
+  return clip.start + (duration > 0 ? std::fmod(t, duration) : 0.0);
+}
+
+// The skeleton's top joint: the first whose node's parent is no joint.
+int topJointNode(const Character &c) {
+  for (int node : c.jointNodes)
+    if (std::find(c.jointNodes.begin(), c.jointNodes.end(), c.nodes[size_t(node)].parent) ==
+        c.jointNodes.end())
+      return node;
+  return -1;
+}
+
+} // namespace
+
+void ClothCacheOptions::validate() const {
+  if (!std::isfinite(fps) || fps < 0.0 || fps > 1000.0)
+    throw Error("fps: " + std::to_string(fps) + " is outside 0..1000 (0: the file's)");
+  if (!(orderTolerance > 0.0) || orderTolerance > 1.0)
+    throw Error("order tolerance: must be in (0, 1]");
+}
+
+std::vector<uint32_t> garmentVertices(const Character &outfit, const std::string &garment) {
+  std::vector<std::string> names;
+  for (const auto &part : outfit.mesh.parts) {
+    names.push_back(part.name);
+    if (part.name != garment)
+      continue;
+    std::vector<uint32_t> ids(outfit.mesh.indices.begin() + part.firstIndex,
+                              outfit.mesh.indices.begin() + part.firstIndex + part.indexCount);
+    std::sort(ids.begin(), ids.end());
+    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+    return ids;
+  }
+  throw unknownName("garment", garment, names);
+}
+
+double cacheFps(const PointCacheReader &cache, const ClothCacheOptions &options) {
+  options.validate();
+  if (options.fps > 0.0)
+    return options.fps;
+  if (cache.info().fps > 0.0)
+    return cache.info().fps;
+  throw Error(cache.path() + ": a PC2 file stores no frame rate; give --fps");
+}
+
+void checkGarment(PointCacheReader &cache, const Character &outfit,
+                  const std::vector<uint32_t> &garment, const AnimationClip &clip,
+                  const ClothCacheOptions &options) {
+  options.validate();
+  if (cache.info().vertexCount != garment.size())
+    throw Error(cache.path() + ": " + std::to_string(cache.info().vertexCount) +
+                " vertices, but the garment has " + std::to_string(garment.size()) +
+                " (a cache of another garment, or of a different mesh?)");
+  std::vector<glm::vec3> first;
+  cache.readFrame(0, first);
+  const std::vector<glm::dvec3> posed = posedPositions(outfit, &clip, clip.start);
+  std::vector<double> distance(garment.size());
+  for (size_t v = 0; v < garment.size(); ++v)
+    distance[v] = glm::length(glm::dvec3(first[v]) - posed[garment[v]]);
+  std::nth_element(distance.begin(), distance.begin() + distance.size() / 2, distance.end());
+  const double median = distance[distance.size() / 2];
+  const double limit = options.orderTolerance * restDiagonal(outfit);
+  if (median > limit)
+    throw Error(cache.path() + ": frame 0 is not the garment at the start of clip '" + clip.name +
+                "': the median vertex is " + std::to_string(median) + " away (limit " +
+                std::to_string(limit) + "); the cache's vertex order differs from the glTF's, " +
+                "or it starts elsewhere in the clip");
+}
+
+ClothFrames rootFrames(PointCacheReader &cache, const Character &body, const AnimationClip &clip,
+                       double fps) {
+  const int top = topJointNode(body);
+  return [&cache, &body, &clip, fps, top](uint32_t frame, uint32_t first, uint32_t count,
+                                          std::vector<glm::vec3> &out) {
+    cache.read(frame, first, count, out);
+    if (top < 0)
+      return;
+    const glm::dmat4 toRoot =
+        glm::inverse(nodeGlobals(body, &clip, clipTime(clip, frame, fps))[size_t(top)]);
+    for (auto &p : out)
+      p = glm::vec3(toRoot * glm::dvec4(glm::dvec3(p), 1.0));
+  };
+}
+
+} // namespace crowd
