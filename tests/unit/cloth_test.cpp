@@ -311,3 +311,48 @@ TEST(ClothInput, TheSampleCacheFitsItsGarmentAndAShuffledOneDoesNot) {
   EXPECT_EQ(viaRoot.candidates.front().start, direct.candidates.front().start);
   EXPECT_NEAR(viaRoot.candidates.front().distance, direct.candidates.front().distance, 1e-9);
 }
+
+// Pass 1 is exactly its definition: on a small random cache, every (start, cycles) cell is the
+// binomially filtered (1 2 1) / 4 mean of |p(s + L) - p(s)|^2 + |v(s + L) - v(s)|^2 per vertex.
+TEST(LoopSearch, EveryCellIsTheFilteredKovarDistance) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  Frames frames(14, std::vector<glm::vec3>(4));
+  for (auto &frame : frames)
+    for (auto &p : frame)
+      p = {u(rng), u(rng), u(rng)};
+  LoopSearchOptions o;
+  o.cycleFrames = 3;
+  o.window = 1;
+  o.candidates = 3;
+  const LoopSearch s = searchLoops(14, 4, inMemory(frames), o);
+  const auto raw = [&](size_t a, size_t b) {
+    double sum = 0.0;
+    for (size_t v = 0; v < 4; ++v) {
+      const glm::dvec3 d0 = glm::dvec3(frames[b][v]) - glm::dvec3(frames[a][v]);
+      const glm::dvec3 d1 = glm::dvec3(frames[b + 1][v]) - glm::dvec3(frames[a + 1][v]);
+      sum += glm::dot(d0, d0) + glm::dot(d1 - d0, d1 - d0);
+    }
+    return sum / 4.0;
+  };
+  size_t checked = 0;
+  for (uint32_t c = s.minCycles; c <= s.maxCycles; ++c)
+    for (uint32_t start = 0; start < 14; ++start) {
+      const double d = s.distances[(c - s.minCycles) * 14 + start];
+      const uint32_t len = 3 * c;
+      const bool valid = start >= 1 && start + len + 2 < 14;
+      EXPECT_EQ(std::isnan(d), !valid) << c << " " << start;
+      if (!valid)
+        continue;
+      const double expected = (raw(start - 1, start - 1 + len) + 2 * raw(start, start + len) +
+                               raw(start + 1, start + 1 + len)) /
+                              4.0;
+      EXPECT_NEAR(d, expected, 1e-5 * expected) << c << " " << start;
+      ++checked;
+    }
+  EXPECT_GT(checked, 10u);
+  EXPECT_EQ(s.candidates.front().distance,
+            *std::min_element(s.distances.begin(), s.distances.end(), [](double a, double b) {
+              return !std::isnan(a) && (std::isnan(b) || a < b);
+            }));
+}

@@ -129,7 +129,8 @@ LoopSearch searchLoops(uint32_t frameCount, uint32_t vertexCount, const ClothFra
 
   // Filter along the diagonal with binomial weights; rank; keep one loop per length within
   // half a cycle of start.
-  std::vector<double> weights(2 * w + 1, 1.0);
+  std::vector<double> weights(2 * w + 1, 0.0);
+  weights[0] = 1.0;
   for (uint32_t i = 1; i <= 2 * w; ++i) // row 2w of Pascal's triangle, then normalised
     for (uint32_t j = i; j > 0; --j)
       weights[j] += weights[j - 1];
