@@ -88,6 +88,14 @@ TEST(PointCache, Pc2AndMddRoundTripFrameByFrame) {
   }
 }
 
+TEST(PointCache, ASmallMddShorterThanAPc2HeaderReads) {
+  const Frames one = {{glm::vec3(1, 2, 3)}}; // 24 bytes in all
+  PointCacheReader r(writeCache("one.mdd", encodePointCache(PointCacheFormat::Mdd, one, 30)), {});
+  std::vector<glm::vec3> out;
+  r.readFrame(0, out);
+  EXPECT_EQ(out, one[0]);
+}
+
 TEST(PointCache, DamagedFilesAreClearErrors) {
   const Frames frames = swinging(4, 10, 5.0);
   auto pc2 = encodePointCache(PointCacheFormat::Pc2, frames, 30.0);

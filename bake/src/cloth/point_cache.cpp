@@ -42,6 +42,7 @@ PointCacheReader::PointCacheReader(const std::string &path, const InputPolicy &p
     throw Error(path + ": cannot open the point cache");
   uint8_t head[32] = {};
   in_.read(reinterpret_cast<char *>(head), std::streamsize(std::min<uint64_t>(size, 32)));
+  in_.clear(); // a file shorter than 32 bytes (a small MDD) ends the read early: not an error
   const bool pc2 = size >= 12 && std::memcmp(head, kPc2Magic, 12) == 0;
   if (!pc2 && endsWith(path, ".pc2"))
     throw Error(path + ": not a PC2 file (no POINTCACHE2 header)");
