@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "crowd/bake/edge_match.h"
+#include "crowd/bake/cloth_loop.h"
 #include "crowd/bake/loop_search.h"
 #include "crowd/bake/point_cache.h"
 #include "crowd/samples/cloth_caches.h"
@@ -69,25 +69,26 @@ int searchFile(const std::string &path, double cycle) {
                 c.velocityJump / s.meanVelocityChange);
   if (reader.info().vertexCount != samples::dressVertexCount())
     return 0;
-  // Pass 2 where the cache is the sample dress (whose triangles the samples know).
-  const auto t1 = Clock::now();
-  std::vector<std::vector<double>> rows;
-  for (const auto &c : s.candidates) {
-    std::vector<glm::vec3> first, last;
-    reader.readFrame(c.start, first);
-    reader.readFrame(c.start + c.length, last);
-    rows.push_back(edgeDistances(first, last, samples::dressIndices(), {}));
-  }
-  std::printf("pass 2 (5 views, 160 px): %.3f s\n", seconds(t1));
-  for (size_t i = 0; i < rows.size(); ++i) {
-    double sum = 0.0;
-    std::printf("start %4u: edge distance per view (px)", s.candidates[i].start);
-    for (double d : rows[i]) {
-      sum += d;
+  // Both passes and the verdict where the cache is the sample dress (whose triangles the
+  // samples know).
+  ClothLoopOptions co;
+  co.search = o;
+  const ClothLoop loop = chooseLoop(
+      reader.info().frameCount, reader.info().vertexCount,
+      [&](uint32_t f, uint32_t first, uint32_t count, auto &out) {
+        reader.read(f, first, count, out);
+      },
+      samples::dressIndices(), co);
+  std::printf("pass 1 %.3f s, pass 2 (%u views, %d px) %.3f s; in pass 2's order:\n",
+              loop.pass1Seconds, co.edges.views, co.edges.pixels, loop.pass2Seconds);
+  for (const auto &c : loop.candidates) {
+    std::printf("start %4u  cycles %2u  pass-1 rank %u  edge distance per view (px)", c.seam.start,
+                c.seam.cycles, c.pass1Rank);
+    for (double d : c.edgeDistances)
       std::printf(" %.2f", d);
-    }
-    std::printf(", sum %.2f\n", sum);
+    std::printf(", sum %.2f\n", c.edgeDistance);
   }
+  std::printf("verdict: %s\n", loop.verdict.c_str());
   return 0;
 }
 
