@@ -7,6 +7,7 @@
 
 #include "crowd/formats/character_pack.h"
 #include "crowd/formats/chunks.h"
+#include "crowd/formats/cloth.h"
 #include "crowd/formats/error.h"
 #include "crowd/formats/impostor.h"
 
@@ -194,6 +195,23 @@ Description describeMorphs(std::span<const uint8_t> b, uint32_t, const std::stri
   return d;
 }
 
+Description describeCloth(std::span<const uint8_t> b, uint32_t, const std::string &ctx) {
+  ClothLoop c = decodeClothLoop(b, ctx);
+  const double largestStep = std::max({c.step[0], c.step[1], c.step[2]});
+  Description d;
+  d.add("outfit", text(c.outfit))
+      .add("garment", text(c.garment))
+      .add("clip", text(c.clip))
+      .add("vertices", number(c.vertexCount()))
+      .add("frames", number(c.frameCount()))
+      .add("fps", number(c.fps))
+      .add("cycles", number(c.cycles))
+      .add("cache_start", number(c.cacheStart))
+      .add("blend_frames", number(c.blendFrames))
+      .add("quantisation_step", number(largestStep));
+  return d;
+}
+
 Description describeImpostor(std::span<const uint8_t> b, uint32_t version, const std::string &ctx) {
   Impostor m = decodeImpostor(b, version, ctx);
   uint64_t used = 0;
@@ -271,6 +289,7 @@ const std::vector<ChunkCodec> &chunkCodecs() {
       {kSourceMap, "vertex sources", 1, kChunkVersion, describeSourceMap},
       {kMorphs, "morph targets", 1, kChunkVersion, describeMorphs},
       {kImpostor, "impostor", 1, kImpostorVersion, describeImpostor, imagesImpostor},
+      {kCloth, "cloth loop", 1, kClothVersion, describeCloth},
   };
   return codecs;
 }
@@ -320,6 +339,11 @@ std::string verifyPack(const Reader &reader) {
     const Impostor m = loadImpostorPack(reader).impostor;
     return line + ", impostor of clip '" + m.clip + "', " + std::to_string(m.frames) + " frames";
   }
+  if (!reader.find(kSkeleton) && reader.find(kCloth)) { // a lone loop (crowdbake cloth)
+    const ClothLoop m = decodeClothLoop(reader.payload(*reader.find(kCloth)), "pack");
+    return line + ", cloth loop of garment '" + m.garment + "' over clip '" + m.clip + "', " +
+           std::to_string(m.frameCount()) + " frames";
+  }
   const CharacterPack c = loadCharacterPack(reader);
   const AnimationPack &p = c.body;
   line += ", " + std::to_string(p.skeleton.jointCount()) + " joints, " +
@@ -328,6 +352,8 @@ std::string verifyPack(const Reader &reader) {
     line += ", " + std::to_string(p.outfits->outfits.size()) + " outfits";
   if (!c.impostors.empty())
     line += ", " + std::to_string(c.impostors.size()) + " impostors";
+  if (!c.cloths.empty())
+    line += ", " + std::to_string(c.cloths.size()) + " cloth loops";
   return line;
 }
 

@@ -3,8 +3,8 @@
 # library built through job arrays gives the same pack bytes as the local build; a failing
 # character is recorded by its task and reported by the collect job; --emit-slurm writes
 # scripts without submitting; a stopped cluster is one clear error. Exit 77 (skip) with the
-# reason where the daemons cannot start. The bakes are kept small: under the sanitizers every
-# one of them runs three times.
+# reason where the daemons cannot start. The bakes are kept small: every one of them runs three
+# times (release only: see tests/CMakeLists.txt).
 set -euo pipefail
 bin=$1 work=$2
 here=$(cd "$(dirname "$0")" && pwd)

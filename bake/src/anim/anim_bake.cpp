@@ -59,16 +59,21 @@ std::string AnimBakeOptions::fpsName(double fps) {
   return s;
 }
 
+double millimetresPerUnit(const Character &c, bool *heightIsDiagonal) {
+  const glm::dvec3 extent = restExtent(c);
+  const double diagonal = glm::length(extent);
+  const bool flat = !(extent.y >= 0.1 * diagonal);
+  if (heightIsDiagonal)
+    *heightIsDiagonal = flat;
+  return kReferenceHeightMm / (flat ? diagonal : extent.y);
+}
+
 AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
                              Reporter &reporter) {
   options.validate();
   AnimBakeResult result;
   result.diagonal = restDiagonal(c);
-  // A character's height is its extent along +y; a flat or lying asset (under a tenth of its
-  // diagonal tall) is scaled by its diagonal instead.
-  const double height = restExtent(c).y;
-  result.heightIsDiagonal = !(height >= 0.1 * result.diagonal);
-  result.mmPerUnit = kReferenceHeightMm / (result.heightIsDiagonal ? result.diagonal : height);
+  result.mmPerUnit = millimetresPerUnit(c, &result.heightIsDiagonal);
   result.errorBudgetMm = options.errorBudgetMm;
 
   std::vector<const AnimationClip *> sourceClips;

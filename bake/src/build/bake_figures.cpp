@@ -114,4 +114,45 @@ ordered_json impostorAccuracyFigures(const ImpostorAccuracy &a) {
             {"iou", a.worstIou}}}};
 }
 
+ordered_json clothFigures(const ClothBakeResult &r) {
+  const auto &c = r.chunk;
+  const auto &l = r.loop;
+  const double mm = r.mmPerUnit;
+  ordered_json f;
+  f["outfit"] = c.outfit;
+  f["garment"] = c.garment;
+  f["clip"] = c.clip;
+  f["vertices"] = c.vertexCount();
+  f["fps"] = c.fps;
+  f["start"] = c.cacheStart;
+  f["frames"] = c.frameCount();
+  f["cycles"] = c.cycles;
+  f["acceptable"] = l.acceptable;
+  f["verdict"] = l.verdict;
+  f["position_jump_ratio"] = l.positionRatio;
+  f["velocity_jump_ratio"] = l.velocityRatio;
+  f["best_to_median"] = l.bestToMedian;
+  f["mean_motion_mm"] = l.meanMotion * mm;
+  f["blend_frames"] = c.blendFrames;
+  f["blend_clamped"] = r.blendClamped;
+  f["pushed_out"] = {
+      {"vertices", r.pushedVertices}, {"max_mm", r.pushMaxMm}, {"mean_mm", r.pushMeanMm}};
+  f["bytes"] = c.positions.size() * 2 + c.sourceVertices.size() * 4;
+  f["quantisation"] = {{"max_mm", r.quantMaxMm}, {"mean_mm", r.quantMeanMm}};
+  for (const auto &k : l.candidates)
+    f["candidates"].push_back({{"start", k.seam.start},
+                               {"cycles", k.seam.cycles},
+                               {"frames", k.seam.length},
+                               {"pass1_rank", k.pass1Rank},
+                               {"pass1_distance", k.seam.distance},
+                               {"position_jump_mm", k.seam.positionJump * mm},
+                               {"velocity_jump_mm", k.seam.velocityJump * mm},
+                               {"pass2_edge_px", k.edgeDistance},
+                               {"pass2_edge_px_per_view", k.edgeDistances}});
+  f["pass1_s"] = l.pass1Seconds;
+  f["pass2_s"] = l.pass2Seconds;
+  f["bake_s"] = r.seconds;
+  return f;
+}
+
 } // namespace crowd

@@ -189,6 +189,26 @@ Part impostorJob(const Job &job, const std::vector<const Part *> &, int threads)
   return part;
 }
 
+Part clothJob(const Job &job, const std::vector<const Part *> &, int threads) {
+  const CharacterManifest &m = *job.character;
+  const ClothEntry &e = m.cloth.at(job.cloth);
+  const auto t0 = Clock::now();
+  Reporter reporter;
+  reporter.quiet = true;
+  const Character body = importBody(m, reporter);
+  const Character outfit = importFile(m, outfitFile(m, e.outfit), reporter);
+  ClothBakeOptions opt = e.options;
+  opt.loop.search.threads = opt.loop.edges.threads = threads;
+  const ClothBakeResult r =
+      bakeClothLoop(body, outfit, e.outfit, e.garment, e.clip, e.cache, m.input, opt, reporter);
+  Part part;
+  part.chunks.push_back({pack::kCloth, pack::kClothVersion, pack::encode(r.chunk)});
+  part.figures = clothFigures(r);
+  part.figures["time_s"] = since(t0);
+  part.figures["warnings"] = warnings(reporter);
+  return part;
+}
+
 Part linkJob(const Job &job, const std::vector<const Part *> &deps, int) {
   const CharacterManifest &m = *job.character;
   const std::string ctx = "character '" + m.name + "'";
@@ -203,6 +223,10 @@ Part linkJob(const Job &job, const std::vector<const Part *> &deps, int) {
   for (size_t d = 1; d < deps.size(); ++d) {
     const Part &imp = *deps[d];
     for (const auto &c : imp.chunks) {
+      if (c.type == pack::kCloth) { // a cloth loop goes in as it is
+        part.chunks.push_back(c);
+        continue;
+      }
       pack::Impostor m = pack::decodeImpostor(c.payload, c.version, ctx + ", IMPO");
       if (!m.outfit.empty()) { // re-number regions as the pack's sub-meshes
         if (!table)
@@ -271,6 +295,18 @@ std::vector<Job> planCharacter(std::shared_ptr<const CharacterManifest> characte
       append(j.files, outfitFile(m, outfit));
       j.settings["regions"] = m.outfitOptions.regions;
     }
+    link.deps.push_back(base + jobs.size());
+    jobs.push_back(j);
+  }
+  for (size_t i = 0; i < m.cloth.size(); ++i) {
+    const ClothEntry &e = m.cloth[i];
+    Job j =
+        job("cloth", bodyFiles, {{"clips", m.clips}, {"mesh", m.mesh}, {"cloth", e.canonical()}});
+    append(j.files, outfitFile(m, e.outfit));
+    j.files.push_back(e.cache);
+    j.clip = e.clip;
+    j.outfit = e.outfit;
+    j.cloth = i;
     link.deps.push_back(base + jobs.size());
     jobs.push_back(j);
   }

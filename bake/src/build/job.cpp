@@ -16,12 +16,14 @@ constexpr uint32_t kFigures = pack::fourcc("FIGS"); // a part's figures (JSON), 
 // The job kinds (character_jobs.cpp). A new bake adds its function and one line here.
 Part meshJob(const Job &, const std::vector<const Part *> &, int threads);
 Part impostorJob(const Job &, const std::vector<const Part *> &, int threads);
+Part clothJob(const Job &, const std::vector<const Part *> &, int threads);
 Part linkJob(const Job &, const std::vector<const Part *> &, int threads);
 
 const std::vector<JobKind> &jobKinds() {
   static const std::vector<JobKind> kinds = {
       {"mesh", meshJob},
       {"impostor", impostorJob},
+      {"cloth", clothJob},
       {"link", linkJob},
   };
   return kinds;
@@ -39,6 +41,10 @@ std::string Job::label() const {
   if (kind == "impostor")
     s += " " + (clip.empty() ? std::string("(first clip)") : clip) +
          (outfit.empty() ? "" : "/" + outfit);
+  if (kind == "cloth") {
+    const auto &c = character->cloth.at(cloth);
+    s += " " + c.outfit + "/" + c.garment + " over " + c.clip;
+  }
   return s;
 }
 

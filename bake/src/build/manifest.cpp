@@ -96,7 +96,7 @@ CharacterManifest parse(const JsonChecker &c, const json &j, const Keys &at,
   };
   c.onlyKeys(j, at,
              {"name", "body", "outfits", "clips", "mesh", "anim", "lod", "visibility", "impostor",
-              "comment"});
+              "cloth", "comment"});
   CharacterManifest m;
   m.source = c.path();
   if (!j.contains("name"))
@@ -234,10 +234,65 @@ CharacterManifest parse(const JsonChecker &c, const json &j, const Keys &at,
     }
     validate(c, m.impostor, k);
   }
+  if (j.contains("cloth")) {
+    const json &list = j["cloth"];
+    if (!list.is_array())
+      c.fail(key("cloth"), "expected [{\"outfit\", \"garment\", \"clip\", \"cache\"}, ...]");
+    for (size_t i = 0; i < list.size(); ++i) {
+      Keys k = key("cloth");
+      k.push_back(std::to_string(i));
+      auto at = [&](const std::string &name) {
+        Keys kk = k;
+        kk.push_back(name);
+        return kk;
+      };
+      const json &e = list[i];
+      c.onlyKeys(e, k,
+                 {"outfit", "garment", "clip", "cache", "fps", "blend", "candidates", "views"});
+      for (const char *required : {"outfit", "garment", "clip", "cache"})
+        if (!e.contains(required))
+          c.fail(k, std::string("a cloth loop needs \"") + required + "\"");
+      ClothEntry cl;
+      cl.outfit = c.string(e["outfit"], at("outfit"));
+      cl.garment = c.string(e["garment"], at("garment"));
+      cl.clip = c.string(e["clip"], at("clip"));
+      cl.cache = inputFile(c, e["cache"], at("cache"), policy);
+      if (std::none_of(m.outfits.begin(), m.outfits.end(),
+                       [&](const auto &o) { return o.first == cl.outfit; }))
+        c.fail(at("outfit"), "'" + cl.outfit + "' is not one of the character's outfits");
+      if (!m.clips.empty() && std::find(m.clips.begin(), m.clips.end(), cl.clip) == m.clips.end())
+        c.fail(at("clip"), "clip '" + cl.clip + "' is not among the character's \"clips\"");
+      for (const auto &other : m.cloth)
+        if (other.outfit == cl.outfit && other.garment == cl.garment && other.clip == cl.clip)
+          c.fail(k, "a second loop of garment '" + cl.garment + "' of outfit '" + cl.outfit +
+                        "' over clip '" + cl.clip + "'");
+      auto &o = cl.options;
+      if (e.contains("fps"))
+        o.cache.fps = c.number(e["fps"], at("fps"), 0, 1000);
+      if (e.contains("blend"))
+        o.blend = int(c.number(e["blend"], at("blend"), -1, 100000));
+      if (e.contains("candidates"))
+        o.loop.search.candidates = whole(c, e["candidates"], at("candidates"), 1, 100);
+      if (e.contains("views"))
+        o.loop.edges.views = whole(c, e["views"], at("views"), 1, 64);
+      validate(c, o, k);
+      m.cloth.push_back(std::move(cl));
+    }
+  }
   return m;
 }
 
 } // namespace
+
+nlohmann::ordered_json ClothEntry::canonical() const {
+  return {{"outfit", outfit},
+          {"garment", garment},
+          {"clip", clip},
+          {"fps", options.cache.fps},
+          {"blend", options.blend},
+          {"candidates", options.loop.search.candidates},
+          {"views", options.loop.edges.views}};
+}
 
 nlohmann::ordered_json CharacterManifest::canonical() const {
   nlohmann::ordered_json j;
@@ -283,6 +338,8 @@ nlohmann::ordered_json CharacterManifest::canonical() const {
     if (impostor.measure)
       im["measure"] = true;
   }
+  for (const auto &c : cloth)
+    j["cloth"].push_back(c.canonical());
   return j;
 }
 

@@ -52,12 +52,21 @@ void InputArgs::finish() {
   validated(limits);
 }
 
-void BakeArgs::add(CLI::App &app) {
-  app.add_option("INPUT", input, "the glTF character (.glb or .gltf)")->required();
+void BakeArgs::add(CLI::App &app, const char *inputHelp) {
+  app.add_option("INPUT", input, inputHelp)->required();
   app.add_option("-o,--output", output, "pack to write (written atomically)")->required();
   app.add_option("--report", report, "write the bake's figures as JSON to FILE");
   app.add_flag("-q,--quiet", quiet, "no warnings or progress on stderr");
   files.add(app);
+}
+
+std::pair<std::string, std::string> outfitNameAndFile(const std::string &arg) {
+  if (auto eq = arg.find('='); eq != std::string::npos && eq > 0)
+    return {arg.substr(0, eq), arg.substr(eq + 1)};
+  std::string stem = std::filesystem::path(arg).stem().string();
+  if (stem.rfind("outfit_", 0) == 0 && stem.size() > 7)
+    stem = stem.substr(7);
+  return {stem, arg};
 }
 
 void addAnimOptions(CLI::App &app, AnimBakeOptions &anim) {

@@ -55,7 +55,7 @@ struct BakeArgs {
   std::string input, output, report;
   bool quiet = false;
   InputArgs files;
-  void add(CLI::App &app);
+  void add(CLI::App &app, const char *inputHelp = "the glTF character (.glb or .gltf)");
   bool progress() const; // stderr is a terminal and --quiet is not given
   // After parsing: the one-character manifest of the input (name: its stem; bake settings are
   // the command's to fill), and runs `kind`'s job of it under the resource guard.
@@ -63,6 +63,10 @@ struct BakeArgs {
   void runJob(const CharacterManifest &m, const std::string &command, const std::string &kind,
               int threads) const;
 };
+
+// An --outfit argument, [NAME=]FILE: its name defaults to the file name without extension and
+// without an "outfit_" prefix.
+std::pair<std::string, std::string> outfitNameAndFile(const std::string &arg);
 
 // --error-budget, --fps, --precision and --max-width of the animation bake (anim, lod, outfits).
 void addAnimOptions(CLI::App &app, AnimBakeOptions &anim);

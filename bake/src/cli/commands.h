@@ -12,5 +12,6 @@ int cmdInspect(int argc, char **argv);
 int cmdVerify(int argc, char **argv);
 int cmdExport(int argc, char **argv);
 int cmdPose(int argc, char **argv);
+int cmdCloth(int argc, char **argv);
 
 } // namespace crowd::cli

@@ -34,6 +34,7 @@ commands:
   verify    check every offset, size, checksum and cross-reference of a pack
   export    write a pack's textures as images
   pose      write the mesh as the player draws it at given times (PLY, OBJ, PC2)
+  cloth     a long cloth cache (PC2, MDD) of one garment into a loop in phase with a body clip
 
 Run 'crowdbake <command> --help' for a command's options.
 
@@ -212,6 +213,7 @@ int main(int argc, char **argv) {
         {"verify", cmdVerify},
         {"export", cmdExport},
         {"pose", cmdPose},
+        {"cloth", cmdCloth},
     };
     auto it = commands.find(command);
     if (it == commands.end())

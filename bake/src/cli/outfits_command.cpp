@@ -18,15 +18,6 @@ hidden only if, in every tested frame, rays from points on it over its whole out
 all hit the garments or the body. Alpha-masked or blended garments never hide anything.
 crowdplay draws the pack with an outfit per character (scene file: "outfit").)";
 
-std::pair<std::string, std::string> nameAndFile(const std::string &arg) {
-  if (auto eq = arg.find('='); eq != std::string::npos && eq > 0)
-    return {arg.substr(0, eq), arg.substr(eq + 1)};
-  std::string stem = std::filesystem::path(arg).stem().string();
-  if (stem.rfind("outfit_", 0) == 0 && stem.size() > 7)
-    stem = stem.substr(7);
-  return {stem, arg};
-}
-
 } // namespace
 
 int cmdOutfits(int argc, char **argv) {
@@ -82,7 +73,7 @@ int cmdOutfits(int argc, char **argv) {
   validated(opt);
   CharacterManifest m = b.manifest();
   for (const auto &arg : outfitArgs) {
-    auto [name, file] = nameAndFile(arg);
+    auto [name, file] = outfitNameAndFile(arg);
     for (const auto &o : m.outfits)
       if (o.first == name)
         throw UsageError("two outfits are named '" + name + "' (use --outfit NAME=FILE)");

@@ -10,11 +10,6 @@ namespace crowd {
 
 namespace {
 
-double clipTime(const AnimationClip &clip, uint32_t frame, double fps) {
-  const double duration = clip.end - clip.start, t = frame / fps;
-  return clip.start + (duration > 0 ? std::fmod(t, duration) : 0.0);
-}
-
 // The skeleton's top joint: the first whose node's parent is no joint.
 int topJointNode(const Character &c) {
   for (int node : c.jointNodes)
@@ -25,6 +20,11 @@ int topJointNode(const Character &c) {
 }
 
 } // namespace
+
+double cacheFrameTime(const AnimationClip &clip, uint32_t frame, double fps) {
+  const double duration = clip.end - clip.start, t = frame / fps;
+  return clip.start + (duration > 0 ? std::fmod(t, duration) : 0.0);
+}
 
 void ClothCacheOptions::validate() const {
   if (!std::isfinite(fps) || fps < 0.0 || fps > 1000.0)
@@ -81,16 +81,22 @@ void checkGarment(PointCacheReader &cache, const Character &outfit,
                 "or it starts elsewhere in the clip");
 }
 
-ClothFrames rootFrames(PointCacheReader &cache, const Character &body, const AnimationClip &clip,
+glm::dmat4 toRootFrame(const Character &body, const AnimationClip &clip, uint32_t frame,
                        double fps) {
   const int top = topJointNode(body);
-  return [&cache, &body, &clip, fps, top](uint32_t frame, uint32_t first, uint32_t count,
-                                          std::vector<glm::vec3> &out) {
+  if (top < 0)
+    return glm::dmat4(1.0);
+  return glm::inverse(nodeGlobals(body, &clip, cacheFrameTime(clip, frame, fps))[size_t(top)]);
+}
+
+ClothFrames rootFrames(PointCacheReader &cache, const Character &body, const AnimationClip &clip,
+                       double fps) {
+  return [&cache, &body, &clip, fps](uint32_t frame, uint32_t first, uint32_t count,
+                                     std::vector<glm::vec3> &out) {
     cache.read(frame, first, count, out);
-    if (top < 0)
+    if (body.jointNodes.empty())
       return;
-    const glm::dmat4 toRoot =
-        glm::inverse(nodeGlobals(body, &clip, clipTime(clip, frame, fps))[size_t(top)]);
+    const glm::dmat4 toRoot = toRootFrame(body, clip, frame, fps);
     for (auto &p : out)
       p = glm::vec3(toRoot * glm::dvec4(glm::dvec3(p), 1.0));
   };

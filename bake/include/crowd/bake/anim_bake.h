@@ -39,6 +39,9 @@ struct AnimBakeOptions {
 
 // Millimetre figures are scaled to a character this tall (its rest pose's extent along +y).
 inline constexpr double kReferenceHeightMm = 1800;
+// Model units to those millimetres. A flat or lying asset (under a tenth of its rest diagonal
+// tall) is scaled by its diagonal instead (`heightIsDiagonal` says so).
+double millimetresPerUnit(const Character &c, bool *heightIsDiagonal = nullptr);
 
 // Vertex errors of texture skinning against exact evaluation, in model units.
 struct ClipAccuracy {

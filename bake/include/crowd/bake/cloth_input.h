@@ -36,6 +36,14 @@ void checkGarment(PointCacheReader &cache, const Character &outfit,
                   const std::vector<uint32_t> &garment, const AnimationClip &clip,
                   const ClothCacheOptions &options);
 
+// The clip time of cache frame `frame` at `fps` (frame 0 at the clip's start, wrapping).
+double cacheFrameTime(const AnimationClip &clip, uint32_t frame, double fps);
+
+// Cache frame `frame` (at `fps`, wrapping over the clip) into `body`'s root frame: the inverse of
+// the skeleton's top joint's global transform at that clip time (identity without joints).
+glm::dmat4 toRootFrame(const Character &body, const AnimationClip &clip, uint32_t frame,
+                       double fps);
+
 // Frames of `cache` in `body`'s root frame at `fps`, for searchLoops. Holds references.
 ClothFrames rootFrames(PointCacheReader &cache, const Character &body, const AnimationClip &clip,
                        double fps);

@@ -32,15 +32,16 @@ std::vector<uint8_t> partBytes(const Part &part);
 Part partFromBytes(std::vector<uint8_t> bytes, const std::string &name); // throws on damage
 
 struct Job {
-  std::string kind;                 // "mesh", "impostor", "link": see jobKinds()
+  std::string kind; // "mesh", "impostor", "cloth", "link": see jobKinds()
   std::shared_ptr<const CharacterManifest> character;
-  std::string clip, outfit;         // impostor jobs: the pair they draw
-  std::vector<std::string> files;   // inputs whose bytes the job reads
-  std::vector<FileHash> hashes;     // per file (set by keyJobs)
-  std::vector<size_t> deps;         // jobs whose parts it reads, by index in the plan
-  nlohmann::ordered_json settings;  // canonical: everything besides inputs that shapes the part
-  std::string key;                  // content key (set by keyJobs)
-  std::string label() const;        // "soldier: impostor walk/dress", for people
+  std::string clip, outfit;        // impostor jobs: the pair they draw; cloth jobs: the loop's
+  size_t cloth = 0;                // cloth jobs: the manifest's entry
+  std::vector<std::string> files;  // inputs whose bytes the job reads
+  std::vector<FileHash> hashes;    // per file (set by keyJobs)
+  std::vector<size_t> deps;        // jobs whose parts it reads, by index in the plan
+  nlohmann::ordered_json settings; // canonical: everything besides inputs that shapes the part
+  std::string key;                 // content key (set by keyJobs)
+  std::string label() const;       // "soldier: impostor walk/dress", for people
 };
 
 // Runs a job on its dependencies' parts; `threads` bounds the job's own worker threads.
@@ -52,8 +53,9 @@ struct JobKind {
 const std::vector<JobKind> &jobKinds();
 Part runJob(const Job &job, const std::vector<const Part *> &deps, int threads);
 
-// Every job of a character: its mesh (outfits, LOD, animation), one per impostor pair, and the
-// link that writes its pack (always last). Indices in deps are offset by `base`.
+// Every job of a character: its mesh (outfits, LOD, animation), one per impostor pair, one per
+// cloth loop, and the link that writes its pack (always last). Indices in deps are offset by
+// `base`.
 std::vector<Job> planCharacter(std::shared_ptr<const CharacterManifest> character, size_t base);
 
 // A pack's PROV chunk for a job: the baker version, the command, the job's canonical settings and

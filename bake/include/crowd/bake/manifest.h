@@ -11,11 +11,20 @@
 #include <nlohmann/json.hpp>
 
 #include "crowd/bake/anim_bake.h"
+#include "crowd/bake/cloth_bake.h"
 #include "crowd/bake/impostor_bake.h"
 #include "crowd/bake/lod_bake.h"
 #include "crowd/bake/outfit_bake.h"
 
 namespace crowd {
+
+// A looped garment ("cloth": [...]): a cache of one garment of an outfit over one clip.
+struct ClothEntry {
+  std::string outfit, garment, clip;
+  std::string cache; // PC2 or MDD path, resolved against the manifest's folder
+  ClothBakeOptions options;
+  nlohmann::ordered_json canonical() const; // settings, no path
+};
 
 struct CharacterManifest {
   std::string name;   // names the output pack (NAME.crowdpack in a library build)
@@ -34,6 +43,7 @@ struct CharacterManifest {
   // body, a clip of "" the first.
   std::vector<std::pair<std::string, std::string>> impostorPairs;
   ImpostorOptions impostor;
+  std::vector<ClothEntry> cloth; // each (outfit, garment, clip) at most once
   // Settings in a fixed order, for provenance and cache keys (no paths: they move).
   nlohmann::ordered_json canonical() const;
 };

@@ -1,0 +1,223 @@
+#include "crowd/bake/cloth_bake.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
+#include <CGAL/Simple_cartesian.h>
+
+#include "crowd/bake/anim_bake.h"
+#include "crowd/bake/evaluate.h"
+#include "crowd/formats/error.h"
+
+namespace crowd {
+
+namespace {
+
+using K = CGAL::Simple_cartesian<double>;
+using Triangle = K::Triangle_3;
+using Tree = CGAL::AABB_tree<
+    CGAL::AABB_traits<K, CGAL::AABB_triangle_primitive<K, std::vector<Triangle>::const_iterator>>>;
+
+const AnimationClip &findClip(const Character &body, const std::string &name) {
+  for (const auto &c : body.clips)
+    if (c.name == name)
+      return c;
+  throw unknownName("clip", name, body.clipNames());
+}
+
+// The garment's triangles over the cache's vertices (`garment`: outfit vertex ids, ascending).
+std::vector<uint32_t> cacheIndices(const Character &outfit, const std::string &name,
+                                   const std::vector<uint32_t> &garment) {
+  std::vector<uint32_t> out;
+  for (const auto &part : outfit.mesh.parts)
+    if (part.name == name)
+      for (uint32_t i = part.firstIndex; i < part.firstIndex + part.indexCount; ++i) {
+        const uint32_t v = outfit.mesh.indices[i];
+        out.push_back(
+            uint32_t(std::lower_bound(garment.begin(), garment.end(), v) - garment.begin()));
+      }
+  return out;
+}
+
+// The body skinned at one frame, in the root frame, with each face's outward side (the side
+// its vertex normals point to, as the outfit bake's visibility decides it).
+class PosedBody {
+public:
+  PosedBody(const Character &body, const std::vector<glm::dvec3> &positions) {
+    const auto &idx = body.mesh.indices;
+    for (size_t t = 0; t + 2 < idx.size(); t += 3) {
+      const glm::dvec3 a = positions[idx[t]], b = positions[idx[t + 1]], c = positions[idx[t + 2]];
+      Triangle tri({a.x, a.y, a.z}, {b.x, b.y, b.z}, {c.x, c.y, c.z});
+      if (tri.is_degenerate())
+        continue;
+      const glm::dvec3 n(body.mesh.normals[idx[t]] + body.mesh.normals[idx[t + 1]] +
+                         body.mesh.normals[idx[t + 2]]);
+      const glm::dvec3 restA(body.mesh.positions[idx[t]]), restB(body.mesh.positions[idx[t + 1]]),
+          restC(body.mesh.positions[idx[t + 2]]);
+      outward_.push_back(glm::dot(glm::cross(restB - restA, restC - restA), n) < 0 ? -1.0 : 1.0);
+      soup_.push_back(tri);
+    }
+    tree_.insert(soup_.begin(), soup_.end());
+    tree_.build();
+    tree_.accelerate_distance_queries();
+  }
+  bool empty() const { return soup_.empty(); }
+  // The closest body point to p and the outward unit normal of its face.
+  std::pair<glm::dvec3, glm::dvec3> closest(const glm::dvec3 &p) const {
+    const auto [q, prim] = tree_.closest_point_and_primitive(K::Point_3(p.x, p.y, p.z));
+    const size_t t = size_t(prim - soup_.begin());
+    const auto n = CGAL::normal(soup_[t][0], soup_[t][1], soup_[t][2]);
+    glm::dvec3 nn(n.x(), n.y(), n.z());
+    nn = glm::normalize(nn) * outward_[t];
+    return {glm::dvec3(q.x(), q.y(), q.z()), nn};
+  }
+  bool inside(const glm::dvec3 &p) const {
+    const auto [q, n] = closest(p);
+    return glm::dot(p - q, n) < 0.0;
+  }
+
+private:
+  std::vector<Triangle> soup_;
+  std::vector<double> outward_;
+  Tree tree_;
+};
+
+} // namespace
+
+void ClothBakeOptions::validate() const {
+  cache.validate();
+  ClothLoopOptions l = loop; // the cycle is the clip's, set by the bake: check the rest
+  l.search.cycleFrames = std::max(l.search.cycleFrames, 2.0);
+  l.validate();
+  if (blend < -1 || blend > 100000)
+    throw Error("blend: " + std::to_string(blend) + " is outside -1..100000 (-1: as needed)");
+  if (!(pushMarginMm >= 0.0) || pushMarginMm > 100.0)
+    throw Error("push margin: must be in 0..100 mm");
+}
+
+ClothBakeResult bakeClothLoop(const Character &body, const Character &outfit,
+                              const std::string &outfitName, const std::string &garment,
+                              const std::string &clipName, const std::string &cachePath,
+                              const InputPolicy &policy, const ClothBakeOptions &options,
+                              Reporter &reporter) {
+  options.validate();
+  const auto t0 = std::chrono::steady_clock::now();
+  ClothBakeResult r;
+  const AnimationClip &clip = findClip(body, clipName);
+  if (!(clip.end > clip.start))
+    throw Error("clip '" + clipName + "' has no duration: a cloth loop needs a cycle");
+  const std::vector<uint32_t> garmentIds = garmentVertices(outfit, garment);
+  PointCacheReader cache(cachePath, policy);
+  const double fps = cacheFps(cache, options.cache);
+  checkGarment(cache, outfit, garmentIds, clip, options.cache);
+  const uint32_t n = cache.info().vertexCount;
+  const ClothFrames frames = rootFrames(cache, body, clip, fps);
+  ClothLoopOptions lo = options.loop;
+  lo.search.cycleFrames = (clip.end - clip.start) * fps;
+  r.loop =
+      chooseLoop(cache.info().frameCount, n, frames, cacheIndices(outfit, garment, garmentIds), lo);
+  const LoopCandidate &seam = r.loop.candidates.front().seam;
+  const uint32_t start = seam.start, length = seam.length;
+
+  // Blend only when the verdict rejects the seam.
+  uint32_t blend = 0;
+  if (!r.loop.acceptable) {
+    blend = options.blend < 0 ? r.loop.blendFrames : uint32_t(options.blend);
+    const uint32_t fits = std::min(start, length / 2);
+    if (blend > fits) {
+      r.blendClamped = true;
+      reporter.warn("cloth_blend_clamped", "the cross-fade of " + std::to_string(blend) +
+                                               " frames is cut to " + std::to_string(fits) +
+                                               " (half the loop, or the frames before its start)");
+      blend = fits;
+    }
+    if (blend == 0)
+      reporter.warn("cloth_hard_cut",
+                    "the seam is not acceptable but plays as a hard cut: " + r.loop.verdict);
+  }
+  // x[i]: cache frame start - blend + i; the loop's frame f is x[blend + f].
+  std::vector<std::vector<glm::vec3>> x(blend + length);
+  for (uint32_t i = 0; i < x.size(); ++i)
+    frames(start - blend + i, 0, n, x[i]);
+  std::vector<std::vector<glm::vec3>> loopFrames(x.begin() + blend, x.end());
+  r.mmPerUnit = millimetresPerUnit(body);
+  const double margin = options.pushMarginMm / r.mmPerUnit;
+  for (uint32_t j = 0; j < blend; ++j) {
+    const uint32_t f = length - blend + j;
+    const float w = float(j + 1) / float(blend + 1);
+    auto &out = loopFrames[f];
+    for (uint32_t v = 0; v < n; ++v)
+      out[v] = glm::mix(x[blend + f][v], x[j][v], w);
+    if (body.mesh.indices.empty())
+      continue;
+    const uint32_t cacheFrame = start + f;
+    const glm::dmat4 toRoot = toRootFrame(body, clip, cacheFrame, fps);
+    auto posed = posedPositions(body, &clip, cacheFrameTime(clip, cacheFrame, fps));
+    for (auto &p : posed)
+      p = glm::dvec3(toRoot * glm::dvec4(p, 1.0));
+    const PosedBody b(body, posed);
+    if (b.empty())
+      continue;
+    for (uint32_t v = 0; v < n; ++v) {
+      const glm::dvec3 p(out[v]);
+      if (!b.inside(p) || b.inside(glm::dvec3(x[blend + f][v])))
+        continue; // outside, or already inside before the blend (the simulation's own)
+      const auto [q, normal] = b.closest(p);
+      const glm::dvec3 moved = q + normal * margin;
+      const double mm = glm::length(moved - p) * r.mmPerUnit;
+      out[v] = glm::vec3(moved);
+      ++r.pushedVertices;
+      r.pushMaxMm = std::max(r.pushMaxMm, mm);
+      r.pushMeanMm += mm;
+    }
+  }
+  if (r.pushedVertices)
+    r.pushMeanMm /= r.pushedVertices;
+
+  // Quantise over the loop's box.
+  glm::vec3 lo3(INFINITY), hi3(-INFINITY);
+  for (const auto &frame : loopFrames)
+    for (const auto &p : frame) {
+      lo3 = glm::min(lo3, p);
+      hi3 = glm::max(hi3, p);
+    }
+  pack::ClothLoop &c = r.chunk;
+  c.outfit = outfitName;
+  c.garment = garment;
+  c.clip = clipName;
+  c.fps = float(fps);
+  c.cycles = seam.cycles;
+  c.cacheStart = start;
+  c.blendFrames = blend;
+  c.sourceVertices = garmentIds;
+  for (int k = 0; k < 3; ++k) {
+    c.origin[size_t(k)] = lo3[k];
+    c.step[size_t(k)] = (hi3[k] - lo3[k]) / 65535.0f;
+  }
+  c.positions.reserve(size_t(length) * n * 3);
+  for (const auto &frame : loopFrames)
+    for (const auto &p : frame)
+      for (int k = 0; k < 3; ++k) {
+        const float s = c.step[size_t(k)];
+        const float q = s > 0 ? std::round((p[k] - lo3[k]) / s) : 0.0f;
+        c.positions.push_back(uint16_t(std::clamp(q, 0.0f, 65535.0f)));
+      }
+  double sum = 0.0;
+  for (uint32_t f = 0; f < length; ++f)
+    for (uint32_t v = 0; v < n; ++v) {
+      const auto q = c.position(f, v);
+      const double mm =
+          glm::length(glm::dvec3(q[0], q[1], q[2]) - glm::dvec3(loopFrames[f][v])) * r.mmPerUnit;
+      r.quantMaxMm = std::max(r.quantMaxMm, mm);
+      sum += mm;
+    }
+  r.quantMeanMm = sum / (double(length) * n);
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return r;
+}
+
+} // namespace crowd

@@ -1,0 +1,204 @@
+// The cloth-loop bake end to end on the sample dress: a loose skirt's loop is a hard cut that
+// replays its cache frames within the quantisation step; noise is cross-faded and pushed out
+// of the body; the CLTH chunk round-trips and its damage is a clear error; manifests name loops.
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "crowd/bake/cloth_bake.h"
+#include "crowd/bake/evaluate.h"
+#include "crowd/bake/manifest.h"
+#include "crowd/formats/character_pack.h"
+#include "crowd/formats/container.h"
+#include "crowd/formats/error.h"
+#include "crowd/samples/cloth_caches.h"
+#include "gltf_writer.h"
+#include "sample_character.h"
+
+using namespace crowd;
+
+namespace {
+
+using Frames = std::vector<std::vector<glm::vec3>>;
+
+std::string writeCache(const std::string &name, const Frames &frames) {
+  const auto bytes = encodePointCache(PointCacheFormat::Pc2, frames, 30);
+  const std::string path = test::tempDir("cloth_bake") + "/" + name;
+  std::ofstream(path, std::ios::binary)
+      .write(reinterpret_cast<const char *>(bytes.data()), std::streamsize(bytes.size()));
+  return path;
+}
+
+ClothBakeResult bake(const std::string &cache, ClothBakeOptions o, Reporter &rep) {
+  o.cache.fps = 30;
+  rep.quiet = true;
+  return bakeClothLoop(test::sampleHumanoid(), test::sampleOutfits()[0].character, "dress", "dress",
+                       "walk", cache, {}, o, rep);
+}
+
+// The cache in the body's root frame, as the bake reads it.
+Frames rootFramesOf(const std::string &cache) {
+  PointCacheReader reader(cache, {});
+  const Character &body = test::sampleHumanoid();
+  const ClothFrames frames = rootFrames(reader, body, body.clips[0], 30.0);
+  Frames out(reader.info().frameCount);
+  for (uint32_t f = 0; f < out.size(); ++f)
+    frames(f, 0, reader.info().vertexCount, out[f]);
+  return out;
+}
+
+double largest(const std::array<float, 3> &a) { return std::max({a[0], a[1], a[2]}); }
+
+} // namespace
+
+TEST(ClothBake, ALooseSkirtIsAHardCutThatReplaysItsCacheFrames) {
+  samples::ClothSettings s = samples::cacheSamples()[0].settings; // skirt_walk
+  ASSERT_EQ(s.clip, "walk");
+  s.cycles = 8;
+  const std::string path = writeCache("walk.pc2", samples::simulateDress(s));
+  Reporter rep;
+  const ClothBakeResult r = bake(path, {}, rep);
+  const pack::ClothLoop &c = r.chunk;
+  EXPECT_TRUE(r.loop.acceptable) << r.loop.verdict;
+  EXPECT_EQ(c.blendFrames, 0u);
+  EXPECT_EQ(r.pushedVertices, 0u);
+  EXPECT_EQ(c.vertexCount(), samples::dressVertexCount());
+  const AnimationClip &walk = test::sampleHumanoid().clips[0];
+  EXPECT_NEAR(c.frameCount(), c.cycles * (walk.end - walk.start) * 30.0, 0.5);
+  // Every stored frame is the cache's frame (start + f) within half a quantisation step per axis.
+  const Frames root = rootFramesOf(path);
+  const double halfStep = 0.5 * largest(c.step) * std::sqrt(3.0) * 1.0001;
+  double worst = 0;
+  for (uint32_t f = 0; f < c.frameCount(); ++f)
+    for (uint32_t v = 0; v < c.vertexCount(); ++v) {
+      const auto q = c.position(f, v);
+      worst = std::max(
+          worst, double(glm::length(glm::vec3(q[0], q[1], q[2]) - root[c.cacheStart + f][v])));
+    }
+  EXPECT_LE(worst, halfStep);
+  EXPECT_NEAR(r.quantMaxMm, worst * r.mmPerUnit, 1e-3);
+  EXPECT_LT(r.quantMaxMm, 0.05); // 16 bits over a ~1 m box
+  // The chunk round-trips.
+  const pack::ClothLoop back = pack::decodeClothLoop(pack::encode(c), "test");
+  EXPECT_EQ(back.positions, c.positions);
+  EXPECT_EQ(back.sourceVertices, c.sourceVertices);
+  EXPECT_EQ(back.cycles, c.cycles);
+}
+
+TEST(ClothBake, NoiseIsCrossFadedAndWhatTheBlendPushedIntoTheBodyComesOut) {
+  const std::string path =
+      writeCache("noise.pc2", samples::noiseCache(30 * 4, samples::dressVertexCount()));
+  Reporter rep;
+  const ClothBakeResult r = bake(path, {}, rep);
+  const pack::ClothLoop &c = r.chunk;
+  ASSERT_FALSE(r.loop.acceptable);
+  EXPECT_EQ(c.blendFrames, std::min(r.loop.blendFrames, c.cacheStart));
+  ASSERT_GT(c.blendFrames, 1u);
+  // The last frame now leads into the first: it is the blend of its own frame and the frame
+  // just before the start, weighted K / (K + 1) towards the latter.
+  const Frames root = rootFramesOf(path);
+  const uint32_t last = c.frameCount() - 1, k = c.blendFrames;
+  const float w = float(k) / float(k + 1);
+  size_t checked = 0;
+  for (uint32_t v = 0; v < c.vertexCount(); v += 7) {
+    const glm::vec3 expected = glm::mix(root[c.cacheStart + last][v], root[c.cacheStart - 1][v], w);
+    const auto q = c.position(last, v);
+    const float d = glm::length(glm::vec3(q[0], q[1], q[2]) - expected);
+    if (d < 1e-3f) // not pushed
+      ++checked;
+  }
+  EXPECT_GT(checked, c.vertexCount() / 7 / 2);
+  // Noise jitters vertices through the legs: some blended ones land inside and are pushed out,
+  // by at most the noise's reach plus the margin.
+  EXPECT_GT(r.pushedVertices, 0u);
+  EXPECT_GT(r.pushMaxMm, 0.0);
+  EXPECT_LT(r.pushMaxMm, 200.0);
+
+  ClothBakeOptions hard;
+  hard.blend = 0; // a hard cut always: said, not silent
+  Reporter rep2;
+  const ClothBakeResult cut = bake(path, hard, rep2);
+  EXPECT_EQ(cut.chunk.blendFrames, 0u);
+  ASSERT_FALSE(rep2.warnings().empty());
+  EXPECT_EQ(rep2.warnings()[0].code, "cloth_hard_cut");
+}
+
+TEST(ClothChunk, DamageAndMismatchesAreClearErrors) {
+  pack::ClothLoop c;
+  c.garment = "dress";
+  c.clip = "walk";
+  c.fps = 30;
+  c.cycles = 1;
+  c.sourceVertices = {2, 5};
+  c.positions.assign(2 * 3 * 4, 7); // 4 frames
+  const auto bytes = pack::encode(c);
+  EXPECT_EQ(pack::decodeClothLoop(bytes, "t").frameCount(), 4u);
+  for (size_t cut : {size_t(0), size_t(10), bytes.size() - 1})
+    EXPECT_THROW(pack::decodeClothLoop({bytes.data(), cut}, "t"), Error) << cut;
+  auto bad = c;
+  bad.sourceVertices = {5, 2};
+  EXPECT_THROW(pack::decodeClothLoop(pack::encode(bad), "t"), Error);
+  bad = c;
+  bad.positions.pop_back(); // not whole frames
+  EXPECT_THROW(pack::decodeClothLoop(pack::encode(bad), "t"), Error);
+  bad = c;
+  bad.blendFrames = 4;
+  EXPECT_THROW(pack::decodeClothLoop(pack::encode(bad), "t"), Error);
+  bad = c;
+  bad.fps = NAN;
+  EXPECT_THROW(pack::decodeClothLoop(pack::encode(bad), "t"), Error);
+
+  // In a character pack, the loop's clip and outfit must be the pack's.
+  pack::CharacterPack p;
+  p.body = test::sampleHumanoidLodPack();
+  c.clip = "swim";
+  p.cloths = {c};
+  try {
+    pack::loadCharacterPack(pack::Reader(pack::packBytes(p), "p"));
+    FAIL() << "no error";
+  } catch (const Error &e) {
+    EXPECT_NE(std::string(e.what()).find("'swim' is not a clip of the pack"), std::string::npos)
+        << e.what();
+  }
+  c.clip = "walk";
+  p.cloths = {c};
+  EXPECT_EQ(pack::loadCharacterPack(pack::Reader(pack::packBytes(p), "p")).cloths.size(), 1u);
+  p.cloths = {c, c};
+  EXPECT_THROW(pack::loadCharacterPack(pack::Reader(pack::packBytes(p), "p")), Error);
+}
+
+TEST(ClothManifest, LoopsNameTheirOutfitClipAndCache) {
+  const std::string dir = test::tempDir("cloth_manifest");
+  for (const char *f : {"b.glb", "d.glb", "c.pc2"})
+    std::ofstream(dir + "/" + f) << "x";
+  const std::string head = R"({"name": "n", "body": "b.glb", "outfits": {"dress": "d.glb"}, )";
+  const CharacterManifest m = parseManifest(
+      head + R"("cloth": [{"outfit": "dress", "garment": "g", "clip": "walk", "cache": "c.pc2",
+               "fps": 25, "blend": 4}]})",
+      dir + "/m.json");
+  ASSERT_EQ(m.cloth.size(), 1u);
+  EXPECT_EQ(m.cloth[0].cache, dir + "/c.pc2");
+  EXPECT_EQ(m.cloth[0].options.cache.fps, 25.0);
+  EXPECT_EQ(m.cloth[0].options.blend, 4);
+  EXPECT_EQ(m.canonical()["cloth"][0]["garment"], "g");
+  auto error = [&](const std::string &cloth) {
+    try {
+      parseManifest(head + R"("cloth": )" + cloth + "}", dir + "/m.json");
+    } catch (const Error &e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(error(R"([{"outfit": "cape", "garment": "g", "clip": "walk", "cache": "c.pc2"}])")
+                .find("'cape' is not one of the character's outfits"),
+            std::string::npos);
+  EXPECT_NE(error(R"([{"outfit": "dress", "garment": "g", "clip": "walk"}])")
+                .find("a cloth loop needs \"cache\""),
+            std::string::npos);
+  const std::string one =
+      R"({"outfit": "dress", "garment": "g", "clip": "walk", "cache": "c.pc2"})";
+  EXPECT_NE(error("[" + one + ", " + one + "]").find("a second loop"), std::string::npos);
+  EXPECT_NE(
+      error(R"([{"outfit": "dress", "garment": "g", "clip": "walk", "cache": "/etc/c.pc2"}])"),
+      "no error");
+}
