@@ -4,6 +4,9 @@
 // skin-weight texture, per-instance data from one buffer indexed by the instance's id (an instanced attribute).
 // An instance changing clip crossfades: both clips' joints blend as dual quaternions
 // (blendJoints in runtime/src/texture_skinning.cpp).
+// A garment with a cloth loop plays the loop's frames instead of its skinning: rigidly on the
+// top joint, the loop frame following the body clip's phase (runtime/src/cloth_playback.cpp is
+// the CPU mirror); its normal comes from the screen-space derivatives (v_facet).
 
 layout(location = 0) in vec3 a_position;
 layout(location = 1) in vec3 a_normal;
@@ -27,6 +30,16 @@ layout(std430, binding = 2) readonly buffer Palettes { vec4 colours[]; };
 layout(std430, binding = 3) readonly buffer MorphSlots { ivec4 morphSlots[]; };
 layout(std430, binding = 4) readonly buffer MorphOffsets { vec4 morphOffsets[]; };
 const int kMorphSlots = 8; // pack::kMorphSlots
+// Cloth loops (runtime::ClothBuffers): per mesh vertex its garment and loop vertex (-1: none),
+// per (garment, clip) a loop, per vertex-frame a 16-bit position (x | y << 16, z).
+struct ClothLoop {
+  ivec4 shape; // first vertex-frame, vertices, frames (0: none), cycles
+  vec4 origin;  // xyz; w: the loop's start in clip cycles
+  vec4 spacing; // xyz: the quantisation step; w: cache frames per clip cycle
+};
+layout(std430, binding = 5) readonly buffer ClothVertices { ivec2 clothVertices[]; };
+layout(std430, binding = 6) readonly buffer ClothLoops { ClothLoop clothLoops[]; };
+layout(std430, binding = 7) readonly buffer ClothPositions { uvec2 clothPositions[]; };
 
 uniform mat4 u_viewProjection;
 uniform float u_time;
@@ -37,6 +50,10 @@ uniform int u_skinWidth;
 uniform int u_subMesh;
 uniform int u_subMeshCount;
 uniform bool u_morphs; // the pack has morph targets
+uniform bool u_cloth;  // the pack has cloth loops
+uniform int u_clothClips; // the pack's clips (the loop table's stride)
+uniform int u_rootJoint;
+uniform mat4 u_rootBind; // the top joint's bind matrix
 // Naive path: one draw per instance, its data in uniforms instead of the buffer.
 uniform bool u_naive;
 uniform vec4 u_rows[3];
@@ -45,6 +62,8 @@ uniform vec4 u_params[2]; // an Instance's params and fade
 out vec3 v_normal;
 out vec4 v_colour; // A: how much the diffuse texture applies
 out vec2 v_uv;
+out vec3 v_world;
+out float v_facet; // 1: a cloth vertex, shaded by its face's normal
 
 ivec2 texelOf(int frame, int joint, int texel) {
   int tpj = u_encoding == 0 ? 3 : 2;
@@ -170,6 +189,43 @@ void addMorphs(ClipTime t, float factor, inout vec3 p, inout vec3 n) {
   addMorphs(t.f1, factor * t.alpha, p, n);
 }
 
+// Cloth loop vertex `v`'s bind-pose position at the instance's clip time (clipIndex, offset,
+// speed), if its garment has a loop over that clip (loopTimeAt, clothBindPosition).
+bool clothAt(float clipIndex, float offset, float speed, ivec2 v, out vec3 bindPosition) {
+  ClothLoop loop = clothLoops[v.x * u_clothClips + int(clipIndex)];
+  if (loop.shape.z == 0) return false;
+  vec4 clip = clips[int(clipIndex)];
+  float last = clip.y - 1.0;
+  float u = last > 0.0 ? (u_time * speed + offset) * clip.x / last : 0.0;
+  if (clip.w < 0.5) u = clamp(u, 0.0, 1.0);
+  float cycles = float(loop.shape.w);
+  float phase = u - loop.origin.w;
+  phase -= cycles * floor(phase / cycles);
+  float f = phase * loop.spacing.w;
+  float whole = floor(f);
+  int f0 = int(whole) % loop.shape.z;
+  int f1 = (f0 + 1) % loop.shape.z;
+  uvec2 a = clothPositions[loop.shape.x + f0 * loop.shape.y + v.y];
+  uvec2 b = clothPositions[loop.shape.x + f1 * loop.shape.y + v.y];
+  vec3 qa = loop.origin.xyz + vec3(float(a.x & 0xffffu), float(a.x >> 16), float(a.y)) * loop.spacing.xyz;
+  vec3 qb = loop.origin.xyz + vec3(float(b.x & 0xffffu), float(b.x >> 16), float(b.y)) * loop.spacing.xyz;
+  bindPosition = (u_rootBind * vec4(mix(qa, qb, f - whole), 1.0)).xyz;
+  return true;
+}
+
+// A garment vertex at one clip time: its loop's position on the top joint, or its skinning.
+vec3 clothOrSkinned(ClipTime t, float clipIndex, float offset, float speed, ivec2 v, vec4 ids,
+                    vec4 weights) {
+  vec3 q;
+  if (clothAt(clipIndex, offset, speed, v, q))
+    return vec4(q, 1.0) * jointRows(t.f0, t.f1, t.alpha, u_rootJoint);
+  vec3 skinned = vec3(0);
+  for (int k = 0; k < 4; ++k)
+    if (weights[k] != 0.0)
+      skinned += weights[k] * (vec4(a_position, 1.0) * jointRows(t.f0, t.f1, t.alpha, int(ids[k])));
+  return skinned;
+}
+
 void main() {
   vec4 rows[3];
   vec4 params, fade;
@@ -199,7 +255,14 @@ void main() {
   }
   vec4 p = vec4(bindPosition, 1.0);
   vec3 skinned = vec3(0), normal = vec3(0);
-  for (int k = 0; k < 4; ++k) {
+  ivec2 cloth = u_cloth ? clothVertices[gl_VertexID] : ivec2(-1);
+  v_facet = cloth.x >= 0 ? 1.0 : 0.0;
+  if (cloth.x >= 0) { // a garment that may have a loop over the clip: mixed by position in a fade
+    skinned = clothOrSkinned(now, params.x, params.y, params.z, cloth, ids, weights);
+    if (weight < 1.0)
+      skinned = mix(clothOrSkinned(before, max(fade.x, 0.0), fade.y, params.z, cloth, ids, weights),
+                    skinned, weight);
+  } else for (int k = 0; k < 4; ++k) {
     if (weights[k] == 0.0) continue;
     mat3x4 m = weight < 1.0
         ? rowsOf(mixRigid(jointRigid(before.f0, before.f1, before.alpha, int(ids[k])),
@@ -210,6 +273,7 @@ void main() {
   }
   vec3 world = vec3(dot(rows[0], vec4(skinned, 1)), dot(rows[1], vec4(skinned, 1)), dot(rows[2], vec4(skinned, 1)));
   v_normal = vec3(dot(rows[0].xyz, normal), dot(rows[1].xyz, normal), dot(rows[2].xyz, normal));
+  v_world = world;
   v_uv = a_uv;
   v_colour = colours[int(params.w) * u_subMeshCount + u_subMesh];
   gl_Position = u_viewProjection * vec4(world, 1.0);

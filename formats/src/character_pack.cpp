@@ -49,6 +49,7 @@ CharacterPack loadCharacterPack(const Reader &reader) {
     } else if (c.type == kCloth) {
       ClothLoop m = decodeClothLoop(reader.payload(c), ctx);
       checkClipAndOutfit(p.body, m.clip, m.outfit, ctx);
+      clothVertexOf(p.body, m, ctx); // every loop vertex is a vertex of the mesh
       for (const auto &o : p.cloths)
         if (o.outfit == m.outfit && o.garment == m.garment && o.clip == m.clip)
           throw Error(ctx + ": a second loop of garment '" + m.garment + "' of outfit '" +

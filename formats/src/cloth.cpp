@@ -1,14 +1,17 @@
 #include "crowd/formats/cloth.h"
 
+#include <algorithm>
 #include <cmath>
+#include <map>
 
 #include "crowd/formats/bytes.h"
+#include "crowd/formats/error.h"
 #include "crowd/formats/limits.h"
 
 namespace crowd::pack {
 
 uint32_t ClothLoop::frameCount() const {
-  return sourceVertices.empty() ? 0 : uint32_t(positions.size() / (3 * sourceVertices.size()));
+  return vertexCount() == 0 ? 0 : uint32_t(positions.size() / (3 * size_t(vertexCount())));
 }
 
 std::array<float, 3> ClothLoop::position(uint32_t frame, uint32_t vertex) const {
@@ -30,7 +33,7 @@ std::vector<uint8_t> encode(const ClothLoop &c) {
     w.put<float>(c.origin[size_t(k)]);
   for (int k = 0; k < 3; ++k)
     w.put<float>(c.step[size_t(k)]);
-  w.putArray(c.sourceVertices);
+  w.putArray(encode(c.sources));
   w.putArray(c.positions);
   return w.take();
 }
@@ -57,22 +60,56 @@ ClothLoop decodeClothLoop(std::span<const uint8_t> bytes, const std::string &con
       if (!std::isfinite(x))
         r.fail("box", "a value is not finite");
     }
-  c.sourceVertices = r.getArray<uint32_t>("source vertices", limits::kVertices);
-  if (c.sourceVertices.empty())
-    r.fail("source vertices", "a garment without vertices");
-  for (size_t i = 1; i < c.sourceVertices.size(); ++i)
-    if (c.sourceVertices[i] <= c.sourceVertices[i - 1])
-      r.fail("source vertices", "not ascending");
+  c.sources = decodeSourceMap(r.getArray<uint8_t>("sources", limits::kChunkElements),
+                              context + ", sources");
+  const uint64_t n = c.sources.vertexCount();
+  if (n == 0 || n > limits::kVertices)
+    r.fail("sources", std::to_string(n) + " vertices: out of range");
+  const auto expanded = c.sources.expand();
+  if (std::any_of(expanded.begin(), expanded.end(),
+                  [](const VertexSource &s) { return s.vertex < 0 || s.file != 0; }))
+    r.fail("sources", "a vertex without a source in the outfit's file");
   c.positions = r.getArray<uint16_t>("positions", limits::kChunkElements);
-  const uint64_t perFrame = 3 * uint64_t(c.sourceVertices.size());
-  if (c.positions.empty() || c.positions.size() % perFrame != 0)
-    r.fail("positions",
-           "not whole frames of " + std::to_string(c.sourceVertices.size()) + " vertices");
+  if (c.positions.empty() || c.positions.size() % (3 * n) != 0)
+    r.fail("positions", "not whole frames of " + std::to_string(n) + " vertices");
   if (c.frameCount() > limits::kCacheFrames || c.blendFrames >= c.frameCount())
     r.fail("positions", std::to_string(c.frameCount()) + " frames, blend " +
                             std::to_string(c.blendFrames) + ": out of range");
   r.expectEnd();
   return c;
+}
+
+std::vector<int32_t> clothVertexOf(const AnimationPack &body, const ClothLoop &loop,
+                                   const std::string &context) {
+  if (!body.sources || !body.outfits)
+    throw Error(context + ": the pack has no " + (body.sources ? "outfit table" : "vertex sources") +
+                " to place the loop's vertices with");
+  const auto &outfits = body.outfits->outfits;
+  const auto it = std::find_if(outfits.begin(), outfits.end(),
+                               [&](const Outfits::Outfit &o) { return o.name == loop.outfit; });
+  if (it == outfits.end())
+    throw Error(context + ": outfit '" + loop.outfit + "' is not in the pack's outfit table");
+  const int32_t file = int32_t(it - outfits.begin()) + 1;
+  std::map<VertexSource, int32_t> index;
+  int32_t k = 0;
+  for (VertexSource s : loop.sources.expand()) {
+    s.file = file;
+    index.emplace(s, k++);
+  }
+  std::vector<int32_t> of;
+  std::vector<bool> placed(size_t(k), false);
+  for (const VertexSource &s : body.sources->expand()) {
+    const auto found = index.find(s);
+    of.push_back(found == index.end() ? -1 : found->second);
+    if (found != index.end())
+      placed[size_t(found->second)] = true;
+  }
+  const auto missing = std::count(placed.begin(), placed.end(), false);
+  if (missing > 0)
+    throw Error(context + ": " + std::to_string(missing) + " of the loop's " + std::to_string(k) +
+                " vertices are not in the mesh (a loop of another outfit file, or of another "
+                "garment)");
+  return of;
 }
 
 } // namespace crowd::pack

@@ -8,6 +8,7 @@ CharacterTypes characterTypes(Scene &scene, const std::vector<pack::CharacterPac
   for (const auto &p : packs) {
     t.packs.push_back(&p.body);
     t.impostors.push_back(nullptr);
+    t.cloths.push_back(p.cloths);
   }
   for (size_t k = 0; k < packs.size(); ++k) {
     if (k < sceneImpostors.size() && sceneImpostors[k]) {
@@ -26,6 +27,7 @@ CharacterTypes characterTypes(Scene &scene, const std::vector<pack::CharacterPac
       typeOf.push_back(uint32_t(t.packs.size()));
       t.packs.push_back(&p.body);
       t.impostors.push_back(&p.impostors[i]);
+      t.cloths.push_back(p.cloths);
       scene.packNames.push_back(scene.packNames[k] + " (" + p.impostors[i].clip +
                                 (p.impostors[i].outfit.empty() ? "" : "/" + p.impostors[i].outfit) +
                                 ")");

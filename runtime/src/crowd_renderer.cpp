@@ -60,8 +60,10 @@ struct CrowdRenderer::Character {
   const pack::AnimationPack *pack = nullptr;
   const pack::Impostor *impostor = nullptr;
   // Mesh, normals, indices of every LOD level, clips, instances, palettes, UVs, geometry ids
-  // (sorted by level), impostor ids, views, draw commands, morph slots and offsets.
-  unsigned vao = 0, buffers[13] = {}, textures[5] = {};
+  // (sorted by level), impostor ids, views, draw commands, morph slots and offsets, cloth
+  // vertices, loops and positions.
+  unsigned vao = 0, buffers[16] = {}, textures[5] = {};
+  ClothBuffers cloth;
   // Per instance: 3 rows, params (clip, time offset, speed, palette) and fade (clip faded from
   // or -1, its time offset, fade start, fade length): kInstanceFloats floats.
   std::vector<float> instanceData;
@@ -80,7 +82,7 @@ struct CrowdRenderer::Character {
 
   ~Character() {
     glDeleteVertexArrays(1, &vao);
-    glDeleteBuffers(13, buffers);
+    glDeleteBuffers(16, buffers);
     glDeleteTextures(5, textures);
   }
 };
@@ -172,7 +174,7 @@ void checkTexturesFit(const pack::AnimationPack &p, const pack::Impostor *m,
 
 CrowdRenderer::CrowdRenderer(const std::vector<const pack::AnimationPack *> &packs,
                              const std::vector<const pack::Impostor *> &impostors,
-                             const Scene &scene)
+                             const Scene &scene, const std::vector<ClothLoops> &cloths)
     : scene_(scene), schedule_(scene_), light_(scene.lightDirection) {
   program_ = buildProgram(kCrowdVert, kCrowdFrag, "crowd");
   impostorProgram_ = buildProgram(kImpostorVert, kImpostorFrag, "impostor");
@@ -183,7 +185,14 @@ CrowdRenderer::CrowdRenderer(const std::vector<const pack::AnimationPack *> &pac
     c->pack = &p;
     c->impostor = pi < impostors.size() ? impostors[pi] : nullptr;
     checkTexturesFit(p, c->impostor, scene.packNames[pi]);
-    selection_.addCharacter(p, c->impostor);
+    if (pi < cloths.size()) {
+      try {
+        c->cloth = clothBuffers(p, cloths[pi]);
+      } catch (const Error &e) {
+        throw Error("pack '" + scene.packNames[pi] + "': " + e.what());
+      }
+    }
+    selection_.addCharacter(p, c->impostor, c->cloth.empty() ? nullptr : &c->cloth.sphere);
     // Clip of each scene clip name in this pack ("" = the first clip).
     std::vector<uint32_t> &clipOf = c->clipOf;
     for (const auto &name : scene.clipNames) {
@@ -266,7 +275,7 @@ CrowdRenderer::CrowdRenderer(const std::vector<const pack::AnimationPack *> &pac
       indices.insert(indices.end(), level.begin(), level.end());
     }
     glCreateVertexArrays(1, &c->vao);
-    glCreateBuffers(13, c->buffers);
+    glCreateBuffers(16, c->buffers);
     auto upload = [](unsigned b, const auto &v) {
       glNamedBufferStorage(b, GLsizeiptr(v.size() * sizeof(v[0])), v.data(), 0);
     };
@@ -281,6 +290,15 @@ CrowdRenderer::CrowdRenderer(const std::vector<const pack::AnimationPack *> &pac
     upload(c->buffers[5], colours);
     upload(c->buffers[11], morphSlotWords(p.morphs ? &*p.morphs : nullptr));
     upload(c->buffers[12], p.morphs ? p.morphs->offsets : std::vector<float>(8, 0.0f));
+    if (c->cloth.empty()) { // unread, but bound
+      upload(c->buffers[13], std::vector<int32_t>(2, -1));
+      upload(c->buffers[14], std::vector<GpuClothLoop>(1));
+      upload(c->buffers[15], std::vector<uint32_t>(2, 0));
+    } else {
+      upload(c->buffers[13], c->cloth.vertices);
+      upload(c->buffers[14], c->cloth.loops);
+      upload(c->buffers[15], c->cloth.positions);
+    }
     // Which instances draw as geometry, and which as impostors: rewritten every frame.
     const size_t queued =
         std::max(c->queues[0].capacity(c->instanceCount), c->queues[1].capacity(c->instanceCount));
@@ -446,6 +464,13 @@ DrawStats CrowdRenderer::draw(const FrameView &view, float seconds, const DrawOp
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, c->buffers[11]);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, c->buffers[12]);
     glUniform1i(loc("u_morphs"), p.morphs ? 1 : 0);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, c->buffers[13]);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, c->buffers[14]);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, c->buffers[15]);
+    glUniform1i(loc("u_cloth"), c->cloth.empty() ? 0 : 1);
+    glUniform1i(loc("u_clothClips"), int(c->cloth.clips));
+    glUniform1i(loc("u_rootJoint"), int(c->cloth.rootJoint));
+    glUniformMatrix4fv(loc("u_rootBind"), 1, GL_FALSE, glm::value_ptr(c->cloth.rootBind));
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, c->buffers[10]);
     size_t command = 0;
     for (size_t s = 0; s < subMeshes; ++s) {

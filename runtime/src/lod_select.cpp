@@ -149,9 +149,10 @@ uint64_t chooseLevels(std::span<Visible> visible, std::span<const LodLevels> lad
   return total;
 }
 
-void CrowdSelection::addCharacter(const pack::AnimationPack &pack, const pack::Impostor *impostor) {
+void CrowdSelection::addCharacter(const pack::AnimationPack &pack, const pack::Impostor *impostor,
+                                  const std::array<float, 4> *sphere) {
   Character c;
-  const auto &b = pack.mesh.boundingSphere;
+  const auto &b = sphere ? *sphere : pack.mesh.boundingSphere;
   c.radius = b[3];
   c.boundLocal = {b[0], b[1], b[2]};
   c.impostor = impostor;

@@ -20,8 +20,9 @@ template <class List, class Name> std::vector<std::string> names(const List &lis
 
 } // namespace
 
-PoseMesh poseMesh(const pack::AnimationPack &pack, const PoseOptions &o) {
+PoseMesh poseMesh(const pack::AnimationPack &pack, const PoseOptions &o, ClothLoops cloths) {
   PoseMesh m;
+  m.cloth = clothBuffers(pack, cloths);
   if (!o.clip.empty() || !pack.clips.empty()) {
     auto it = o.clip.empty() ? pack.clips.begin()
                              : std::find_if(pack.clips.begin(), pack.clips.end(),
@@ -83,6 +84,8 @@ void poseAt(const pack::AnimationPack &pack, const PoseMesh &mesh, float seconds
   float alpha = 0;
   if (mesh.clip)
     frameAt(*mesh.clip, seconds, frame, alpha);
+  const auto clip = mesh.clip ? uint32_t(mesh.clip - pack.clips.data()) : 0;
+  std::vector<uint8_t> looped(mesh.vertices.size(), 0);
   for (size_t k = 0; k < mesh.vertices.size(); ++k) {
     const uint32_t v = mesh.vertices[k];
     const glm::vec3 position(p[3 * v], p[3 * v + 1], p[3 * v + 2]);
@@ -94,6 +97,10 @@ void poseAt(const pack::AnimationPack &pack, const PoseMesh &mesh, float seconds
       normals[k] = normal;
       continue;
     }
+    if (clothVertexAt(pack, mesh.cloth, clip, seconds, v, positions[k])) {
+      looped[k] = 1;
+      continue;
+    }
     SkinnedVertex bind{position, normal};
     if (pack.morphs)
       bind = morphVertex(*pack.morphs, {mesh.clip, frame, alpha}, v, bind);
@@ -101,6 +108,18 @@ void poseAt(const pack::AnimationPack &pack, const PoseMesh &mesh, float seconds
                               bind.normal);
     positions[k] = s.position;
     normals[k] = s.normal;
+  }
+  if (std::find(looped.begin(), looped.end(), 1) == looped.end())
+    return;
+  for (size_t k = 0; k < looped.size(); ++k)
+    if (looped[k])
+      normals[k] = glm::vec3(0.0f);
+  for (size_t i = 0; i + 2 < mesh.indices.size(); i += 3) {
+    const uint32_t a = mesh.indices[i], b = mesh.indices[i + 1], c = mesh.indices[i + 2];
+    const glm::vec3 face = glm::cross(positions[b] - positions[a], positions[c] - positions[a]);
+    for (uint32_t k : {a, b, c})
+      if (looped[k])
+        normals[k] += face;
   }
 }
 

@@ -17,11 +17,17 @@
 
 #include "../unit/gltf_writer.h"
 #include "crowd/bake/anim_bake.h"
+#include "crowd/bake/cloth_bake.h"
 #include "crowd/bake/evaluate.h"
 #include "crowd/bake/fade_accuracy.h"
 #include "crowd/bake/import.h"
+#include "crowd/bake/outfit_bake.h"
+#include "crowd/bake/point_cache.h"
 #include "crowd/runtime/clip_switch.h"
+#include "crowd/runtime/cloth_playback.h"
+#include "crowd/runtime/pose.h"
 #include "crowd/runtime/texture_skinning.h"
+#include "crowd/samples/cloth_caches.h"
 #include "crowd/samples/samples.h"
 #include "crowd_shaders.h"
 
@@ -34,17 +40,23 @@ struct Baked {
   AnimBakeResult result;
 };
 
+// The samples (crowdbake samples), written once.
+const std::string &sampleDir() {
+  static const std::string dir = [] {
+    std::string d = test::tempDir("gpu_skinning");
+    samples::writeSamples(d);
+    return d;
+  }();
+  return dir;
+}
+
 // The sample humanoid (walk, run, idle) at a precision; "auto" is the default bake.
 const Baked &humanoid(const std::string &precision) {
   static std::map<std::string, Baked> baked;
   auto it = baked.find(precision);
   if (it != baked.end())
     return it->second;
-  static const std::string dir = [] {
-    std::string d = test::tempDir("gpu_skinning");
-    samples::writeSamples(d);
-    return d;
-  }();
+  const std::string &dir = sampleDir();
   Reporter rep;
   rep.quiet = true;
   Baked b{importGltf(dir + "/humanoid.glb", {}, rep), {}};
@@ -87,7 +99,8 @@ GLFWwindow *Gl::window_ = nullptr;
 // faded from or -1, its time offset, fade start, fade length) at scene time `seconds`: the
 // shader's skinned positions.
 std::vector<glm::vec3> shaderPositions(const pack::AnimationPack &p, glm::vec4 params,
-                                       glm::vec4 fade, float seconds) {
+                                       glm::vec4 fade, float seconds,
+                                       const runtime::ClothBuffers &cloth = {}) {
   unsigned vs = glCreateShader(GL_VERTEX_SHADER);
   glShaderSource(vs, 1, &kCrowdVert, nullptr);
   glCompileShader(vs);
@@ -102,7 +115,7 @@ std::vector<glm::vec3> shaderPositions(const pack::AnimationPack &p, glm::vec4 p
 
   const auto &t = p.animation;
   const bool half = t.format == pack::TexelFormat::RGBA16F;
-  unsigned textures[2], buffers[8], vao;
+  unsigned textures[2], buffers[11], vao;
   glCreateTextures(GL_TEXTURE_2D, 2, textures);
   glTextureStorage2D(textures[0], 1, half ? GL_RGBA16F : GL_RGBA32F, GLsizei(t.width),
                      GLsizei(t.height));
@@ -117,7 +130,15 @@ std::vector<glm::vec3> shaderPositions(const pack::AnimationPack &p, glm::vec4 p
                  {cl.fps, float(cl.frameCount), float(cl.firstFrame), cl.loop ? 1.0f : 0.0f});
   const size_t n = p.mesh.positions.size() / 3;
   const float colour[4] = {1, 1, 1, 0};
-  glCreateBuffers(8, buffers);
+  glCreateBuffers(11, buffers);
+  const auto clothVertices = cloth.empty() ? std::vector<int32_t>(2, -1) : cloth.vertices;
+  const auto clothLoops = cloth.empty() ? std::vector<runtime::GpuClothLoop>(1) : cloth.loops;
+  const auto clothPositions = cloth.empty() ? std::vector<uint32_t>(2, 0) : cloth.positions;
+  glNamedBufferStorage(buffers[8], GLsizeiptr(clothVertices.size() * 4), clothVertices.data(), 0);
+  glNamedBufferStorage(buffers[9], GLsizeiptr(clothLoops.size() * sizeof(clothLoops[0])),
+                       clothLoops.data(), 0);
+  glNamedBufferStorage(buffers[10], GLsizeiptr(clothPositions.size() * 4), clothPositions.data(),
+                       0);
   const auto slots = runtime::morphSlotWords(p.morphs ? &*p.morphs : nullptr);
   const auto offsets = p.morphs ? p.morphs->offsets : std::vector<float>(8, 0.0f);
   glNamedBufferStorage(buffers[6], GLsizeiptr(slots.size() * 4), slots.data(), 0);
@@ -159,6 +180,12 @@ std::vector<glm::vec3> shaderPositions(const pack::AnimationPack &p, glm::vec4 p
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, buffers[6]);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, buffers[7]);
   glUniform1i(loc("u_morphs"), p.morphs ? 1 : 0);
+  for (unsigned b = 0; b < 3; ++b)
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5 + b, buffers[8 + b]);
+  glUniform1i(loc("u_cloth"), cloth.empty() ? 0 : 1);
+  glUniform1i(loc("u_clothClips"), int(cloth.clips));
+  glUniform1i(loc("u_rootJoint"), int(cloth.rootJoint));
+  glUniformMatrix4fv(loc("u_rootBind"), 1, GL_FALSE, &cloth.rootBind[0][0]);
   glBindBufferBase(GL_TRANSFORM_FEEDBACK_BUFFER, 0, buffers[4]);
   glBindVertexArray(vao);
   glEnable(GL_RASTERIZER_DISCARD);
@@ -170,7 +197,7 @@ std::vector<glm::vec3> shaderPositions(const pack::AnimationPack &p, glm::vec4 p
   glGetNamedBufferSubData(buffers[4], 0, GLsizeiptr(n * 16), out.data());
   EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
   glDeleteVertexArrays(1, &vao);
-  glDeleteBuffers(8, buffers);
+  glDeleteBuffers(11, buffers);
   glDeleteTextures(2, textures);
   glDeleteProgram(program);
   glDeleteShader(vs);
@@ -315,4 +342,111 @@ TEST_F(Gl, MorphsMatchTheCpuMirror) {
     EXPECT_LT(e.max * r.mmPerUnit, 0.01);
     EXPECT_GT(moved, 0.01 * r.diagonal);
   }
+}
+
+// Cloth loops through the shader: the sample dress on the humanoid, its walk loop baked from the
+// sample skirt_walk.pc2 (crowdbake cloth). At the clip time of each cache frame the loop replays,
+// the shader must put every garment vertex where the cache has it (the exact reference: what
+// the loop stored in 16 bits, carried by the top joint's baked transform), and at any time
+// (between frames, across the seam, a whole loop later, in a fade to a clip without a loop)
+// where its CPU mirror (runtime/cloth_playback.cpp) does.
+TEST_F(Gl, ClothLoopsReplayTheirCacheInPhaseWithTheBody) {
+  Reporter rep;
+  rep.quiet = true;
+  const std::string &dir = sampleDir();
+  const Character body = importGltf(dir + "/humanoid.glb", {}, rep);
+  const OutfitInput dress{"dress", importGltf(dir + "/outfit_dress.glb", {}, rep)};
+  const AnimBakeResult baked =
+      bakeAnimation(dressCharacter(body, dress, "material", rep), AnimBakeOptions{}, rep);
+  pack::AnimationPack p = baked.pack;
+  // One outfit drawing every sub-mesh: the visibility bake is not what this tests.
+  pack::Outfits table;
+  table.bodySubMeshes = uint32_t(p.mesh.subMeshes.size());
+  table.outfits.push_back({"dress", {}, {}});
+  for (uint32_t s = 0; s < table.bodySubMeshes; ++s) {
+    table.outfits[0].coverage.push_back(pack::Coverage::Visible);
+    table.outfits[0].subMeshes.push_back(s);
+  }
+  p.outfits = table;
+  ClothBakeOptions options;
+  options.cache.fps = 30;
+  const std::string cachePath = dir + "/skirt_walk.pc2";
+  samples::writeClothCaches(dir);
+  const ClothBakeResult loop =
+      bakeClothLoop(body, dress.character, "dress", "dress", "walk", cachePath, {}, options, rep);
+  const pack::ClothLoop &chunk = loop.chunk;
+  const runtime::ClothBuffers cloth = runtime::clothBuffers(p, std::span(&chunk, 1));
+  ASSERT_EQ(p.clips[0].name, "walk");
+  ASSERT_EQ(p.clips[2].name, "idle");
+  const runtime::GpuClothLoop &walkLoop = cloth.loops[0];
+  ASSERT_EQ(uint32_t(walkLoop.frames), chunk.frameCount());
+  EXPECT_EQ(cloth.loops[2].frames, 0); // no idle loop
+  const size_t n = p.mesh.positions.size() / 3;
+  size_t clothed = 0;
+  for (size_t v = 0; v < n; ++v)
+    clothed += cloth.vertices[2 * v] >= 0;
+  EXPECT_EQ(clothed, chunk.vertexCount());
+
+  // The CPU mirror of a vertex at a clip time of clip `ci`.
+  auto mirror = [&](uint32_t ci, float clipSeconds, size_t v) {
+    glm::vec3 q;
+    if (runtime::clothVertexAt(p, cloth, ci, clipSeconds, uint32_t(v), q))
+      return q;
+    const auto at = runtime::clipTimeAt(p.clips[ci], clipSeconds);
+    const glm::vec3 bind(p.mesh.positions[3 * v], p.mesh.positions[3 * v + 1],
+                         p.mesh.positions[3 * v + 2]);
+    return runtime::skinVertex(p.animation, p.skin, p.clips[ci], at.frame, at.alpha, uint32_t(v),
+                               bind);
+  };
+
+  Errors toMirror, toCache;
+  PointCacheReader cache(cachePath, {});
+  std::vector<glm::vec3> raw;
+  const uint32_t frames = chunk.frameCount(), start = chunk.cacheStart;
+  const float loopSeconds = float(chunk.cycles) * float(p.clips[0].frameCount - 1) / p.clips[0].fps;
+  for (uint32_t f : {0u, 1u, frames / 2, frames - 1}) {
+    const float seconds = float(start + f) / 30.0f;
+    const auto gpu = shaderPositions(p, {0, 0, 1, 0}, {-1, 0, 0, 0}, seconds, cloth);
+    cache.readFrame(start + f, raw);
+    for (size_t v = 0; v < n; ++v) {
+      toMirror.add(glm::length(gpu[v] - mirror(0, seconds, v)));
+      if (cloth.vertices[2 * v] >= 0)
+        toCache.add(glm::length(gpu[v] - raw[size_t(cloth.vertices[2 * v + 1])]));
+    }
+  }
+  // Between frames, across the seam (the last frame blending into the first), a loop later.
+  for (float seconds : {(float(start) + 3.5f) / 30.0f, (float(start + frames) - 0.5f) / 30.0f,
+                        float(start + 7) / 30.0f + loopSeconds}) {
+    const auto gpu = shaderPositions(p, {0, 0, 1, 0}, {-1, 0, 0, 0}, seconds, cloth);
+    for (size_t v = 0; v < n; ++v)
+      toMirror.add(glm::length(gpu[v] - mirror(0, seconds, v)));
+  }
+  // Halfway through a fade from walk (its loop) to idle (skinned): the two mixed by position.
+  {
+    const float seconds = 5.0f;
+    const auto gpu = shaderPositions(p, {2, 0, 1, 0}, {0, 0.25f, seconds - 0.15f, 0.3f}, seconds,
+                                     cloth);
+    for (size_t v = 0; v < n; ++v)
+      if (cloth.vertices[2 * v] >= 0)
+        toMirror.add(glm::length(
+            gpu[v] - glm::mix(mirror(0, seconds + 0.25f, v), mirror(2, seconds, v), 0.5f)));
+  }
+  // crowdbake pose draws the same (runtime::poseAt).
+  {
+    const float seconds = float(start + 11) / 30.0f;
+    const runtime::PoseMesh mesh = runtime::poseMesh(p, {"walk", "dress", 0}, std::span(&chunk, 1));
+    std::vector<glm::vec3> positions, normals;
+    runtime::poseAt(p, mesh, seconds, positions, normals);
+    ASSERT_EQ(mesh.vertices.size(), n);
+    for (size_t k = 0; k < n; ++k)
+      toMirror.add(glm::length(positions[k] - mirror(0, seconds, mesh.vertices[k])));
+  }
+  const double mm = baked.mmPerUnit;
+  std::printf("cloth loop (%u frames, %u cycles from cache frame %u): GPU vs CPU mirror max %.5f "
+              "mm over %zu vertices; GPU vs the cache at its frames max %.3f mm, mean %.3f mm "
+              "(16-bit quantisation alone: max %.4f mm)\n",
+              frames, chunk.cycles, start, toMirror.max * mm, toMirror.count, toCache.max * mm,
+              toCache.mean() * mm, loop.quantMaxMm);
+  EXPECT_LE(toMirror.max * mm, 0.01);
+  EXPECT_LE(toCache.max * mm, 1.0);
 }

@@ -81,7 +81,7 @@ TEST(ClothBake, ALooseSkirtIsAHardCutThatReplaysItsCacheFrames) {
   // The chunk round-trips.
   const pack::ClothLoop back = pack::decodeClothLoop(pack::encode(c), "test");
   EXPECT_EQ(back.positions, c.positions);
-  EXPECT_EQ(back.sourceVertices, c.sourceVertices);
+  EXPECT_EQ(back.sources.expand(), c.sources.expand());
   EXPECT_EQ(back.cycles, c.cycles);
 }
 
@@ -129,14 +129,15 @@ TEST(ClothChunk, DamageAndMismatchesAreClearErrors) {
   c.clip = "walk";
   c.fps = 30;
   c.cycles = 1;
-  c.sourceVertices = {2, 5};
+  c.outfit = "dress";
+  c.sources = pack::SourceMap::of({{0, 0, 0, 0, 2}, {0, 0, 0, 0, 5}});
   c.positions.assign(2 * 3 * 4, 7); // 4 frames
   const auto bytes = pack::encode(c);
   EXPECT_EQ(pack::decodeClothLoop(bytes, "t").frameCount(), 4u);
   for (size_t cut : {size_t(0), size_t(10), bytes.size() - 1})
     EXPECT_THROW(pack::decodeClothLoop({bytes.data(), cut}, "t"), Error) << cut;
   auto bad = c;
-  bad.sourceVertices = {5, 2};
+  bad.sources = pack::SourceMap::of({{0, 0, 0, 0, 2}, {}}); // a vertex without a source
   EXPECT_THROW(pack::decodeClothLoop(pack::encode(bad), "t"), Error);
   bad = c;
   bad.positions.pop_back(); // not whole frames
@@ -148,9 +149,27 @@ TEST(ClothChunk, DamageAndMismatchesAreClearErrors) {
   bad.fps = NAN;
   EXPECT_THROW(pack::decodeClothLoop(pack::encode(bad), "t"), Error);
 
-  // In a character pack, the loop's clip and outfit must be the pack's.
+  // In a character pack, the loop's clip, outfit and vertices must be the pack's: here the
+  // humanoid with an outfit "dress" whose file holds mesh vertices 10 and 11 as 2 and 5.
   pack::CharacterPack p;
   p.body = test::sampleHumanoidLodPack();
+  const auto subMeshes = uint32_t(p.body.mesh.subMeshes.size());
+  pack::Outfits table;
+  table.bodySubMeshes = subMeshes;
+  table.colours.assign(4 * subMeshes, 1.0f);
+  table.textured.assign(subMeshes, 0);
+  table.outfits.push_back({"dress", std::vector(subMeshes, pack::Coverage::Visible), {}});
+  for (uint32_t s = 0; s < subMeshes; ++s)
+    table.outfits[0].subMeshes.push_back(s);
+  p.body.outfits = table;
+  auto sources = p.body.sources->expand();
+  sources[10] = {1, 0, 0, 0, 2};
+  sources[11] = {1, 0, 0, 0, 5};
+  p.body.sources = pack::SourceMap::of(sources);
+  const auto of = pack::clothVertexOf(p.body, c, "t");
+  EXPECT_EQ(of[10], 0);
+  EXPECT_EQ(of[11], 1);
+  EXPECT_EQ(std::count(of.begin(), of.end(), -1), std::ptrdiff_t(of.size() - 2));
   c.clip = "swim";
   p.cloths = {c};
   try {
@@ -163,8 +182,22 @@ TEST(ClothChunk, DamageAndMismatchesAreClearErrors) {
   c.clip = "walk";
   p.cloths = {c};
   EXPECT_EQ(pack::loadCharacterPack(pack::Reader(pack::packBytes(p), "p")).cloths.size(), 1u);
+  auto run = c;
+  run.clip = "run";
+  p.cloths = {c, run}; // two loops of one garment
+  EXPECT_EQ(pack::loadCharacterPack(pack::Reader(pack::packBytes(p), "p")).cloths.size(), 2u);
   p.cloths = {c, c};
   EXPECT_THROW(pack::loadCharacterPack(pack::Reader(pack::packBytes(p), "p")), Error);
+  c.sources = pack::SourceMap::of({{0, 0, 0, 0, 2}, {0, 0, 0, 0, 6}}); // 6: not in the mesh
+  p.cloths = {c};
+  try {
+    pack::loadCharacterPack(pack::Reader(pack::packBytes(p), "p"));
+    FAIL() << "no error";
+  } catch (const Error &e) {
+    EXPECT_NE(std::string(e.what()).find("1 of the loop's 2 vertices are not in the mesh"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(ClothManifest, LoopsNameTheirOutfitClipAndCache) {

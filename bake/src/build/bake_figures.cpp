@@ -137,7 +137,7 @@ ordered_json clothFigures(const ClothBakeResult &r) {
   f["blend_clamped"] = r.blendClamped;
   f["pushed_out"] = {
       {"vertices", r.pushedVertices}, {"max_mm", r.pushMaxMm}, {"mean_mm", r.pushMeanMm}};
-  f["bytes"] = c.positions.size() * 2 + c.sourceVertices.size() * 4;
+  f["bytes"] = c.positions.size() * 2 + pack::encode(c.sources).size();
   f["quantisation"] = {{"max_mm", r.quantMaxMm}, {"mean_mm", r.quantMeanMm}};
   for (const auto &k : l.candidates)
     f["candidates"].push_back({{"start", k.seam.start},

@@ -22,7 +22,9 @@ const char *const kPoseHelp = R"(Writes the mesh exactly as crowdplay draws it a
 the outfit's sub-meshes at the LOD cut, skinned from the pack's animation and skin textures by
 the CPU mirror of the player's vertex shader (the same texel fetch, frame blend and single
 precision). A time past the clip's end wraps for a looping clip and clamps otherwise, with a
-warning; a pack without clips writes the bind pose. Formats: PLY, binary glTF (.glb: a static
+warning; a pack without clips writes the bind pose. A garment with a cloth loop over the clip
+(crowdbake cloth) plays its loop, whose cycles count on past the clip's end: the time is not
+wrapped for it. Formats: PLY, binary glTF (.glb: a static
 mesh, unit normals), OBJ and PC2. --times writes OUT_0001.EXT, ... per time,
 or with -o OUT.pc2 one point cache (evenly spaced times; start and spacing in seconds).
 Times count from the clip's first frame: source time = start_time (crowdbake inspect) + t.
@@ -108,8 +110,9 @@ int cmdPose(int argc, char **argv) {
   if (!folder.empty() && !fs::is_directory(folder, ec))
     throw Error(output + ": the folder " + folder.string() + " does not exist");
 
-  const pack::AnimationPack pack = pack::loadCharacterPack(pack::Reader::open(path)).body;
-  const runtime::PoseMesh mesh = runtime::poseMesh(pack, opt);
+  const pack::CharacterPack character = pack::loadCharacterPack(pack::Reader::open(path));
+  const pack::AnimationPack &pack = character.body;
+  const runtime::PoseMesh mesh = runtime::poseMesh(pack, opt, character.cloths);
   for (float t : times)
     checkTime(mesh.clip, t, quiet);
   std::vector<pack::VertexSource> sources(mesh.vertices.size());

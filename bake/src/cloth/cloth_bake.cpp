@@ -193,7 +193,12 @@ ClothBakeResult bakeClothLoop(const Character &body, const Character &outfit,
   c.cycles = seam.cycles;
   c.cacheStart = start;
   c.blendFrames = blend;
-  c.sourceVertices = garmentIds;
+  if (outfit.mesh.sources.size() != outfit.mesh.vertexCount())
+    throw Error("outfit '" + outfitName + "' has no vertex sources to name the garment's vertices by");
+  std::vector<pack::VertexSource> sources;
+  for (uint32_t v : garmentIds)
+    sources.push_back(outfit.mesh.sources[v]);
+  c.sources = pack::SourceMap::of(sources);
   for (int k = 0; k < 3; ++k) {
     c.origin[size_t(k)] = lo3[k];
     c.step[size_t(k)] = (hi3[k] - lo3[k]) / 65535.0f;

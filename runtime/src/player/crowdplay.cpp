@@ -330,7 +330,8 @@ struct Crowd {
 
   std::unique_ptr<crowd::runtime::CrowdRenderer> renderer(crowd::runtime::Scene scene) const {
     auto types = crowd::runtime::characterTypes(scene, packs, impostors);
-    return std::make_unique<crowd::runtime::CrowdRenderer>(types.packs, types.impostors, scene);
+    return std::make_unique<crowd::runtime::CrowdRenderer>(types.packs, types.impostors, scene,
+                                                           types.cloths);
   }
 };
 

@@ -30,9 +30,12 @@ constexpr uint32_t fourcc(const char (&s)[5]) {
          uint32_t(uint8_t(s[3])) << 24;
 }
 std::string fourccName(uint32_t type);
-// Chunk types a pack may hold more than once (impostors: one per clip and outfit); every other
+// Chunk types a pack may hold more than once (impostors: one per clip and outfit; cloth loops:
+// one per outfit, garment and clip); every other
 // type appears at most once.
-constexpr bool repeatable(uint32_t type) { return type == fourcc("IMPO"); }
+constexpr bool repeatable(uint32_t type) {
+  return type == fourcc("IMPO") || type == fourcc("CLTH");
+}
 
 uint32_t crc32(std::span<const uint8_t> bytes);
 

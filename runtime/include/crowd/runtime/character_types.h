@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "crowd/formats/character_pack.h"
+#include "crowd/runtime/cloth_playback.h"
 #include "crowd/runtime/scene.h"
 
 namespace crowd::runtime {
@@ -13,6 +14,7 @@ namespace crowd::runtime {
 struct CharacterTypes {
   std::vector<const pack::AnimationPack *> packs;  // per type
   std::vector<const pack::Impostor *> impostors;   // per type, null for none
+  std::vector<ClothLoops> cloths;                  // per type: its pack's cloth loops
 };
 
 // `sceneImpostors[k]` (null for none) is an impostor the scene names for pack k; it replaces the

@@ -8,7 +8,8 @@
 // hysteresis) as impostors, all of one type in one instanced draw. Instances of a clothed pack
 // (crowdbake outfits) draw their outfit's sub-meshes only, through per-sub-mesh render queues of
 // the visible instances (render_queues.h). Instances changing clip (clip_switch.h) crossfade on
-// the GPU. Needs a current GL 4.5 context.
+// the GPU. Garments with cloth loops (crowdbake cloth) play them in phase with the body clip
+// (cloth_playback.h). Needs a current GL 4.5 context.
 #pragma once
 #include <cstdint>
 #include <memory>
@@ -20,6 +21,7 @@
 #include "crowd/formats/chunks.h"
 #include "crowd/formats/impostor.h"
 #include "crowd/runtime/clip_switch.h"
+#include "crowd/runtime/cloth_playback.h"
 #include "crowd/runtime/lod_select.h"
 #include "crowd/runtime/scene.h"
 
@@ -39,9 +41,11 @@ class CrowdRenderer {
 public:
   // Resolves every instance's clip, outfit and palette against its pack; throws crowd::Error
   // naming the scene, pack and clip or outfit when one is unknown.
-  // `impostors[k]` (null for none) belongs to packs[k]; both must outlive the renderer.
+  // `impostors[k]` (null for none) and `cloths[k]` (none if missing) belong to packs[k]; the
+  // packs and impostors must outlive the renderer.
   CrowdRenderer(const std::vector<const pack::AnimationPack *> &packs,
-                const std::vector<const pack::Impostor *> &impostors, const Scene &scene);
+                const std::vector<const pack::Impostor *> &impostors, const Scene &scene,
+                const std::vector<ClothLoops> &cloths = {});
   ~CrowdRenderer();
   CrowdRenderer(const CrowdRenderer &) = delete;
   CrowdRenderer &operator=(const CrowdRenderer &) = delete;

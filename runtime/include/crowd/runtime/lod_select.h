@@ -120,8 +120,10 @@ public:
   std::vector<Character> characters;
   std::vector<LodLevels> ladders; // per character
 
-  // Adds a character type; its instances are added to characters.back().
-  void addCharacter(const pack::AnimationPack &pack, const pack::Impostor *impostor);
+  // Adds a character type; its instances are added to characters.back(). `sphere` (centre,
+  // radius), if given, replaces the mesh's bounding sphere (a larger one: cloth loops).
+  void addCharacter(const pack::AnimationPack &pack, const pack::Impostor *impostor,
+                    const std::array<float, 4> *sphere = nullptr);
   // World transform: rotation `yaw` about +Y, then `position`.
   void addInstance(const glm::vec3 &position, float yaw, bool eligible);
 

@@ -1,6 +1,7 @@
 // The mesh exactly as the player draws it at one time: the sub-meshes an outfit draws
 // (render_queues.h), cut at a LOD level (lod_select.h), skinned by the CPU mirror of the shader
-// (texture_skinning.h) at the frame and blend the shader computes. crowdbake pose writes it.
+// (texture_skinning.h) at the frame and blend the shader computes, garments with a cloth loop
+// over the clip placed by the loop (cloth_playback.h). crowdbake pose writes it.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -9,6 +10,7 @@
 #include <glm/glm.hpp>
 
 #include "crowd/formats/chunks.h"
+#include "crowd/runtime/cloth_playback.h"
 
 namespace crowd::runtime {
 
@@ -26,11 +28,14 @@ struct PoseMesh {
   std::string outfit;               // "" for a pack without outfits
   std::vector<uint32_t> vertices;
   std::vector<uint32_t> indices;
+  ClothBuffers cloth; // the pack's cloth loops
 };
-PoseMesh poseMesh(const pack::AnimationPack &pack, const PoseOptions &options);
+PoseMesh poseMesh(const pack::AnimationPack &pack, const PoseOptions &options,
+                  ClothLoops cloths = {});
 
 // Positions and (unnormalized, as the shader passes them on) normals of mesh.vertices at
-// `seconds` into the clip: looping clips wrap, others clamp, as the player does.
+// `seconds` into the clip: looping clips wrap, others clamp, as the player does. A looped
+// garment's normals are its posed faces' (area-weighted), as the player shades it.
 void poseAt(const pack::AnimationPack &pack, const PoseMesh &mesh, float seconds,
             std::vector<glm::vec3> &positions, std::vector<glm::vec3> &normals);
 
