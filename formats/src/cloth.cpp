@@ -82,7 +82,8 @@ ClothLoop decodeClothLoop(std::span<const uint8_t> bytes, const std::string &con
 std::vector<int32_t> clothVertexOf(const AnimationPack &body, const ClothLoop &loop,
                                    const std::string &context) {
   if (!body.sources || !body.outfits)
-    throw Error(context + ": the pack has no " + (body.sources ? "outfit table" : "vertex sources") +
+    throw Error(context + ": the pack has no " +
+                (body.sources ? "outfit table" : "vertex sources") +
                 " to place the loop's vertices with");
   const auto &outfits = body.outfits->outfits;
   const auto it = std::find_if(outfits.begin(), outfits.end(),

@@ -37,8 +37,8 @@ ClothBuffers clothBuffers(const pack::AnimationPack &p, ClothLoops loops) {
   std::vector<std::vector<int32_t>> placed;                  // per slot: clothVertexOf
   for (size_t k = 0; k < loops.size(); ++k) {
     const pack::ClothLoop &loop = loops[k];
-    const std::string ctx = "cloth loop of garment '" + loop.garment + "' over clip '" +
-                            loop.clip + "'";
+    const std::string ctx =
+        "cloth loop of garment '" + loop.garment + "' over clip '" + loop.clip + "'";
     auto of = pack::clothVertexOf(p, loop, ctx);
     const std::pair<std::string, std::string> key{loop.outfit, loop.garment};
     auto slot = uint32_t(std::find(garments.begin(), garments.end(), key) - garments.begin());
@@ -62,12 +62,13 @@ ClothBuffers clothBuffers(const pack::AnimationPack &p, ClothLoops loops) {
   const glm::vec3 centre(s[0], s[1], s[2]);
   float radius = s[3];
   for (const pack::ClothLoop &loop : loops) {
-    const auto slot = uint32_t(std::find(garments.begin(), garments.end(),
-                                         std::pair{loop.outfit, loop.garment}) -
-                               garments.begin());
-    const auto clip = uint32_t(std::find_if(p.clips.begin(), p.clips.end(),
-                                            [&](const pack::Clip &c) { return c.name == loop.clip; }) -
-                               p.clips.begin());
+    const auto slot =
+        uint32_t(std::find(garments.begin(), garments.end(), std::pair{loop.outfit, loop.garment}) -
+                 garments.begin());
+    const auto clip =
+        uint32_t(std::find_if(p.clips.begin(), p.clips.end(),
+                              [&](const pack::Clip &c) { return c.name == loop.clip; }) -
+                 p.clips.begin());
     const pack::Clip &c = p.clips.at(clip);
     GpuClothLoop &g = b.loops[size_t(slot) * b.clips + clip];
     g.first = int32_t(b.positions.size() / 2);
@@ -136,9 +137,9 @@ bool clothVertexAt(const pack::AnimationPack &pack, const ClothBuffers &b, uint3
     return false;
   const pack::Clip &c = pack.clips[clip];
   const auto at = clipTimeAt(c, clipSeconds);
-  const glm::vec4 q(
-      clothBindPosition(b, g, loopTimeAt(c, g, clipSeconds), uint32_t(b.vertices[2 * size_t(v) + 1])),
-      1.0f);
+  const glm::vec4 q(clothBindPosition(b, g, loopTimeAt(c, g, clipSeconds),
+                                      uint32_t(b.vertices[2 * size_t(v) + 1])),
+                    1.0f);
   const JointRows m = sampleJoint(pack.animation, c, at.frame, at.alpha, b.rootJoint);
   position = glm::vec3(glm::dot(m[0], q), glm::dot(m[1], q), glm::dot(m[2], q));
   return true;

@@ -355,7 +355,7 @@ TEST_F(Gl, ClothLoopsReplayTheirCacheInPhaseWithTheBody) {
   rep.quiet = true;
   const std::string &dir = sampleDir();
   const Character body = importGltf(dir + "/humanoid.glb", {}, rep);
-  const OutfitInput dress{"dress", importGltf(dir + "/outfit_dress.glb", {}, rep)};
+  const OutfitInput dress{"dress", importGltf(dir + "/outfit_dress.glb", {}, rep), {}};
   const AnimBakeResult baked =
       bakeAnimation(dressCharacter(body, dress, "material", rep), AnimBakeOptions{}, rep);
   pack::AnimationPack p = baked.pack;
@@ -424,8 +424,8 @@ TEST_F(Gl, ClothLoopsReplayTheirCacheInPhaseWithTheBody) {
   // Halfway through a fade from walk (its loop) to idle (skinned): the two mixed by position.
   {
     const float seconds = 5.0f;
-    const auto gpu = shaderPositions(p, {2, 0, 1, 0}, {0, 0.25f, seconds - 0.15f, 0.3f}, seconds,
-                                     cloth);
+    const auto gpu =
+        shaderPositions(p, {2, 0, 1, 0}, {0, 0.25f, seconds - 0.15f, 0.3f}, seconds, cloth);
     for (size_t v = 0; v < n; ++v)
       if (cloth.vertices[2 * v] >= 0)
         toMirror.add(glm::length(

@@ -7,7 +7,9 @@
 
 #include "crowd/bake/cloth_bake.h"
 #include "crowd/bake/evaluate.h"
+#include "crowd/bake/job.h"
 #include "crowd/bake/manifest.h"
+#include "crowd/bake/outfit_bake.h"
 #include "crowd/formats/character_pack.h"
 #include "crowd/formats/container.h"
 #include "crowd/formats/error.h"
@@ -200,6 +202,57 @@ TEST(ClothChunk, DamageAndMismatchesAreClearErrors) {
   }
 }
 
+// Visibility tests a looped garment where its loop has it: a loop that carries the dress far
+// above the head leaves the body about as bare as no outfit does, though the skinned dress
+// hides the torso. (Coarse settings: this is about which poses are tested, not about rays.)
+TEST(ClothVisibility, ALoopThatSwingsTheGarmentAwayUncoversTheBody) {
+  Reporter rep;
+  rep.quiet = true;
+  const Character &body = test::sampleHumanoid();
+  OutfitInput dress = test::sampleOutfits()[0];
+  const Character joined = dressCharacter(body, dress, "material", rep);
+  std::vector<size_t> garmentParts;
+  for (size_t p = body.mesh.parts.size(); p < joined.mesh.parts.size(); ++p)
+    garmentParts.push_back(p);
+  const auto garment = garmentVertices(dress.character, "dress");
+  pack::ClothLoop away;
+  away.outfit = away.garment = "dress";
+  away.clip = "walk";
+  away.fps = 30;
+  away.cycles = 1;
+  std::vector<pack::VertexSource> sources;
+  for (uint32_t v : garment)
+    sources.push_back(dress.character.mesh.sources[v]);
+  away.sources = pack::SourceMap::of(sources);
+  away.origin = {0.0f, 50.0f, 0.0f}; // 50 m up in the root frame: every vertex at the origin
+  away.step = {1e-3f, 1e-3f, 1e-3f};
+  away.positions.assign(2 * 3 * garment.size(), 0); // 2 frames
+  dress.loops = {away};
+  const auto loops = placeLoops(joined, {dress}, {uint32_t(body.mesh.vertexCount())});
+  ASSERT_EQ(loops.size(), 1u);
+  EXPECT_EQ(loops[0].vertices.size(), garment.size());
+  VisibilityOptions o;
+  o.rays = 6;
+  o.points = 1;
+  o.frameStep = 1000; // each clip's first and last frames
+  o.loopFrames = 1;
+  const auto bodyTriangles = uint32_t(body.mesh.indices.size() / 3);
+  auto count = [](const std::vector<uint8_t> &h) { return std::count(h.begin(), h.end(), 1); };
+  const auto bare = count(hiddenBodyFaces(joined, bodyTriangles, {}, o));
+  const auto dressed = count(hiddenBodyFaces(joined, bodyTriangles, garmentParts, o));
+  const auto looped = count(hiddenBodyFaces(joined, bodyTriangles, garmentParts, o, loops));
+  std::printf("hidden body faces: bare %td, dressed %td, dressed with a loop swinging away %td\n",
+              bare, dressed, looped);
+  EXPECT_GT(dressed, bare + 100);
+  // About bare: the bare count is over every clip frame, the loop's frame is one pose of them.
+  EXPECT_LE(looped, bare + bare / 10);
+  // The loop's frame is posed: the garment's vertices 50 m above the top joint.
+  const auto poses = outfitPoses(joined, o.fps, o.frameStep, loops, o.loopFrames);
+  ASSERT_TRUE(poses.back().loop);
+  const auto p = posed(joined, poses.back());
+  EXPECT_GT(p[loops[0].vertices[0]].y, 40.0);
+}
+
 TEST(ClothManifest, LoopsNameTheirOutfitClipAndCache) {
   const std::string dir = test::tempDir("cloth_manifest");
   for (const char *f : {"b.glb", "d.glb", "c.pc2"})
@@ -214,6 +267,17 @@ TEST(ClothManifest, LoopsNameTheirOutfitClipAndCache) {
   EXPECT_EQ(m.cloth[0].options.cache.fps, 25.0);
   EXPECT_EQ(m.cloth[0].options.blend, 4);
   EXPECT_EQ(m.canonical()["cloth"][0]["garment"], "g");
+  // The plan: the loop's job first, the mesh job (whose visibility poses the loop) reading it,
+  // then the link reading the mesh first and the loop after.
+  const auto jobs = planCharacter(std::make_shared<CharacterManifest>(m), 10);
+  ASSERT_EQ(jobs.size(), 3u);
+  EXPECT_EQ(jobs[0].kind, "cloth");
+  EXPECT_EQ(jobs[1].kind, "mesh");
+  EXPECT_EQ(jobs[1].deps, std::vector<size_t>{10});
+  EXPECT_FALSE(jobs[1].settings.contains("cloth")); // it comes as a part, keyed by its job
+  EXPECT_EQ(jobs[1].settings["visibility"]["loop_frames"], 32);
+  EXPECT_EQ(jobs[2].kind, "link");
+  EXPECT_EQ(jobs[2].deps, (std::vector<size_t>{11, 10}));
   auto error = [&](const std::string &cloth) {
     try {
       parseManifest(head + R"("cloth": )" + cloth + "}", dir + "/m.json");

@@ -31,9 +31,9 @@ const Character &sampleHumanoid() {
 }
 
 std::vector<OutfitInput> sampleOutfits() {
-  return {{"dress", importSample("outfit_dress.glb")},
-          {"jumper_skirt", importSample("outfit_jumper_skirt.glb")},
-          {"shirt_trousers", importSample("outfit_shirt_trousers.glb")}};
+  return {{"dress", importSample("outfit_dress.glb"), {}},
+          {"jumper_skirt", importSample("outfit_jumper_skirt.glb"), {}},
+          {"shirt_trousers", importSample("outfit_shirt_trousers.glb"), {}}};
 }
 
 const pack::AnimationPack &sampleHumanoidLodPack() {

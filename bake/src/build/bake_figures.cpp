@@ -33,6 +33,7 @@ ordered_json outfitFigures(const OutfitBakeResult &r, const OutfitOptions &optio
   f["body_faces"] = r.bodyTriangles;
   f["body_faces_hidden_without_outfit"] = r.bareHiddenFaces;
   f["frames_tested"] = r.framesTested;
+  f["loop_frames_tested"] = r.loopFramesTested; // cloth loops: their frames, tested too
   f["min_saving"] = options.minSaving;
   for (const auto &o : r.outfits) {
     ordered_json oj = {{"name", o.name},

@@ -105,7 +105,20 @@ std::vector<uint8_t> regionMap(const pack::Outfits &table, const std::string &ou
 
 } // namespace
 
-Part meshJob(const Job &job, const std::vector<const Part *> &, int threads) {
+// Every cloth loop among `parts` (cloth jobs' parts), by the outfit it belongs to.
+void addLoops(std::vector<OutfitInput> &outfits, const std::vector<const Part *> &parts) {
+  for (const Part *part : parts)
+    for (const auto &c : part->chunks) {
+      if (c.type != pack::kCloth)
+        continue;
+      pack::ClothLoop loop = pack::decodeClothLoop(c.payload, "cloth part");
+      for (auto &o : outfits)
+        if (o.name == loop.outfit)
+          o.loops.push_back(std::move(loop));
+    }
+}
+
+Part meshJob(const Job &job, const std::vector<const Part *> &cloths, int threads) {
   const CharacterManifest &m = *job.character;
   const auto t0 = Clock::now();
   Reporter reporter;
@@ -132,7 +145,8 @@ Part meshJob(const Job &job, const std::vector<const Part *> &, int threads) {
   } else {
     std::vector<OutfitInput> outfits;
     for (const auto &[name, file] : m.outfits)
-      outfits.push_back({name, importFile(m, file, reporter)});
+      outfits.push_back({name, importFile(m, file, reporter), {}});
+    addLoops(outfits, cloths);
     OutfitOptions oo = m.outfitOptions;
     oo.anim = m.anim;
     oo.anim.threads = oo.visibility.threads = threads;
@@ -163,7 +177,7 @@ Part impostorJob(const Job &job, const std::vector<const Part *> &, int threads)
   Character c = importBody(m, reporter);
   uint32_t garments = 0;
   if (!job.outfit.empty()) {
-    OutfitInput o{job.outfit, importFile(m, outfitFile(m, job.outfit), reporter)};
+    OutfitInput o{job.outfit, importFile(m, outfitFile(m, job.outfit), reporter), {}};
     garments = uint32_t(o.character.mesh.parts.size());
     c = dressCharacter(c, o, m.outfitOptions.regions, reporter);
   }
@@ -273,13 +287,30 @@ std::vector<Job> planCharacter(std::shared_ptr<const CharacterManifest> characte
     j.settings = std::move(settings);
     return j;
   };
+  // Cloth loops first: the mesh job's visibility tests their frames.
+  std::vector<size_t> cloths;
+  for (size_t i = 0; i < m.cloth.size(); ++i) {
+    const ClothEntry &e = m.cloth[i];
+    Job j =
+        job("cloth", bodyFiles, {{"clips", m.clips}, {"mesh", m.mesh}, {"cloth", e.canonical()}});
+    append(j.files, outfitFile(m, e.outfit));
+    j.files.push_back(e.cache);
+    j.clip = e.clip;
+    j.outfit = e.outfit;
+    j.cloth = i;
+    cloths.push_back(base + jobs.size());
+    jobs.push_back(j);
+  }
   Job mesh = job("mesh", files, all);
   mesh.settings.erase("name"); // the same body and settings under another name share the part
   mesh.settings.erase("impostor");
+  mesh.settings.erase("cloth"); // the loops reach it as parts: their keys are in its key
+  mesh.deps = cloths;
+  const size_t meshIndex = base + jobs.size();
   jobs.push_back(mesh);
 
   Job link = job("link", files, all);
-  link.deps = {base};
+  link.deps = {meshIndex};
   ordered_json impostorSettings = all.value("impostor", ordered_json::object());
   impostorSettings.erase("pairs"); // another pair list leaves this pair's part as it is
   for (const auto &[clip, outfit] : m.impostorPairs) {
@@ -298,18 +329,7 @@ std::vector<Job> planCharacter(std::shared_ptr<const CharacterManifest> characte
     link.deps.push_back(base + jobs.size());
     jobs.push_back(j);
   }
-  for (size_t i = 0; i < m.cloth.size(); ++i) {
-    const ClothEntry &e = m.cloth[i];
-    Job j =
-        job("cloth", bodyFiles, {{"clips", m.clips}, {"mesh", m.mesh}, {"cloth", e.canonical()}});
-    append(j.files, outfitFile(m, e.outfit));
-    j.files.push_back(e.cache);
-    j.clip = e.clip;
-    j.outfit = e.outfit;
-    j.cloth = i;
-    link.deps.push_back(base + jobs.size());
-    jobs.push_back(j);
-  }
+  link.deps.insert(link.deps.end(), cloths.begin(), cloths.end());
   jobs.push_back(link);
   return jobs;
 }

@@ -161,8 +161,11 @@ CharacterManifest parse(const JsonChecker &c, const json &j, const Keys &at,
   if (j.contains("visibility")) {
     const Keys k = key("visibility");
     const json &v = j["visibility"];
-    c.onlyKeys(
-        v, k, {"frame_step", "rays", "points", "ring", "ground", "regions", "min_saving", "check"});
+    c.onlyKeys(v, k,
+               {"frame_step", "loop_frames", "rays", "points", "ring", "ground", "regions",
+                "min_saving", "check"});
+    if (v.contains("loop_frames"))
+      vis.loopFrames = whole(c, v["loop_frames"], key2("visibility", "loop_frames"), 0, 100000);
     if (v.contains("frame_step"))
       vis.frameStep = whole(c, v["frame_step"], key2("visibility", "frame_step"), 1, 100000);
     if (v.contains("rays"))
@@ -321,6 +324,8 @@ nlohmann::ordered_json CharacterManifest::canonical() const {
                        {"min_saving", outfitOptions.minSaving}};
     if (outfitOptions.check > 0) // only when asked: other keys stay as they were
       j["visibility"]["check"] = outfitOptions.check;
+    if (!cloth.empty()) // only with loops, likewise
+      j["visibility"]["loop_frames"] = v.loopFrames;
   }
   if (!impostorPairs.empty()) {
     auto &im = j["impostor"];

@@ -22,13 +22,6 @@ using Triangle = K::Triangle_3;
 using Tree = CGAL::AABB_tree<
     CGAL::AABB_traits<K, CGAL::AABB_triangle_primitive<K, std::vector<Triangle>::const_iterator>>>;
 
-const AnimationClip &findClip(const Character &body, const std::string &name) {
-  for (const auto &c : body.clips)
-    if (c.name == name)
-      return c;
-  throw unknownName("clip", name, body.clipNames());
-}
-
 // The garment's triangles over the cache's vertices (`garment`: outfit vertex ids, ascending).
 std::vector<uint32_t> cacheIndices(const Character &outfit, const std::string &name,
                                    const std::vector<uint32_t> &garment) {
@@ -194,7 +187,8 @@ ClothBakeResult bakeClothLoop(const Character &body, const Character &outfit,
   c.cacheStart = start;
   c.blendFrames = blend;
   if (outfit.mesh.sources.size() != outfit.mesh.vertexCount())
-    throw Error("outfit '" + outfitName + "' has no vertex sources to name the garment's vertices by");
+    throw Error("outfit '" + outfitName +
+                "' has no vertex sources to name the garment's vertices by");
   std::vector<pack::VertexSource> sources;
   for (uint32_t v : garmentIds)
     sources.push_back(outfit.mesh.sources[v]);

@@ -21,6 +21,13 @@ int topJointNode(const Character &c) {
 
 } // namespace
 
+const AnimationClip &findClip(const Character &body, const std::string &name) {
+  for (const auto &c : body.clips)
+    if (c.name == name)
+      return c;
+  throw unknownName("clip", name, body.clipNames());
+}
+
 double cacheFrameTime(const AnimationClip &clip, uint32_t frame, double fps) {
   const double duration = clip.end - clip.start, t = frame / fps;
   return clip.start + (duration > 0 ? std::fmod(t, duration) : 0.0);

@@ -38,11 +38,11 @@ HoleCheck checkHoles(const OutfitBakeResult &b, const HoleCheckOptions &o) {
   const auto &mesh = b.anim.pack.mesh;
   const auto &table = *b.anim.pack.outfits;
   HoleCheck check;
-  const auto frames = outfitFrames(b.merged, 30, o.frameStep);
+  const auto frames = outfitPoses(b.merged, 30, o.frameStep, b.loops, o.loopFrames);
   check.frames = uint32_t(frames.size());
   std::vector<std::vector<glm::vec3>> posed;
-  for (const auto &[clip, time] : frames) {
-    auto p = posedPositions(b.merged, clip, time);
+  for (const auto &pose : frames) {
+    auto p = crowd::posed(b.merged, pose);
     posed.emplace_back(p.begin(), p.end());
   }
   // Framed on the exact poses it renders (not the pack's bounding sphere, which depends on how
@@ -77,7 +77,8 @@ HoleCheck checkHoles(const OutfitBakeResult &b, const HoleCheckOptions &o) {
 
   check.views = uint32_t(cameras.size());
   const int n = int(o.texels);
-  for (const auto &outfit : table.outfits) {
+  for (size_t oi = 0; oi < table.outfits.size(); ++oi) {
+    const auto &outfit = table.outfits[oi];
     HoleCheck::PerOutfit r;
     r.name = outfit.name;
     std::vector<uint32_t> drawn, naive;
@@ -97,7 +98,11 @@ HoleCheck checkHoles(const OutfitBakeResult &b, const HoleCheckOptions &o) {
       if (id < b.bodyTriangles)
         kept[id] = 1;
     std::vector<uint8_t> everSeen(b.bodyTriangles, 0);
-    for (const auto &p : posed) {
+    for (size_t f = 0; f < posed.size(); ++f) {
+      if (frames[f].loop && frames[f].loop->outfit != oi)
+        continue; // another outfit's garment moved: nothing this outfit wears
+      const auto &p = posed[f];
+      ++r.images;
       std::vector<uint64_t> differing(cameras.size(), 0);
       std::vector<std::vector<uint32_t>> seenIds(cameras.size());
       parallelFor(cameras.size(), o.threads, [&](size_t j) {
@@ -117,7 +122,7 @@ HoleCheck checkHoles(const OutfitBakeResult &b, const HoleCheckOptions &o) {
           everSeen[id] = 1;
       }
     }
-    r.images = posed.size() * cameras.size();
+    r.images *= cameras.size();
     for (uint32_t t = 0; t < b.bodyTriangles; ++t) {
       r.removed += !kept[t];
       r.neverSeen += !everSeen[t];

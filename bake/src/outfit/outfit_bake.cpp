@@ -210,8 +210,12 @@ OutfitBakeResult bakeOutfits(const Character &template_, const std::vector<Outfi
   // Every garment on the body's skeleton, for visibility (body first, then each outfit's).
   Character joined = body;
   std::vector<std::vector<size_t>> garmentParts;
-  for (size_t k = 0; k < outfits.size(); ++k)
+  std::vector<uint32_t> firstVertex;
+  for (size_t k = 0; k < outfits.size(); ++k) {
+    firstVertex.push_back(uint32_t(joined.mesh.vertexCount()));
     garmentParts.push_back(appendGarments(joined, outfits[k], int32_t(k + 1), reporter));
+  }
+  r.loops = placeLoops(joined, outfits, firstVertex);
 
   // The pack's mesh: body parts, then per outfit its copies and its garments.
   Character &out = r.merged;
@@ -242,8 +246,12 @@ OutfitBakeResult bakeOutfits(const Character &template_, const std::vector<Outfi
   std::map<std::pair<size_t, std::vector<uint32_t>>, uint32_t> copies; // shared when identical
   for (size_t oi = 0; oi < outfits.size(); ++oi) {
     const auto start = std::chrono::steady_clock::now();
+    std::vector<PlacedLoop> worn;
+    for (const PlacedLoop &l : r.loops)
+      if (l.outfit == oi)
+        worn.push_back(l);
     const auto hidden =
-        hiddenBodyFaces(joined, r.bodyTriangles, garmentParts[oi], options.visibility);
+        hiddenBodyFaces(joined, r.bodyTriangles, garmentParts[oi], options.visibility, worn);
     OutfitFigures fig;
     fig.name = outfits[oi].name;
     pack::Outfits::Outfit entry;
@@ -304,6 +312,11 @@ OutfitBakeResult bakeOutfits(const Character &template_, const std::vector<Outfi
   r.taggedFaces += r.bodyTriangles + r.specificFaces;
   r.framesTested =
       uint32_t(outfitFrames(body, options.visibility.fps, options.visibility.frameStep).size());
+  r.loopFramesTested =
+      uint32_t(outfitPoses(body, options.visibility.fps, options.visibility.frameStep, r.loops,
+                           options.visibility.loopFrames)
+                   .size()) -
+      r.framesTested;
 
   for (const auto &part : out.mesh.parts) {
     table.colours.insert(table.colours.end(),
@@ -331,6 +344,7 @@ OutfitBakeResult bakeOutfits(const Character &template_, const std::vector<Outfi
   if (options.check > 0) {
     HoleCheckOptions ho;
     ho.frameStep = options.check;
+    ho.loopFrames = options.visibility.loopFrames;
     ho.threads = options.visibility.threads;
     r.holes = checkHoles(r, ho);
     failOnHoles(r.holes, body);

@@ -20,8 +20,8 @@ namespace {
 
 using K = CGAL::Simple_cartesian<double>;
 using Triangle = K::Triangle_3;
-using Tree = CGAL::AABB_tree<CGAL::AABB_traits<K, CGAL::AABB_triangle_primitive<
-                                                     K, std::vector<Triangle>::const_iterator>>>;
+using Tree = CGAL::AABB_tree<
+    CGAL::AABB_traits<K, CGAL::AABB_triangle_primitive<K, std::vector<Triangle>::const_iterator>>>;
 
 // Directions over the hemisphere around +Z in rings: `azimuths` of them on the lowest ring, 1
 // degree above the horizon, fewer (by the cosine) on higher rings, ending at the pole. Ring
@@ -62,7 +62,8 @@ std::vector<std::pair<const AnimationClip *, double>> outfitFrames(const Charact
 
 std::vector<uint8_t> hiddenBodyFaces(const Character &merged, uint32_t bodyTriangles,
                                      const std::vector<size_t> &garmentParts,
-                                     const VisibilityOptions &o) {
+                                     const VisibilityOptions &o,
+                                     const std::vector<PlacedLoop> &loops) {
   if (o.rays == 0 || o.rays > 4096 || (o.points != 1 && o.points != 4) || o.frameStep == 0 ||
       !(o.fps > 0))
     throw Error("visibility: rays must be in 1..4096, points 1 or 4, frame step >= 1, fps > 0");
@@ -91,30 +92,31 @@ std::vector<uint8_t> hiddenBodyFaces(const Character &merged, uint32_t bodyTrian
   }
   const auto directions = hemisphere(o.rays);
   const double nudge = 1e-4 * restDiagonal(merged);
-  const glm::dvec3 weights[4] = {
-      {1.0 / 3, 1.0 / 3, 1.0 / 3}, {4.0 / 6, 1.0 / 6, 1.0 / 6}, {1.0 / 6, 4.0 / 6, 1.0 / 6},
-      {1.0 / 6, 1.0 / 6, 4.0 / 6}};
+  const glm::dvec3 weights[4] = {{1.0 / 3, 1.0 / 3, 1.0 / 3},
+                                 {4.0 / 6, 1.0 / 6, 1.0 / 6},
+                                 {1.0 / 6, 4.0 / 6, 1.0 / 6},
+                                 {1.0 / 6, 1.0 / 6, 4.0 / 6}};
 
   std::vector<uint8_t> hidden(bodyTriangles, 1);
   std::vector<uint32_t> candidates(bodyTriangles);
   for (uint32_t t = 0; t < bodyTriangles; ++t)
     candidates[t] = t;
-  const auto frames = outfitFrames(merged, o.fps, o.frameStep);
+  const auto frames = outfitPoses(merged, o.fps, o.frameStep, loops, o.loopFrames);
   // The ground: a plane under the body's lowest point over every tested frame, as wide as the
   // ground rays can reach (100 body diagonals).
   double ground = INFINITY;
   if (o.ground)
-    for (const auto &[clip, time] : frames) {
-      const auto p = posedPositions(merged, clip, time);
+    for (const auto &pose : frames) {
+      const auto p = posed(merged, pose);
       for (uint32_t i = 0; i < bodyTriangles * 3; ++i)
         ground = std::min(ground, p[idx[i]].y);
     }
   const double reach = 100 * restDiagonal(merged);
   std::vector<Triangle> soup;
-  for (const auto &[clip, time] : frames) {
+  for (const auto &pose : frames) {
     if (candidates.empty())
       break;
-    const auto p = posedPositions(merged, clip, time);
+    const auto p = posed(merged, pose);
     auto point = [&](uint32_t v) { return K::Point_3(p[v].x, p[v].y, p[v].z); };
     soup.clear();
     for (uint32_t t : occluders) {
@@ -135,8 +137,8 @@ std::vector<uint8_t> hiddenBodyFaces(const Character &merged, uint32_t bodyTrian
         return;
       }
       n /= len;
-      const glm::dvec3 u = glm::normalize(
-          std::abs(n.x) < 0.9 ? glm::cross(n, glm::dvec3(1, 0, 0)) : glm::cross(n, glm::dvec3(0, 1, 0)));
+      const glm::dvec3 u = glm::normalize(std::abs(n.x) < 0.9 ? glm::cross(n, glm::dvec3(1, 0, 0))
+                                                              : glm::cross(n, glm::dvec3(0, 1, 0)));
       const glm::dvec3 v = glm::cross(n, u);
       for (uint32_t k = 0; k < o.points && !seen[i]; ++k) {
         const glm::dvec3 q = a * weights[k].x + b * weights[k].y + c * weights[k].z + n * nudge;
@@ -173,9 +175,8 @@ std::vector<uint8_t> hiddenBodyFaces(const Character &merged, uint32_t bodyTrian
         const auto &q = mesh.positions[v];
         return std::make_tuple(q.x, q.y, q.z);
       };
-      std::sort(order.begin(), order.end(), [&](uint32_t x, uint32_t y) {
-        return key(x) != key(y) ? key(x) < key(y) : x < y;
-      });
+      std::sort(order.begin(), order.end(),
+                [&](uint32_t x, uint32_t y) { return key(x) != key(y) ? key(x) < key(y) : x < y; });
       for (size_t i = 0; i < order.size(); ++i)
         weld[order[i]] = i && key(order[i]) == key(order[i - 1]) ? weld[order[i - 1]] : order[i];
     }

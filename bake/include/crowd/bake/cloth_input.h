@@ -36,6 +36,9 @@ void checkGarment(PointCacheReader &cache, const Character &outfit,
                   const std::vector<uint32_t> &garment, const AnimationClip &clip,
                   const ClothCacheOptions &options);
 
+// The clip of that name, or an error listing the body's clips.
+const AnimationClip &findClip(const Character &body, const std::string &name);
+
 // The clip time of cache frame `frame` at `fps` (frame 0 at the clip's start, wrapping).
 double cacheFrameTime(const AnimationClip &clip, uint32_t frame, double fps);
 

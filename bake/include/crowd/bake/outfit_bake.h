@@ -12,17 +12,25 @@
 #include "crowd/bake/character.h"
 #include "crowd/bake/lod_bake.h"
 #include "crowd/bake/report.h"
+#include "crowd/formats/cloth.h"
 
 namespace crowd {
 
 struct OutfitInput {
   std::string name; // the outfit's name in the pack
   Character character;
+  // Cloth loops of its garments (crowdbake cloth): visibility and the hole check also test the
+  // loops' frames, each garment where its loop has it.
+  std::vector<pack::ClothLoop> loops;
 };
 
 struct VisibilityOptions {
   double fps = 30;        // clips are sampled at this rate, each frame landing on its end time
   uint32_t frameStep = 1; // test every k-th sampled frame (1: every frame), and each clip's last
+  // Cloth loops: at most this many of each loop's frames, evenly spaced (0: every frame). On the
+  // sample dress all 1,074 frames of its walk and run loops hide exactly the faces 32 a loop do,
+  // at 8x the time.
+  uint32_t loopFrames = 32;
   // Directions over a face's outward hemisphere: `rays` azimuths on the lowest ring (1 degree
   // up), rays / 3 rings up to the pole, denser near the horizon (24: 139 directions).
   uint32_t rays = 24;
@@ -40,14 +48,40 @@ struct VisibilityOptions {
 std::vector<std::pair<const AnimationClip *, double>> outfitFrames(const Character &c, double fps,
                                                                    uint32_t step);
 
+// A cloth loop on the merged mesh (body, then each outfit's garments): the mesh vertex of each
+// loop vertex. `firstVertex[k]`: where outfit k's vertices start in `merged`.
+struct PlacedLoop {
+  size_t outfit = 0; // index into the outfits
+  const AnimationClip *clip = nullptr;
+  std::vector<uint32_t> vertices;
+  pack::ClothLoop loop;
+};
+std::vector<PlacedLoop> placeLoops(const Character &merged, const std::vector<OutfitInput> &outfits,
+                                   const std::vector<uint32_t> &firstVertex);
+
+// A pose visibility and the hole check test: a clip time, or a loop's frame (the body at the
+// clip time it plays with, the loop's garment where the loop has it).
+struct OutfitPose {
+  const AnimationClip *clip = nullptr;
+  double time = 0;
+  const PlacedLoop *loop = nullptr;
+  uint32_t frame = 0;
+};
+// outfitFrames, then at most `loopFrames` frames of each loop, evenly spaced (0: every one).
+std::vector<OutfitPose> outfitPoses(const Character &merged, double fps, uint32_t step,
+                                    const std::vector<PlacedLoop> &loops, uint32_t loopFrames);
+std::vector<glm::dvec3> posed(const Character &merged, const OutfitPose &pose);
+
 // Which body faces the garments hide (true) in every tested frame from every direction of the
 // face's outward hemisphere: rays from points on the face, nudged out along its normal, cast
 // against the skinned garments and body at that frame (CGAL AABB tree). `garmentParts` are the
 // parts of `merged` (body first) worn; see-through parts never occlude. Faces within `ring`
-// steps of a visible face are kept visible. Returns one flag per body triangle.
+// steps of a visible face are kept visible. Returns one flag per body triangle. `loops` (those
+// of the worn outfit) add their frames to the tested ones.
 std::vector<uint8_t> hiddenBodyFaces(const Character &merged, uint32_t bodyTriangles,
                                      const std::vector<size_t> &garmentParts,
-                                     const VisibilityOptions &options);
+                                     const VisibilityOptions &options,
+                                     const std::vector<PlacedLoop> &loops = {});
 
 struct OutfitOptions {
   VisibilityOptions visibility;
@@ -90,6 +124,7 @@ struct OutfitFigures {
 // shows.
 struct HoleCheckOptions {
   uint32_t frameStep = 4;
+  uint32_t loopFrames = 32; // as VisibilityOptions::loopFrames
   uint32_t azimuths = 32, elevations = 8;
   uint32_t texels = 128; // image side
   int threads = 0;
@@ -116,7 +151,9 @@ struct OutfitBakeResult {
   // Per triangle of `merged`: the body triangle it copies, or itself (garments, body).
   std::vector<uint32_t> sourceTriangle;
   std::vector<OutfitFigures> outfits;
-  uint32_t framesTested = 0; // per outfit, over every clip
+  uint32_t framesTested = 0;     // per outfit, over every clip (loop frames apart)
+  std::vector<PlacedLoop> loops; // every outfit's cloth loops, on `merged`
+  uint32_t loopFramesTested = 0; // over every loop
   // Faces stored (seed Table 2): naive = body + garments; pre-fitted = per outfit, its visible
   // body faces + garments; tagged = body + outfit-specific copies + garments.
   uint64_t naiveFaces = 0, prefittedFaces = 0, taggedFaces = 0, specificFaces = 0;

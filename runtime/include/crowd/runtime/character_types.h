@@ -12,9 +12,9 @@
 namespace crowd::runtime {
 
 struct CharacterTypes {
-  std::vector<const pack::AnimationPack *> packs;  // per type
-  std::vector<const pack::Impostor *> impostors;   // per type, null for none
-  std::vector<ClothLoops> cloths;                  // per type: its pack's cloth loops
+  std::vector<const pack::AnimationPack *> packs; // per type
+  std::vector<const pack::Impostor *> impostors;  // per type, null for none
+  std::vector<ClothLoops> cloths;                 // per type: its pack's cloth loops
 };
 
 // `sceneImpostors[k]` (null for none) is an impostor the scene names for pack k; it replaces the

@@ -28,13 +28,13 @@
 namespace crowd::runtime {
 
 struct DrawStats {
-  uint32_t drawCalls = 0;   // a multi-draw counts one
-  uint32_t instances = 0;   // in the scene
-  uint32_t visible = 0;     // of the instances, those inside the frustum (drawn)
-  uint32_t impostors = 0;   // of the visible, those drawn as impostors
-  uint64_t triangles = 0;   // two per impostor
-  double cullSelectMs = 0;  // CPU time of the clip schedule, culling, the impostor split, LOD
-                            // selection and queues
+  uint32_t drawCalls = 0;  // a multi-draw counts one
+  uint32_t instances = 0;  // in the scene
+  uint32_t visible = 0;    // of the instances, those inside the frustum (drawn)
+  uint32_t impostors = 0;  // of the visible, those drawn as impostors
+  uint64_t triangles = 0;  // two per impostor
+  double cullSelectMs = 0; // CPU time of the clip schedule, culling, the impostor split, LOD
+                           // selection and queues
 };
 
 class CrowdRenderer {
