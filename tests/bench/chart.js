@@ -25,7 +25,11 @@ const colours = ["#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b
 let svg = `<svg xmlns="http://www.w3.org/2000/svg" width="${W}" height="${H}" font-family="sans-serif" font-size="12">\n`;
 svg += `<rect width="${W}" height="${H}" fill="white"/>\n<text x="${W / 2}" y="22" text-anchor="middle" font-size="15">${title}</text>\n`;
 svg += `<line x1="${L}" y1="${H - B}" x2="${W - R}" y2="${H - B}" stroke="black"/><line x1="${L}" y1="${T}" x2="${L}" y2="${H - B}" stroke="black"/>\n`;
-for (const x of [...new Set(all.map(p => p[0]))])
+// Every distinct x is a tick, or 10 evenly spaced ones when there are more than 20.
+let ticks = [...new Set(all.map(p => p[0]))];
+if (ticks.length > 20)
+  ticks = [...Array(11).keys()].map(k => +(log ? 2 ** (x0 + ((x1 - x0) * k) / 10) : x0 + ((x1 - x0) * k) / 10).toPrecision(3));
+for (const x of ticks)
   svg += `<text x="${px(x)}" y="${H - B + 16}" text-anchor="middle">${x}</text>\n`;
 for (let k = 0; k <= 4; ++k) {
   const v = y0 + ((y1 - y0) * k) / 4;
@@ -37,7 +41,8 @@ svg += `<text transform="translate(16 ${(T + H - B) / 2}) rotate(-90)" text-anch
 [...series.entries()].forEach(([name, pts], i) => {
   const c = colours[i % colours.length];
   svg += `<polyline fill="none" stroke="${c}" stroke-width="2" points="${pts.map(p => `${px(p[0])},${py(p[1])}`).join(" ")}"/>\n`;
-  for (const p of pts) svg += `<circle cx="${px(p[0])}" cy="${py(p[1])}" r="3" fill="${c}"/>`;
+  if (pts.length <= 100) // dots only where they can be told apart
+    for (const p of pts) svg += `<circle cx="${px(p[0])}" cy="${py(p[1])}" r="3" fill="${c}"/>`;
   svg += `\n<text x="${W - R + 10}" y="${T + 16 * i + 10}" fill="${c}">${name}</text>\n`;
 });
 fs.writeFileSync(out, svg + "</svg>\n");

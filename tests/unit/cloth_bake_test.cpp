@@ -23,8 +23,8 @@ namespace {
 
 using Frames = std::vector<std::vector<glm::vec3>>;
 
-std::string writeCache(const std::string &name, const Frames &frames) {
-  const auto bytes = encodePointCache(PointCacheFormat::Pc2, frames, 30);
+std::string writeCache(const std::string &name, const Frames &frames, double fps = 30) {
+  const auto bytes = encodePointCache(PointCacheFormat::Pc2, frames, fps);
   const std::string path = test::tempDir("cloth_bake") + "/" + name;
   std::ofstream(path, std::ios::binary)
       .write(reinterpret_cast<const char *>(bytes.data()), std::streamsize(bytes.size()));
@@ -32,7 +32,8 @@ std::string writeCache(const std::string &name, const Frames &frames) {
 }
 
 ClothBakeResult bake(const std::string &cache, ClothBakeOptions o, Reporter &rep) {
-  o.cache.fps = 30;
+  if (o.cache.fps == 0)
+    o.cache.fps = 30;
   rep.quiet = true;
   return bakeClothLoop(test::sampleHumanoid(), test::sampleOutfits()[0].character, "dress", "dress",
                        "walk", cache, {}, o, rep);
@@ -85,6 +86,34 @@ TEST(ClothBake, ALooseSkirtIsAHardCutThatReplaysItsCacheFrames) {
   EXPECT_EQ(back.positions, c.positions);
   EXPECT_EQ(back.sources.expand(), c.sources.expand());
   EXPECT_EQ(back.cycles, c.cycles);
+}
+
+// A cache simulated at 24 fps under a clip baked at 30: the loop is whole clip cycles of the
+// cache's own frames. Read at the wrong rate (30), a "cycle" is 1.25 true cycles: 4 of them are
+// 5 true ones, a seam that closes as well, so the verdict cannot tell (printed, not asserted:
+// the rate must come from the file or --fps, and the README says so).
+TEST(ClothBake, ACacheAtAnotherFrameRateLoopsInItsOwnFrames) {
+  samples::ClothSettings s = samples::cacheSamples()[0].settings; // skirt_walk
+  s.cycles = 8;
+  s.fps = 24;
+  const std::string path = writeCache("walk24.pc2", samples::simulateDress(s), 24);
+  ClothBakeOptions o;
+  o.cache.fps = 24;
+  Reporter rep;
+  const ClothBakeResult r = bake(path, o, rep);
+  EXPECT_TRUE(r.loop.acceptable) << r.loop.verdict;
+  EXPECT_EQ(r.chunk.fps, 24.0f);
+  const AnimationClip &walk = test::sampleHumanoid().clips[0];
+  EXPECT_NEAR(r.chunk.frameCount(), r.chunk.cycles * (walk.end - walk.start) * 24.0, 0.5);
+  o.cache.fps = 30; // the wrong rate: a cycle is 25% too long
+  Reporter wrong;
+  const ClothBakeResult w = bake(path, o, wrong);
+  std::printf("24 fps cache read at 24: seam %.2fx / %.2fx the mean motion / velocity change; "
+              "read at 30: %.2fx / %.2fx (%s)\n",
+              r.loop.positionRatio, r.loop.velocityRatio, w.loop.positionRatio,
+              w.loop.velocityRatio, w.loop.acceptable ? "accepted" : "rejected");
+  EXPECT_EQ(w.chunk.fps, 30.0f);
+  EXPECT_EQ(w.chunk.cycles % 4, 0u); // only multiples of 4 false cycles close
 }
 
 TEST(ClothBake, NoiseIsCrossFadedAndWhatTheBlendPushedIntoTheBodyComesOut) {

@@ -1,6 +1,7 @@
 #include "crowd/bake/bake_figures.h"
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 
 namespace crowd {
@@ -130,10 +131,13 @@ ordered_json clothFigures(const ClothBakeResult &r) {
   f["cycles"] = c.cycles;
   f["acceptable"] = l.acceptable;
   f["verdict"] = l.verdict;
-  f["position_jump_ratio"] = l.positionRatio;
-  f["velocity_jump_ratio"] = l.velocityRatio;
+  // The chosen seam's jumps (unblended) against the mean per-frame motion and velocity change:
+  // at most 1 plays without a visible pop. Velocities in mm/s at the cache's frame rate.
+  f["seam_position_jump_ratio"] = l.positionRatio;
+  f["seam_velocity_jump_ratio"] = l.velocityRatio;
   f["best_to_median"] = l.bestToMedian;
   f["mean_motion_mm"] = l.meanMotion * mm;
+  f["mean_velocity_change_mm_s"] = l.meanVelocityChange * mm * c.fps;
   f["blend_frames"] = c.blendFrames;
   f["blend_clamped"] = r.blendClamped;
   f["pushed_out"] = {
@@ -141,15 +145,41 @@ ordered_json clothFigures(const ClothBakeResult &r) {
   f["bytes"] = c.positions.size() * 2 + pack::encode(c.sources).size();
   f["quantisation"] = {{"max_mm", r.quantMaxMm}, {"mean_mm", r.quantMeanMm}};
   for (const auto &k : l.candidates)
-    f["candidates"].push_back({{"start", k.seam.start},
-                               {"cycles", k.seam.cycles},
-                               {"frames", k.seam.length},
-                               {"pass1_rank", k.pass1Rank},
-                               {"pass1_distance", k.seam.distance},
-                               {"position_jump_mm", k.seam.positionJump * mm},
-                               {"velocity_jump_mm", k.seam.velocityJump * mm},
-                               {"pass2_edge_px", k.edgeDistance},
-                               {"pass2_edge_px_per_view", k.edgeDistances}});
+    f["candidates"].push_back(
+        {{"start", k.seam.start},
+         {"cycles", k.seam.cycles},
+         {"frames", k.seam.length},
+         {"pass1_rank", k.pass1Rank},
+         {"pass1_distance", k.seam.distance},
+         {"position_jump_mm", k.seam.positionJump * mm},
+         {"velocity_jump_mm_s", k.seam.velocityJump * mm * c.fps},
+         {"position_jump_ratio", l.meanMotion > 0 ? k.seam.positionJump / l.meanMotion : 0.0},
+         {"velocity_jump_ratio",
+          l.meanVelocityChange > 0 ? k.seam.velocityJump / l.meanVelocityChange : 0.0},
+         {"pass2_edge_px", k.edgeDistance},
+         {"pass2_edge_px_per_view", k.edgeDistances}});
+  // Pass 1 over (start, length), for charts: per loop length its best seam, and at the chosen
+  // length every start (null where none can).
+  ordered_json byCycles = ordered_json::array(), byStart = ordered_json::array();
+  for (uint32_t cy = l.minCycles; cy <= l.maxCycles && l.frames > 0; ++cy) {
+    double best = NAN;
+    uint32_t at = 0;
+    for (uint32_t s = 0; s < l.frames; ++s) {
+      const double d = l.distances[size_t(cy - l.minCycles) * l.frames + s];
+      if (!std::isnan(d) && !(d >= best)) {
+        best = d;
+        at = s;
+      }
+    }
+    if (!std::isnan(best))
+      byCycles.push_back({{"cycles", cy}, {"distance", best}, {"start", at}});
+  }
+  if (c.cycles >= l.minCycles && c.cycles <= l.maxCycles)
+    for (uint32_t s = 0; s < l.frames; ++s) {
+      const double d = l.distances[size_t(c.cycles - l.minCycles) * l.frames + s];
+      byStart.push_back(std::isnan(d) ? ordered_json() : ordered_json(d));
+    }
+  f["pass1"] = {{"by_cycles", byCycles}, {"chosen_cycles_by_start", byStart}};
   f["pass1_s"] = l.pass1Seconds;
   f["pass2_s"] = l.pass2Seconds;
   f["bake_s"] = r.seconds;

@@ -41,6 +41,10 @@ ClothLoop chooseLoop(uint32_t frameCount, uint32_t vertexCount, const ClothFrame
   out.pass1Seconds = secondsSince(t0);
   out.meanMotion = search.meanMotion;
   out.meanVelocityChange = search.meanVelocityChange;
+  out.distances = search.distances;
+  out.minCycles = search.minCycles;
+  out.maxCycles = search.maxCycles;
+  out.frames = frameCount;
   std::vector<double> seams;
   for (double d : search.distances)
     if (!std::isnan(d))

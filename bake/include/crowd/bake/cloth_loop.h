@@ -47,6 +47,10 @@ struct ClothLoop {
   uint32_t blendFrames = 0; // 0 when acceptable; else the cross-fade it would need
   std::string verdict;      // one line for the report and the log
   double pass1Seconds = 0.0, pass2Seconds = 0.0;
+  // Pass 1's filtered distance of every (start, cycles), for charts: distances[(c - minCycles) x
+  // frames + start], NaN where no loop of c cycles starts there (LoopSearch::distances).
+  std::vector<double> distances;
+  uint32_t minCycles = 0, maxCycles = 0, frames = 0;
 };
 
 // `indices`: the garment's triangles over the cache's vertices (pass 2 draws them).
