@@ -103,9 +103,10 @@ SourceMap decodeSourceMap(std::span<const uint8_t> bytes, const std::string &con
       r.fail("runs", "run " + std::to_string(i / 6) + " is out of range");
     m.runs.push_back({{v[0], v[1], v[2], v[3], v[4]}, uint32_t(v[5])});
   }
-  const uint64_t total = m.runVertices();
-  if (total >= SourceMap::kMade)
-    r.fail("runs", std::to_string(total) + " vertices in all");
+  const uint64_t total = m.runVertices(); // distinct sources: at most the mesh's vertices
+  if (total > limits::kVertices)
+    r.fail("runs", std::to_string(total) + " vertices in all, more than a character has (" +
+                       std::to_string(limits::kVertices) + ")");
   m.ordinals = r.getArray<uint32_t>("ordinals", limits::kChunkElements);
   for (size_t v = 0; v < m.ordinals.size(); ++v)
     if (m.ordinals[v] != SourceMap::kMade && m.ordinals[v] >= total)

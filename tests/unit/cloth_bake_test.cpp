@@ -170,6 +170,10 @@ TEST(ClothChunk, DamageAndMismatchesAreClearErrors) {
   auto bad = c;
   bad.sources = pack::SourceMap::of({{0, 0, 0, 0, 2}, {}}); // a vertex without a source
   EXPECT_THROW(pack::decodeClothLoop(pack::encode(bad), "t"), Error);
+  bad = c; // one ordinal over runs of a billion vertices: refused before anything expands them
+  bad.sources.runs = {{{0, 0, 0, 0, 0}, 1u << 30}};
+  bad.sources.ordinals = {0, 1};
+  EXPECT_THROW(pack::decodeClothLoop(pack::encode(bad), "t"), Error);
   bad = c;
   bad.positions.pop_back(); // not whole frames
   EXPECT_THROW(pack::decodeClothLoop(pack::encode(bad), "t"), Error);
