@@ -1,8 +1,8 @@
 #version 450 core
 // Skinned instancing: joint transforms come from the animation texture (two frames, blended
 // exactly as runtime/src/texture_skinning.cpp does on the CPU), ids and weights from the
-// skin-weight texture, per-instance data from one buffer indexed by the instance's id (an instanced attribute).
-// An instance changing clip crossfades: both clips' joints blend as dual quaternions
+// skin-weight texture, per-instance data from one buffer indexed by the instance's id (an instanced
+// attribute). An instance changing clip crossfades: both clips' joints blend as dual quaternions
 // (blendJoints in runtime/src/texture_skinning.cpp).
 // A garment with a cloth loop plays the loop's frames instead of its skinning: rigidly on the
 // top joint, the loop frame following the body clip's phase (runtime/src/cloth_playback.cpp is
@@ -33,24 +33,24 @@ const int kMorphSlots = 8; // pack::kMorphSlots
 // Cloth loops (runtime::ClothBuffers): per mesh vertex its garment and loop vertex (-1: none),
 // per (garment, clip) a loop, per vertex-frame a 16-bit position (x | y << 16, z).
 struct ClothLoop {
-  ivec4 shape; // first vertex-frame, vertices, frames (0: none), cycles
+  ivec4 shape;  // first vertex-frame, vertices, frames (0: none), cycles
   vec4 origin;  // xyz; w: the loop's start in clip cycles
   vec4 spacing; // xyz: the quantisation step; w: cache frames per clip cycle
 };
 layout(std430, binding = 5) readonly buffer ClothVertices { ivec2 clothVertices[]; };
 layout(std430, binding = 6) readonly buffer ClothLoops { ClothLoop clothLoops[]; };
 layout(std430, binding = 7) readonly buffer ClothPositions { uvec2 clothPositions[]; };
+layout(std430, binding = 8) readonly buffer JointTexels { ivec2 jointTexels[]; };
 
 uniform mat4 u_viewProjection;
 uniform float u_time;
-uniform int u_encoding; // 0: matrix 3x4 (3 texels), 1: quaternion + translation/scale (2)
-uniform int u_jointCount;
+uniform int u_frameTexels; // texels of one frame of every joint
 uniform int u_framesPerRow;
 uniform int u_skinWidth;
 uniform int u_subMesh;
 uniform int u_subMeshCount;
-uniform bool u_morphs; // the pack has morph targets
-uniform bool u_cloth;  // the pack has cloth loops
+uniform bool u_morphs;    // the pack has morph targets
+uniform bool u_cloth;     // the pack has cloth loops
 uniform int u_clothClips; // the pack's clips (the loop table's stride)
 uniform int u_rootJoint;
 uniform mat4 u_rootBind; // the top joint's bind matrix
@@ -65,17 +65,21 @@ out vec2 v_uv;
 out vec3 v_world;
 out float v_facet; // 1: a cloth vertex, shaded by its face's normal
 
+// A joint's first texel in a frame and its texels: 3 (matrix rows) or 2 (quaternion, then
+// translation and scale); jointTexelWords in runtime/src/texture_skinning.cpp.
 ivec2 texelOf(int frame, int joint, int texel) {
-  int tpj = u_encoding == 0 ? 3 : 2;
-  return ivec2((frame % u_framesPerRow) * u_jointCount * tpj + joint * tpj + texel,
+  return ivec2((frame % u_framesPerRow) * u_frameTexels + jointTexels[joint].x + texel,
                frame / u_framesPerRow);
 }
 
+bool isMatrix(int joint) { return jointTexels[joint].y == 3; }
+
 mat3x4 rowsFromQts(vec4 q, vec4 ts) {
   float x = q.x, y = q.y, z = q.z, w = q.w, s = ts.w;
-  return mat3x4(vec4(s * (1 - 2 * (y * y + z * z)), s * 2 * (x * y - w * z), s * 2 * (x * z + w * y), ts.x),
-                vec4(s * 2 * (x * y + w * z), s * (1 - 2 * (x * x + z * z)), s * 2 * (y * z - w * x), ts.y),
-                vec4(s * 2 * (x * z - w * y), s * 2 * (y * z + w * x), s * (1 - 2 * (x * x + y * y)), ts.z));
+  return mat3x4(
+      vec4(s * (1 - 2 * (y * y + z * z)), s * 2 * (x * y - w * z), s * 2 * (x * z + w * y), ts.x),
+      vec4(s * 2 * (x * y + w * z), s * (1 - 2 * (x * x + z * z)), s * 2 * (y * z - w * x), ts.y),
+      vec4(s * 2 * (x * z - w * y), s * 2 * (y * z + w * x), s * (1 - 2 * (x * x + y * y)), ts.z));
 }
 
 // Hamilton product of quaternions stored (x, y, z, w).
@@ -108,7 +112,8 @@ Rigid rigidOfQts(vec4 q, vec4 ts) { return Rigid(q, 0.5 * qmul(vec4(ts.xyz, 0), 
 // Scale: the columns' mean length; rotation: the scaled 3x3 part's quaternion (Shepperd).
 Rigid rigidOf(mat3x4 m) {
   float scale = (length(vec3(m[0].x, m[1].x, m[2].x)) + length(vec3(m[0].y, m[1].y, m[2].y)) +
-                 length(vec3(m[0].z, m[1].z, m[2].z))) / 3.0;
+                 length(vec3(m[0].z, m[1].z, m[2].z))) /
+                3.0;
   mat3x4 r = m * (1.0 / scale);
   vec4 q;
   float trace = r[0].x + r[1].y + r[2].z;
@@ -130,7 +135,7 @@ Rigid rigidOf(mat3x4 m) {
 }
 
 Rigid frameRigid(int frame, int joint) {
-  if (u_encoding == 0)
+  if (isMatrix(joint))
     return rigidOf(mat3x4(texelFetch(u_animation, texelOf(frame, joint, 0), 0),
                           texelFetch(u_animation, texelOf(frame, joint, 1), 0),
                           texelFetch(u_animation, texelOf(frame, joint, 2), 0)));
@@ -144,10 +149,13 @@ Rigid jointRigid(int f0, int f1, float alpha, int joint) {
 }
 
 mat3x4 jointRows(int f0, int f1, float alpha, int joint) {
-  if (u_encoding == 0) {
-    return mat3x4(mix(texelFetch(u_animation, texelOf(f0, joint, 0), 0), texelFetch(u_animation, texelOf(f1, joint, 0), 0), alpha),
-                  mix(texelFetch(u_animation, texelOf(f0, joint, 1), 0), texelFetch(u_animation, texelOf(f1, joint, 1), 0), alpha),
-                  mix(texelFetch(u_animation, texelOf(f0, joint, 2), 0), texelFetch(u_animation, texelOf(f1, joint, 2), 0), alpha));
+  if (isMatrix(joint)) {
+    return mat3x4(mix(texelFetch(u_animation, texelOf(f0, joint, 0), 0),
+                      texelFetch(u_animation, texelOf(f1, joint, 0), 0), alpha),
+                  mix(texelFetch(u_animation, texelOf(f0, joint, 1), 0),
+                      texelFetch(u_animation, texelOf(f1, joint, 1), 0), alpha),
+                  mix(texelFetch(u_animation, texelOf(f0, joint, 2), 0),
+                      texelFetch(u_animation, texelOf(f1, joint, 2), 0), alpha));
   }
   // Dual-quaternion (screw-linear) blend of rotation and translation; scale blends linearly.
   return rowsOf(jointRigid(f0, f1, alpha, joint));
@@ -163,7 +171,8 @@ ClipTime clipTime(float clipIndex, float offset, float speed) {
   vec4 clip = clips[int(clipIndex)]; // fps, frames, first, loop
   float last = clip.y - 1.0;
   float f = (u_time * speed + offset) * clip.x;
-  if (clip.w > 0.5 && last > 0) f = f - last * floor(f / last);
+  if (clip.w > 0.5 && last > 0)
+    f = f - last * floor(f / last);
   f = clamp(f, 0.0, last);
   int frame = int(floor(f));
   return ClipTime(int(clip.z) + min(frame, int(last)), int(clip.z) + min(frame + 1, int(last)),
@@ -177,7 +186,8 @@ void addMorphs(int frame, float factor, inout vec3 p, inout vec3 n) {
     ivec4 slot = morphSlots[frame * kMorphSlots + s];
     float w = intBitsToFloat(slot.w) * factor;
     int local = gl_VertexID - slot.y;
-    if (w == 0.0 || local < 0 || local >= slot.z) continue;
+    if (w == 0.0 || local < 0 || local >= slot.z)
+      continue;
     int k = 2 * (slot.x + local);
     p += w * morphOffsets[k].xyz;
     n += w * morphOffsets[k + 1].xyz;
@@ -193,11 +203,13 @@ void addMorphs(ClipTime t, float factor, inout vec3 p, inout vec3 n) {
 // speed), if its garment has a loop over that clip (loopTimeAt, clothBindPosition).
 bool clothAt(float clipIndex, float offset, float speed, ivec2 v, out vec3 bindPosition) {
   ClothLoop loop = clothLoops[v.x * u_clothClips + int(clipIndex)];
-  if (loop.shape.z == 0) return false;
+  if (loop.shape.z == 0)
+    return false;
   vec4 clip = clips[int(clipIndex)];
   float last = clip.y - 1.0;
   float u = last > 0.0 ? (u_time * speed + offset) * clip.x / last : 0.0;
-  if (clip.w < 0.5) u = clamp(u, 0.0, 1.0);
+  if (clip.w < 0.5)
+    u = clamp(u, 0.0, 1.0);
   float cycles = float(loop.shape.w);
   float phase = u - loop.origin.w;
   phase -= cycles * floor(phase / cycles);
@@ -207,8 +219,10 @@ bool clothAt(float clipIndex, float offset, float speed, ivec2 v, out vec3 bindP
   int f1 = (f0 + 1) % loop.shape.z;
   uvec2 a = clothPositions[loop.shape.x + f0 * loop.shape.y + v.y];
   uvec2 b = clothPositions[loop.shape.x + f1 * loop.shape.y + v.y];
-  vec3 qa = loop.origin.xyz + vec3(float(a.x & 0xffffu), float(a.x >> 16), float(a.y)) * loop.spacing.xyz;
-  vec3 qb = loop.origin.xyz + vec3(float(b.x & 0xffffu), float(b.x >> 16), float(b.y)) * loop.spacing.xyz;
+  vec3 qa =
+      loop.origin.xyz + vec3(float(a.x & 0xffffu), float(a.x >> 16), float(a.y)) * loop.spacing.xyz;
+  vec3 qb =
+      loop.origin.xyz + vec3(float(b.x & 0xffffu), float(b.x >> 16), float(b.y)) * loop.spacing.xyz;
   bindPosition = (u_rootBind * vec4(mix(qa, qb, f - whole), 1.0)).xyz;
   return true;
 }
@@ -262,16 +276,19 @@ void main() {
     if (weight < 1.0)
       skinned = mix(clothOrSkinned(before, max(fade.x, 0.0), fade.y, params.z, cloth, ids, weights),
                     skinned, weight);
-  } else for (int k = 0; k < 4; ++k) {
-    if (weights[k] == 0.0) continue;
-    mat3x4 m = weight < 1.0
-        ? rowsOf(mixRigid(jointRigid(before.f0, before.f1, before.alpha, int(ids[k])),
-                          jointRigid(now.f0, now.f1, now.alpha, int(ids[k])), weight))
-        : jointRows(now.f0, now.f1, now.alpha, int(ids[k]));
-    skinned += weights[k] * (p * m);
-    normal += weights[k] * (vec4(bindNormal, 0.0) * m);
-  }
-  vec3 world = vec3(dot(rows[0], vec4(skinned, 1)), dot(rows[1], vec4(skinned, 1)), dot(rows[2], vec4(skinned, 1)));
+  } else
+    for (int k = 0; k < 4; ++k) {
+      if (weights[k] == 0.0)
+        continue;
+      mat3x4 m = weight < 1.0
+                     ? rowsOf(mixRigid(jointRigid(before.f0, before.f1, before.alpha, int(ids[k])),
+                                       jointRigid(now.f0, now.f1, now.alpha, int(ids[k])), weight))
+                     : jointRows(now.f0, now.f1, now.alpha, int(ids[k]));
+      skinned += weights[k] * (p * m);
+      normal += weights[k] * (vec4(bindNormal, 0.0) * m);
+    }
+  vec3 world = vec3(dot(rows[0], vec4(skinned, 1)), dot(rows[1], vec4(skinned, 1)),
+                    dot(rows[2], vec4(skinned, 1)));
   v_normal = vec3(dot(rows[0].xyz, normal), dot(rows[1].xyz, normal), dot(rows[2].xyz, normal));
   v_world = world;
   v_uv = a_uv;

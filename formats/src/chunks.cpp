@@ -1,5 +1,6 @@
 #include "crowd/formats/chunks.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -32,15 +33,35 @@ void checkFinite(ByteReader &r, const std::vector<float> &v, const char *field) 
 } // namespace
 
 const char *name(JointEncoding e) {
-  return e == JointEncoding::Matrix3x4 ? "matrix3x4" : "quat_trans_scale";
+  switch (e) {
+  case JointEncoding::Matrix3x4:
+    return "matrix3x4";
+  case JointEncoding::QuatTransScale:
+    return "quat_trans_scale";
+  case JointEncoding::QtsWithMatrices:
+    return "quat_trans_scale_with_matrices";
+  }
+  return "?";
 }
 const char *name(TexelFormat f) { return f == TexelFormat::RGBA32F ? "rgba32f" : "rgba16f"; }
 uint32_t texelsPerJoint(JointEncoding e) { return e == JointEncoding::Matrix3x4 ? 3 : 2; }
 uint32_t bytesPerTexel(TexelFormat f) { return f == TexelFormat::RGBA32F ? 16 : 8; }
 
+bool AnimationTexture::isMatrix(uint32_t joint) const {
+  return encoding == JointEncoding::Matrix3x4 ||
+         std::binary_search(matrixJoints.begin(), matrixJoints.end(), joint);
+}
+
+uint32_t AnimationTexture::frameTexels() const {
+  return jointCount * texelsPerJoint(encoding) + uint32_t(matrixJoints.size());
+}
+
 std::pair<uint32_t, uint32_t> AnimationTexture::texelOf(uint32_t frame, uint32_t joint) const {
-  uint32_t tpj = texelsPerJoint(encoding);
-  return {(frame % framesPerRow) * jointCount * tpj + joint * tpj, frame / framesPerRow};
+  // Each matrix joint before `joint` takes one texel more than the encoding's.
+  const auto before = std::lower_bound(matrixJoints.begin(), matrixJoints.end(), joint);
+  return {(frame % framesPerRow) * frameTexels() + joint * texelsPerJoint(encoding) +
+              uint32_t(before - matrixJoints.begin()),
+          frame / framesPerRow};
 }
 
 std::array<float, 4> AnimationTexture::texel(uint32_t x, uint32_t y) const {
@@ -180,6 +201,8 @@ std::vector<uint8_t> encode(const AnimationTexture &t) {
   w.put<uint32_t>(t.jointCount);
   w.put<uint32_t>(t.framesPerRow);
   w.put<uint32_t>(t.frameCount);
+  if (t.encoding == JointEncoding::QtsWithMatrices)
+    w.putArray(t.matrixJoints);
   w.putArray(t.texels);
   return w.take();
 }
@@ -189,7 +212,7 @@ AnimationTexture decodeAnimationTexture(std::span<const uint8_t> bytes,
   ByteReader r(bytes, context);
   AnimationTexture t;
   uint32_t enc = r.get<uint32_t>("encoding");
-  if (enc > 1)
+  if (enc > 2)
     r.fail("encoding", "unknown joint encoding " + std::to_string(enc));
   t.encoding = JointEncoding(enc);
   uint32_t fmt = r.get<uint32_t>("texel format");
@@ -202,7 +225,16 @@ AnimationTexture decodeAnimationTexture(std::span<const uint8_t> bytes,
   t.frameCount = r.get<uint32_t>("frame count");
   if (t.jointCount == 0 || t.framesPerRow == 0 || t.frameCount == 0)
     r.fail("joint count/frames", "must be non-zero");
-  if (uint64_t(t.framesPerRow) * t.jointCount * texelsPerJoint(t.encoding) > t.width)
+  if (t.encoding == JointEncoding::QtsWithMatrices) {
+    t.matrixJoints = r.getArray<uint32_t>("matrix joints", t.jointCount);
+    if (t.matrixJoints.empty())
+      r.fail("matrix joints", "none listed (the encoding is quat_trans_scale then)");
+    for (size_t i = 0; i < t.matrixJoints.size(); ++i)
+      if (t.matrixJoints[i] >= t.jointCount || (i && t.matrixJoints[i] <= t.matrixJoints[i - 1]))
+        r.fail("matrix joints",
+               "joint " + std::to_string(t.matrixJoints[i]) + " is out of range or not ascending");
+  }
+  if (uint64_t(t.framesPerRow) * t.frameTexels() > t.width)
     r.fail("frames per row", "frames do not fit in the texture width");
   if (uint64_t(t.framesPerRow) * t.height < t.frameCount)
     r.fail("frame count", std::to_string(t.frameCount) + " frames do not fit in " +

@@ -81,8 +81,10 @@ Description describeAnimation(std::span<const uint8_t> b, uint32_t, const std::s
       .add("frames", number(t.frameCount))
       .add("frames_per_row", number(t.framesPerRow))
       .add("bytes_per_joint_per_frame",
-           number(texelsPerJoint(t.encoding) * bytesPerTexel(t.format)))
+           number(double(t.frameTexels()) * bytesPerTexel(t.format) / t.jointCount))
       .add("texel_bytes", number(double(t.texels.size())));
+  if (!t.matrixJoints.empty())
+    d.add("matrix_joints", number(double(t.matrixJoints.size())));
   return d;
 }
 

@@ -62,7 +62,7 @@ struct CrowdRenderer::Character {
   // Mesh, normals, indices of every LOD level, clips, instances, palettes, UVs, geometry ids
   // (sorted by level), impostor ids, views, draw commands, morph slots and offsets, cloth
   // vertices, loops and positions.
-  unsigned vao = 0, buffers[16] = {}, textures[5] = {};
+  unsigned vao = 0, buffers[17] = {}, textures[5] = {};
   ClothBuffers cloth;
   // Per instance: 3 rows, params (clip, time offset, speed, palette) and fade (clip faded from
   // or -1, its time offset, fade start, fade length): kInstanceFloats floats.
@@ -82,7 +82,7 @@ struct CrowdRenderer::Character {
 
   ~Character() {
     glDeleteVertexArrays(1, &vao);
-    glDeleteBuffers(16, buffers);
+    glDeleteBuffers(GLsizei(std::size(buffers)), buffers);
     glDeleteTextures(5, textures);
   }
 };
@@ -275,7 +275,7 @@ CrowdRenderer::CrowdRenderer(const std::vector<const pack::AnimationPack *> &pac
       indices.insert(indices.end(), level.begin(), level.end());
     }
     glCreateVertexArrays(1, &c->vao);
-    glCreateBuffers(16, c->buffers);
+    glCreateBuffers(GLsizei(std::size(c->buffers)), c->buffers);
     auto upload = [](unsigned b, const auto &v) {
       glNamedBufferStorage(b, GLsizeiptr(v.size() * sizeof(v[0])), v.data(), 0);
     };
@@ -288,6 +288,7 @@ CrowdRenderer::CrowdRenderer(const std::vector<const pack::AnimationPack *> &pac
     glNamedBufferStorage(c->buffers[4], GLsizeiptr(c->instanceData.size() * sizeof(float)),
                          c->instanceData.data(), schedule_.dynamic() ? GL_DYNAMIC_STORAGE_BIT : 0);
     upload(c->buffers[5], colours);
+    upload(c->buffers[16], jointTexelWords(p.animation));
     upload(c->buffers[11], morphSlotWords(p.morphs ? &*p.morphs : nullptr));
     upload(c->buffers[12], p.morphs ? p.morphs->offsets : std::vector<float>(8, 0.0f));
     if (c->cloth.empty()) { // unread, but bound
@@ -448,8 +449,7 @@ DrawStats CrowdRenderer::draw(const FrameView &view, float seconds, const DrawOp
     glNamedBufferSubData(c->buffers[10], 0, GLsizeiptr(c->commands.size() * 4), c->commands.data());
 
     glUseProgram(program_);
-    glUniform1i(loc("u_encoding"), int(p.animation.encoding));
-    glUniform1i(loc("u_jointCount"), int(p.animation.jointCount));
+    glUniform1i(loc("u_frameTexels"), int(p.animation.frameTexels()));
     glUniform1i(loc("u_framesPerRow"), int(p.animation.framesPerRow));
     glUniform1i(loc("u_skinWidth"), int(p.skin.width));
     glUniform1i(loc("u_subMeshCount"), int(subMeshes));
@@ -467,6 +467,7 @@ DrawStats CrowdRenderer::draw(const FrameView &view, float seconds, const DrawOp
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, c->buffers[13]);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, c->buffers[14]);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, c->buffers[15]);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, c->buffers[16]);
     glUniform1i(loc("u_cloth"), c->cloth.empty() ? 0 : 1);
     glUniform1i(loc("u_clothClips"), int(c->cloth.clips));
     glUniform1i(loc("u_rootJoint"), int(c->cloth.rootJoint));

@@ -90,7 +90,7 @@ namespace {
 Rigid sampleRigid(const pack::AnimationTexture &t, uint32_t f0, uint32_t f1, float alpha,
                   uint32_t joint) {
   auto at = [&](uint32_t f) -> Rigid {
-    if (t.encoding == pack::JointEncoding::Matrix3x4)
+    if (t.isMatrix(joint))
       return rigidOf({fetch(t, f, joint, 0), fetch(t, f, joint, 1), fetch(t, f, joint, 2)});
     const glm::vec4 q = fetch(t, f, joint, 0), ts = fetch(t, f, joint, 1);
     return {q, dualOf(q, ts), ts.w};
@@ -109,7 +109,7 @@ std::pair<uint32_t, uint32_t> framesOf(const pack::Clip &clip, uint32_t frame) {
 JointRows sampleJoint(const pack::AnimationTexture &t, const pack::Clip &clip, uint32_t frame,
                       float alpha, uint32_t joint) {
   const auto [f0, f1] = framesOf(clip, frame);
-  if (t.encoding == pack::JointEncoding::Matrix3x4) {
+  if (t.isMatrix(joint)) {
     JointRows r;
     for (uint32_t k = 0; k < 3; ++k)
       r[k] = glm::mix(fetch(t, f0, joint, k), fetch(t, f1, joint, k), alpha);
@@ -214,6 +214,13 @@ SkinnedVertex morphVertexFaded(const pack::Morphs &m, const ClipTime &from, cons
   addMorphs(m, from, 1.0f - weight, vertex, bind);
   addMorphs(m, to, weight, vertex, bind);
   return bind;
+}
+
+std::vector<int32_t> jointTexelWords(const pack::AnimationTexture &t) {
+  std::vector<int32_t> words;
+  for (uint32_t j = 0; j < t.jointCount; ++j)
+    words.insert(words.end(), {int32_t(t.texelOf(0, j).first), t.isMatrix(j) ? 3 : 2});
+  return words;
 }
 
 std::vector<int32_t> morphSlotWords(const pack::Morphs *m) {

@@ -7,6 +7,8 @@
 
 #include "crowd/bake/anim_bake.h"
 #include "crowd/bake/import.h"
+#include "crowd/formats/chunks.h"
+#include "crowd/formats/error.h"
 #include "gltf_writer.h"
 #include "sample_character.h"
 
@@ -170,17 +172,49 @@ TEST(AnimBudget, AClipOf100000KeysBakesAtALowRate) {
   EXPECT_NEAR(r.budget.clips.at(0).sourceFps, 1000, 1);
 }
 
-TEST(AnimBudget, ANonUniformScaleFallsBackToMatrices) {
+// The quaternion encodings carry one scale per joint: a joint that stretches falls back to
+// matrix rows, and only it (and the joints it carries).
+TEST(AnimBudget, ANonUniformScaleFallsBackToMatricesForItsJointsOnly) {
   const Character c = quadWith("stretch", [](test::GltfBuilder &b) {
-    b.animation("stretch", 0, "scale", {0, 1}, {1, 1, 1, 2, 1, 1});
+    const int anim = b.animation("stretch", 1, "scale", {0, 1}, {1, 1, 1, 2, 1, 1});
+    b.channel(anim, 0, "rotation", {0, 1}, {0, 0, 0, 1, 0, 0, 0.38268343f, 0.92387953f});
   });
   const AnimBakeResult r = bake(c);
   EXPECT_TRUE(r.budget.met);
-  EXPECT_EQ(pack::texelsPerJoint(r.pack.animation.encoding), 3u) << r.budget.precision;
-  // The quaternion encodings carry one scale per joint: every option of theirs is over budget.
-  for (const auto &o : r.budget.clips.at(0).tried)
-    if (o.precision.rfind("qts", 0) == 0) {
-      EXPECT_FALSE(o.meets) << o.precision << " at " << o.fps;
+  EXPECT_LE(worstMm(r), 1.0);
+  EXPECT_EQ(r.budget.matrixJoints, std::vector<uint32_t>{1}); // "b"; "a" only turns
+  ASSERT_EQ(r.budget.precision.rfind("qts", 0), 0u) << r.budget.precision;
+  const pack::AnimationTexture &t = r.pack.animation;
+  EXPECT_EQ(t.encoding, pack::JointEncoding::QtsWithMatrices);
+  EXPECT_FALSE(t.isMatrix(0));
+  EXPECT_TRUE(t.isMatrix(1));
+  EXPECT_EQ(t.frameTexels(), 2u + 3u);
+  // It round-trips through the chunk.
+  const auto decoded = pack::decodeAnimationTexture(pack::encode(t), "test");
+  EXPECT_EQ(decoded.matrixJoints, t.matrixJoints);
+  EXPECT_EQ(decoded.texels, t.texels);
+  // A damaged list is a clear error: none, out of range, not ascending, or a cut chunk.
+  for (const std::vector<uint32_t> &bad :
+       {std::vector<uint32_t>{}, std::vector<uint32_t>{2}, std::vector<uint32_t>{1, 1}}) {
+    pack::AnimationTexture d = t;
+    d.matrixJoints = bad;
+    EXPECT_THROW(pack::decodeAnimationTexture(pack::encode(d), "test"), Error) << bad.size();
+  }
+  const auto bytes = pack::encode(t);
+  for (size_t cut : {size_t(30), size_t(36), bytes.size() - 1})
+    EXPECT_THROW(pack::decodeAnimationTexture({bytes.data(), cut}, "test"), Error) << cut;
+
+  // A stretching root carries its child: both joints fall back, and the qts options still meet
+  // the budget.
+  const Character root = quadWith("stretch_root", [](test::GltfBuilder &b) {
+    b.animation("stretch", 0, "scale", {0, 1}, {1, 1, 1, 2, 1, 1});
+  });
+  const AnimBakeResult all = bake(root);
+  EXPECT_TRUE(all.budget.met);
+  EXPECT_EQ(all.budget.matrixJoints, (std::vector<uint32_t>{0, 1}));
+  for (const auto &o : all.budget.clips.at(0).tried)
+    if (o.precision == "qts") {
+      EXPECT_TRUE(o.meets) << o.fps;
     }
 }
 

@@ -85,9 +85,12 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
 
   // Each clip's rate and the pack's precision: forced, or the budget's choice.
   BudgetChoice &budget = result.budget;
+  const auto matrixJoints = matrixJointsByBudget(c, sourceClips, options.errorBudgetMm,
+                                                 result.mmPerUnit, options.threads);
   const bool forced = options.fps != AnimBakeOptions::kFpsFromBudget && options.precision != "auto";
   if (forced || sourceClips.empty()) {
     budget.precision = options.precision == "auto" ? "float" : options.precision;
+    budget.matrixJoints = matrixJoints;
     for (const auto *clip : sourceClips)
       budget.clips.push_back(
           {clip->name, options.fps > 0 ? options.fps : sourceRate(*clip), sourceRate(*clip), {}});
@@ -103,6 +106,7 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
         search.tried.push_back(&p);
     search.maxWidth = options.maxWidth;
     search.threads = options.threads;
+    search.matrixJoints = matrixJoints;
     budget = chooseByBudget(c, sourceClips, search);
   }
   const Precision &chosen = precisionByName(budget.precision);
@@ -185,22 +189,24 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
   const auto &all = precisions();
   std::vector<pack::AnimationTexture> textures;
   for (const auto &p : all)
-    textures.push_back(buildAnimationTexture(joints, c.jointCount(), p, options.maxWidth));
+    textures.push_back(
+        buildAnimationTexture(joints, c.jointCount(), p, options.maxWidth, matrixJoints));
   const size_t np = all.size();
   const uint32_t vertexCount = uint32_t(c.mesh.vertexCount());
   // Error of every precision at (frame, alpha) of pack clip `ci` against `exact`: max[p], sum[p].
   auto measure = [&](size_t ci, uint32_t frame, float alpha, const std::vector<glm::dvec3> &exact,
                      double *max, double *sum) {
     const runtime::ClipTime at{&pk.clips[ci], frame, alpha};
-    for (size_t p = 0; p < np; ++p)
-      for (uint32_t v = 0; v < vertexCount; ++v) {
-        const glm::vec3 bind = morphedBind(c.mesh, pk.morphs, at, v);
+    for (uint32_t v = 0; v < vertexCount; ++v) {
+      const glm::vec3 bind = morphedBind(c.mesh, pk.morphs, at, v); // the same for every p
+      for (size_t p = 0; p < np; ++p) {
         double e = glm::length(glm::dvec3(runtime::skinVertex(textures[p], pk.skin, pk.clips[ci],
                                                               frame, alpha, v, bind)) -
                                exact[v]);
         max[p] = std::max(max[p], e);
         sum[p] += e;
       }
+    }
   };
   std::vector<double> frameMax(total * np), frameSum(total * np), midMax(total * np),
       midSum(total * np);

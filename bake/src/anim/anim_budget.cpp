@@ -60,12 +60,13 @@ maxErrors(const Character &c, const ClipFrames &f,
       exact = &randomExact[k - frames - mids];
     }
     const runtime::ClipTime at{&clip, frame, alpha};
-    for (size_t p = 0; p < np; ++p)
-      for (uint32_t v = 0; v < exact->size(); ++v) {
-        const glm::dvec3 got(runtime::skinVertex(textures[p], skin, clip, frame, alpha, v,
-                                                 morphedBind(c.mesh, morphFrames, at, v)));
+    for (uint32_t v = 0; v < exact->size(); ++v) {
+      const glm::vec3 bind = morphedBind(c.mesh, morphFrames, at, v); // the same for every p
+      for (size_t p = 0; p < np; ++p) {
+        const glm::dvec3 got(runtime::skinVertex(textures[p], skin, clip, frame, alpha, v, bind));
         perTime[k * np + p] = std::max(perTime[k * np + p], glm::length(got - (*exact)[v]));
       }
+    }
   });
   std::vector<double> out(np, 0.0);
   for (size_t k = 0; k < n; ++k)
@@ -84,8 +85,10 @@ ClipBudget searchClip(const Character &c, const AnimationClip &clip, size_t clip
   cb.sourceFps = sourceRate(clip);
   const double duration = clip.end - clip.start;
   const size_t np = s.tried.size();
+  // A frame's joints, and its morph slots (target, weight) where the mesh has targets.
+  const uint64_t morphSlotBytes = c.mesh.morphs.empty() ? 0 : pack::kMorphSlots * 2 * sizeof(float);
   const auto bytes = [&](uint32_t frames, const Precision &p) {
-    return uint64_t(double(frames) * double(c.jointCount()) * p.bytesPerJointPerFrame());
+    return frames * (p.frameBytes(c.jointCount(), s.matrixJoints.size()) + morphSlotBytes);
   };
   const auto rates = ratesFor(s, cb.sourceFps);
   if (!(duration > 0)) { // one frame: every rate stores the same pose
@@ -118,7 +121,8 @@ ClipBudget searchClip(const Character &c, const AnimationClip &clip, size_t clip
     const auto morphFrames = buildMorphs(c.mesh, morphs);
     std::vector<pack::AnimationTexture> textures;
     for (size_t p : open)
-      textures.push_back(buildAnimationTexture(joints, c.jointCount(), *s.tried[p], s.maxWidth));
+      textures.push_back(
+          buildAnimationTexture(joints, c.jointCount(), *s.tried[p], s.maxWidth, s.matrixJoints));
     const auto errors = maxErrors(c, f, joints, morphs, textures, skin, morphFrames, randomTimes,
                                   randomExact, s.threads);
     std::vector<size_t> still;
@@ -140,6 +144,23 @@ ClipBudget searchClip(const Character &c, const AnimationClip &clip, size_t clip
 }
 
 } // namespace
+
+std::vector<uint32_t> matrixJointsByBudget(const Character &c,
+                                           const std::vector<const AnimationClip *> &clips,
+                                           double budgetMm, double mmPerUnit, int threads) {
+  std::vector<std::vector<glm::dmat4>> frames;
+  for (const AnimationClip *clip : clips) {
+    const ClipFrames f = planFrames(*clip, std::min(sourceRate(*clip), kRateLadder.back()));
+    const size_t first = frames.size();
+    frames.resize(first + f.count);
+    parallelFor(f.count, threads, [&](size_t i) {
+      frames[first + i] = jointMatrices(c, clip, f.start + double(i) * f.step);
+    });
+  }
+  if (clips.empty())
+    frames.push_back(jointMatrices(c, nullptr, 0.0));
+  return matrixJointsFor(c.mesh, c.jointCount(), frames, 0.5 * budgetMm / mmPerUnit);
+}
 
 BudgetChoice chooseByBudget(const Character &c, const std::vector<const AnimationClip *> &clips,
                             const BudgetSearch &s) {
@@ -171,6 +192,7 @@ BudgetChoice chooseByBudget(const Character &c, const std::vector<const Animatio
       chosen = p;
   }
   out.precision = s.tried[chosen]->name;
+  out.matrixJoints = s.matrixJoints;
   out.met = met[chosen];
   for (size_t ci = 0; ci < clips.size(); ++ci)
     out.clips[ci].fps = out.clips[ci].tried[best[ci][chosen]].fps;

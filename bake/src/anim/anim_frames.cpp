@@ -28,21 +28,28 @@ const Precision &precisionByName(const std::string &name) {
 
 namespace {
 
-// Texels of one joint: 3 matrix rows, or quaternion + (translation, uniform scale).
-void encodeJoint(const glm::dmat4 &m, pack::JointEncoding enc, float *out) {
-  if (enc == pack::JointEncoding::Matrix3x4) {
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 4; ++c)
-        out[r * 4 + c] = float(m[c][r]);
-    return;
-  }
-  glm::dmat3 a(m);
+// A joint matrix as a unit quaternion and a uniform scale (its 3x3 part's cube-root
+// determinant): what the quaternion encodings store of its 3x3 part.
+std::pair<glm::dquat, double> rotationAndScale(const glm::dmat4 &m) {
+  const glm::dmat3 a(m);
   double s = std::cbrt(glm::determinant(a));
   if (s == 0)
     s = 1e-30;
   glm::dquat q = glm::normalize(glm::quat_cast(a / s));
   if (q.w < 0)
     q = -q; // canonical sign; the sampler picks the short arc between frames
+  return {q, s};
+}
+
+// Texels of one joint: 3 matrix rows, or quaternion + (translation, uniform scale).
+void encodeJoint(const glm::dmat4 &m, bool matrix, float *out) {
+  if (matrix) {
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 4; ++c)
+        out[r * 4 + c] = float(m[c][r]);
+    return;
+  }
+  const auto [q, s] = rotationAndScale(m);
   const double v[8] = {q.x, q.y, q.z, q.w, m[3][0], m[3][1], m[3][2], s};
   for (int k = 0; k < 8; ++k)
     out[k] = float(v[k]);
@@ -50,15 +57,54 @@ void encodeJoint(const glm::dmat4 &m, pack::JointEncoding enc, float *out) {
 
 } // namespace
 
+std::vector<uint32_t> matrixJointsFor(const SkinnedMesh &m, size_t jointCount,
+                                      const std::vector<std::vector<glm::dmat4>> &frames,
+                                      double tolerance) {
+  std::vector<glm::dvec3> lo(jointCount, glm::dvec3(INFINITY)),
+      hi(jointCount, glm::dvec3(-INFINITY));
+  for (size_t v = 0; v < m.vertexCount(); ++v)
+    for (int k = 0; k < 4; ++k)
+      if (m.weights[v][k] > 0 && m.joints[v][size_t(k)] < jointCount) {
+        const size_t j = m.joints[v][size_t(k)];
+        lo[j] = glm::min(lo[j], glm::dvec3(m.positions[v]));
+        hi[j] = glm::max(hi[j], glm::dvec3(m.positions[v]));
+      }
+  std::vector<uint32_t> out;
+  for (size_t j = 0; j < jointCount; ++j) {
+    if (lo[j].x > hi[j].x)
+      continue; // moves no vertex
+    double worst = 0;
+    for (const auto &frame : frames) {
+      const auto [q, s] = rotationAndScale(frame[j]);
+      // The part of the 3x3 transform the encoding drops; the error is linear in the point, so
+      // it is largest at a corner of the box.
+      const glm::dmat3 dropped = glm::dmat3(frame[j]) - s * glm::mat3_cast(q);
+      for (int corner = 0; corner < 8; ++corner) {
+        const glm::dvec3 p(corner & 1 ? hi[j].x : lo[j].x, corner & 2 ? hi[j].y : lo[j].y,
+                           corner & 4 ? hi[j].z : lo[j].z);
+        worst = std::max(worst, glm::length(dropped * p));
+      }
+    }
+    if (worst > tolerance)
+      out.push_back(uint32_t(j));
+  }
+  return out;
+}
+
 pack::AnimationTexture buildAnimationTexture(const std::vector<std::vector<glm::dmat4>> &frames,
                                              size_t jointCount, const Precision &p,
-                                             uint32_t maxWidth) {
+                                             uint32_t maxWidth,
+                                             const std::vector<uint32_t> &matrixJoints) {
   pack::AnimationTexture t;
   t.encoding = p.encoding;
   t.format = p.format;
   t.jointCount = uint32_t(jointCount);
   t.frameCount = uint32_t(frames.size());
-  uint64_t frameTexels = uint64_t(jointCount) * pack::texelsPerJoint(p.encoding);
+  if (p.encoding == pack::JointEncoding::QuatTransScale && !matrixJoints.empty()) {
+    t.encoding = pack::JointEncoding::QtsWithMatrices;
+    t.matrixJoints = matrixJoints;
+  }
+  const uint64_t frameTexels = t.frameTexels();
   t.framesPerRow = uint32_t(maxWidth / frameTexels);
   if (t.framesPerRow == 0)
     throw Error("a frame of " + std::to_string(jointCount) + " joints needs " +
@@ -75,7 +121,7 @@ pack::AnimationTexture buildAnimationTexture(const std::vector<std::vector<glm::
   for (uint32_t f = 0; f < t.frameCount; ++f)
     for (uint32_t j = 0; j < jointCount; ++j) {
       auto [x, y] = t.texelOf(f, j);
-      encodeJoint(frames[f][j], p.encoding, &values[(size_t(y) * t.width + x) * 4]);
+      encodeJoint(frames[f][j], t.isMatrix(j), &values[(size_t(y) * t.width + x) * 4]);
     }
   if (p.format == pack::TexelFormat::RGBA32F) {
     t.texels.resize(values.size() * 4);

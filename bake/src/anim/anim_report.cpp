@@ -27,12 +27,20 @@ ordered_json clipErrorsJson(const ClipAccuracy &a, const AnimBakeResult &r) {
   return j;
 }
 
+namespace {
+// A precision's mean bytes per joint per frame, with the pack's matrix joints.
+double bytesPerJointPerFrame(const Precision &p, const AnimBakeResult &r) {
+  const size_t joints = r.pack.skeleton.jointCount();
+  return joints ? double(p.frameBytes(joints, r.budget.matrixJoints.size())) / double(joints) : 0;
+}
+} // namespace
+
 ordered_json precisionJson(const PrecisionAccuracy &pa, const AnimBakeResult &r) {
   ordered_json j;
   j["precision"] = pa.precision.name;
   j["encoding"] = pack::name(pa.precision.encoding);
   j["texel_format"] = pack::name(pa.precision.format);
-  j["bytes_per_joint_per_frame"] = pa.precision.bytesPerJointPerFrame();
+  j["bytes_per_joint_per_frame"] = bytesPerJointPerFrame(pa.precision, r);
   j["texture_bytes"] = pa.textureBytes;
   for (const auto &c : pa.clips) {
     ordered_json cj;
@@ -51,7 +59,12 @@ ordered_json animFigures(const AnimBakeResult &r) {
   f["scaled_by"] = r.heightIsDiagonal ? "diagonal" : "height";
   const auto &baked = r.accuracy[r.baked];
   f["precision"] = baked.precision.name;
-  f["bytes_per_joint_per_frame"] = baked.precision.bytesPerJointPerFrame();
+  f["bytes_per_joint_per_frame"] = bytesPerJointPerFrame(baked.precision, r);
+  // Joints whose shear or non-uniform scale the quaternion precisions cannot carry: they store
+  // them as matrix rows (the budget's half, at the clips' source rates).
+  f["matrix_joints"] = ordered_json::array();
+  for (uint32_t j : r.budget.matrixJoints)
+    f["matrix_joints"].push_back(r.pack.skeleton.names.at(j));
   f["error_budget_mm"] = r.errorBudgetMm;
   f["budget_met"] = r.budget.met;
   f["clips"] = ordered_json::array();

@@ -133,9 +133,8 @@ std::vector<double> morphWeights(const Character &c, const AnimationClip *clip, 
     for (const auto &ch : clip->channels) {
       if (ch.path != ChannelPath::Weights)
         continue;
-      for (const auto &g : c.morphGroups)
-        if (g.node == ch.node)
-          sample(ch, t, &weights[g.first]);
+      if (const MorphGroup *g = c.morphGroupOf(ch.node))
+        sample(ch, t, &weights[g->first]);
     }
   return weights;
 }

@@ -1,5 +1,6 @@
 #include "crowd/bake/executor.h"
 
+#include <algorithm>
 #include <chrono>
 #include <condition_variable>
 #include <cstdio>
@@ -74,7 +75,11 @@ std::vector<JobOutcome> executeJobs(const std::vector<Job> &jobs, const ContentC
   }
   const int workers =
       std::max(1, std::min(resolveThreads(options.workers), int(std::max<size_t>(n, 1))));
-  const int threadsPerJob = std::max(1, resolveThreads(0) / workers);
+  // A job's threads are the cores shared among the jobs that run beside it when it starts: the
+  // ones running and the ones ready to (at most `workers`). A job that starts alone, as a
+  // character's mesh job after its cloth jobs often does, gets every core.
+  const int cores = resolveThreads(0);
+  int running = 0;
   std::mutex mutex;
   std::condition_variable wake;
   size_t finished = 0, cachedCount = 0, failedCount = 0;
@@ -135,6 +140,9 @@ std::vector<JobOutcome> executeJobs(const std::vector<Job> &jobs, const ContentC
       }
       const size_t i = ready.front();
       ready.pop_front();
+      ++running;
+      const int beside = std::min(workers, running + int(ready.size()));
+      const int threads = std::max(1, cores / beside);
       std::vector<const Part *> deps;
       for (size_t d : jobs[i].deps)
         deps.push_back(&out[d].part);
@@ -146,7 +154,7 @@ std::vector<JobOutcome> executeJobs(const std::vector<Job> &jobs, const ContentC
           o = std::move(out[i]);
         } else {
           const auto t0 = Clock::now();
-          o.part = runJob(jobs[i], deps, threadsPerJob);
+          o.part = runJob(jobs[i], deps, threads);
           o.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
           cache.store(jobs[i].key, o.part);
         }
@@ -158,6 +166,7 @@ std::vector<JobOutcome> executeJobs(const std::vector<Job> &jobs, const ContentC
         o.error = oneLine(e.what());
       }
       lock.lock();
+      --running;
       out[i] = std::move(o);
       if (!out[i].cached && !out[i].failed) {
         bakeSeconds += out[i].seconds;

@@ -738,9 +738,8 @@ private:
                         const tinygltf::Primitive &prim, const std::string &ctx, uint32_t base,
                         size_t vc) {
     auto &mesh = out_.mesh;
-    auto group = std::find_if(out_.morphGroups.begin(), out_.morphGroups.end(),
-                              [&](const MorphGroup &g) { return g.node == mn.node; });
-    if (group == out_.morphGroups.end() && !prim.targets.empty()) {
+    const MorphGroup *group = out_.morphGroupOf(mn.node);
+    if (!group && !prim.targets.empty()) {
       const size_t count = prim.targets.size();
       if (mesh.morphs.size() + count > limits::kMorphTargets)
         fail(ctx + ": more than " + std::to_string(limits::kMorphTargets) + " morph targets");
@@ -761,7 +760,7 @@ private:
         mesh.morphDefaults.push_back(defaults.empty() ? 0.0 : defaults[t]);
       }
       out_.morphGroups.push_back({mn.node, uint32_t(mesh.morphs.size() - count), uint32_t(count)});
-      group = out_.morphGroups.end() - 1;
+      group = &out_.morphGroups.back();
     }
     if (uint64_t(mesh.morphs.size()) * mesh.vertexCount() > limits::kMorphOffsets)
       fail(ctx + ": " + std::to_string(mesh.morphs.size()) + " morph targets x " +
@@ -771,7 +770,7 @@ private:
       target.positions.resize(mesh.vertexCount(), glm::vec3(0));
       target.normals.resize(mesh.vertexCount(), glm::vec3(0));
     }
-    const size_t expected = group == out_.morphGroups.end() ? 0 : group->count;
+    const size_t expected = group ? group->count : 0;
     if (prim.targets.size() != expected)
       fail(ctx + ": " + std::to_string(prim.targets.size()) + " morph targets, but the mesh's " +
            "first primitive has " + std::to_string(expected) + " (glTF requires the same count)");
@@ -922,9 +921,8 @@ private:
           fail(ctx + ": target node " + std::to_string(ch.target_node) + " does not exist");
         out.node = ch.target_node;
         if (ch.target_path == "weights") {
-          auto group = std::find_if(out_.morphGroups.begin(), out_.morphGroups.end(),
-                                    [&](const MorphGroup &g) { return g.node == ch.target_node; });
-          if (group == out_.morphGroups.end()) { // no baked mesh of this node has targets
+          const MorphGroup *group = out_.morphGroupOf(ch.target_node);
+          if (!group) { // no baked mesh of this node has targets
             ++strayWeightChannels;
             continue;
           }

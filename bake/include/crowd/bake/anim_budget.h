@@ -24,7 +24,7 @@ struct BudgetOption {
   double fps = 0; // as adjusted to land on the clip's end
   std::string precision;
   uint32_t frames = 0;
-  uint64_t bytes = 0;    // frames x joints x the precision's bytes per joint per frame
+  uint64_t bytes = 0;    // frames x (the joints' bytes + the morph slots' where targets exist)
   double maxErrorMm = 0; // at frame times, mid-frames and the seeded random times, at 1.8 m
   bool meets = false;
 };
@@ -37,9 +37,10 @@ struct ClipBudget {
 };
 
 struct BudgetChoice {
-  std::string precision;         // the one stored for the whole pack
-  bool met = false;              // every clip within the budget at that precision
-  std::vector<ClipBudget> clips; // one per clip given, in order
+  std::string precision;              // the one stored for the whole pack
+  std::vector<uint32_t> matrixJoints; // stored as matrix rows by the quaternion precisions
+  bool met = false;                   // every clip within the budget at that precision
+  std::vector<ClipBudget> clips;      // one per clip given, in order
 };
 
 struct BudgetSearch {
@@ -48,9 +49,17 @@ struct BudgetSearch {
   std::vector<double> rates;            // empty: kRateLadder plus each clip's source rate
   bool sourceRateOnly = false;          // each clip at its source rate alone
   std::vector<const Precision *> tried; // the precisions to try
+  std::vector<uint32_t> matrixJoints;   // the quaternion precisions' (matrixJointsByBudget)
   uint32_t maxWidth = 4096;
   int threads = 0;
 };
+
+// The joints the quaternion precisions store as matrix rows: those whose encoding alone would
+// take half the budget (matrixJointsFor) at a frame of some clip at its source rate (at most
+// the ladder's top), or of the rest pose without clips.
+std::vector<uint32_t> matrixJointsByBudget(const Character &c,
+                                           const std::vector<const AnimationClip *> &clips,
+                                           double budgetMm, double mmPerUnit, int threads);
 
 // For each precision, the lowest rate per clip that meets the budget (or, where none does, the
 // most accurate rate tried); then the precision whose clips take the fewest bytes, among those

@@ -18,6 +18,13 @@ struct Precision {
   double bytesPerJointPerFrame() const {
     return pack::texelsPerJoint(encoding) * pack::bytesPerTexel(format);
   }
+  // One frame of `jointCount` joints, of which `matrixJoints` fall back to matrix rows (one
+  // texel more each) where the encoding is a quaternion one.
+  uint64_t frameBytes(size_t jointCount, size_t matrixJoints) const {
+    const size_t extra = encoding == pack::JointEncoding::Matrix3x4 ? 0 : matrixJoints;
+    return uint64_t(jointCount * pack::texelsPerJoint(encoding) + extra) *
+           pack::bytesPerTexel(format);
+  }
 };
 const std::vector<Precision> &precisions();
 const Precision &precisionByName(const std::string &name); // throws on an unknown name
@@ -44,11 +51,21 @@ inline constexpr uint32_t kRandomTimesPerClip = 64;
 // per clip index: every bake of a clip measures at the same times.
 std::vector<double> seededTimes(size_t clipIndex, double duration);
 
+// The joints whose transforms a quaternion, translation and uniform scale cannot carry within
+// `tolerance` (model units) at some of `frames` (each a joint matrix per joint): the ones that
+// shear or scale non-uniformly. A joint's error is the largest over the bind-pose box of the
+// vertices it moves. Ascending.
+std::vector<uint32_t> matrixJointsFor(const SkinnedMesh &m, size_t jointCount,
+                                      const std::vector<std::vector<glm::dmat4>> &frames,
+                                      double tolerance);
+
 // The animation texture of frames (each a joint matrix per joint): rows wrap, a frame never
-// straddles two rows. Throws when a frame is wider than maxWidth or the texture too tall.
+// straddles two rows. A quaternion precision stores `matrixJoints` as matrix rows (encoding
+// QtsWithMatrices). Throws when a frame is wider than maxWidth or the texture too tall.
 pack::AnimationTexture buildAnimationTexture(const std::vector<std::vector<glm::dmat4>> &frames,
                                              size_t jointCount, const Precision &p,
-                                             uint32_t maxWidth);
+                                             uint32_t maxWidth,
+                                             const std::vector<uint32_t> &matrixJoints = {});
 // The skin-weight texture: 2 texels per vertex (4 joint ids, 4 weights).
 pack::SkinTexture buildSkinTexture(const SkinnedMesh &m, uint32_t maxWidth);
 

@@ -106,6 +106,13 @@ struct Character {
     return names;
   }
   std::string jointName(size_t j) const { return nodes[size_t(jointNodes[j])].name; }
+  // The targets `node`'s weights drive, or null.
+  const MorphGroup *morphGroupOf(int node) const {
+    for (const auto &g : morphGroups)
+      if (g.node == node)
+        return &g;
+    return nullptr;
+  }
 };
 
 } // namespace crowd

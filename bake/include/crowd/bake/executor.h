@@ -12,7 +12,8 @@
 namespace crowd {
 
 struct ExecutorOptions {
-  int workers = 0; // jobs run at once (0: all cores); each gets cores / workers threads
+  int workers = 0; // jobs run at once (0: all cores); each gets the cores shared among the
+                   // jobs running or ready when it starts
   // Progress on stderr: "bar" redraws one line with counts and ETA (a terminal), "lines" prints
   // a line per finished job, "none" prints nothing.
   std::string progress = "lines";

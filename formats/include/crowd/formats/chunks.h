@@ -57,16 +57,19 @@ struct Clip {
 enum class JointEncoding : uint32_t {
   Matrix3x4 = 0, // 3 texels: the rows of the 3x4 joint matrix (global transform x inverse bind)
   QuatTransScale = 1, // 2 texels: rotation quaternion (xyzw); translation xyz + uniform scale
+  // QuatTransScale, except the joints of AnimationTexture::matrixJoints, which take 3 texels of
+  // matrix rows: the joints whose transforms shear or scale non-uniformly.
+  QtsWithMatrices = 2,
 };
 enum class TexelFormat : uint32_t { RGBA32F = 0, RGBA16F = 1 };
 
 const char *name(JointEncoding e);
 const char *name(TexelFormat f);
-uint32_t texelsPerJoint(JointEncoding e);
+uint32_t texelsPerJoint(JointEncoding e); // of a joint not listed in matrixJoints
 uint32_t bytesPerTexel(TexelFormat f);
 
-// Joint transforms of every frame of every clip. A frame is jointCount * texelsPerJoint
-// consecutive texels in one row; rows hold framesPerRow frames and never split a frame.
+// Joint transforms of every frame of every clip. A frame is frameTexels() consecutive texels in
+// one row, the joints in order; rows hold framesPerRow frames and never split a frame.
 struct AnimationTexture {
   JointEncoding encoding = JointEncoding::Matrix3x4;
   TexelFormat format = TexelFormat::RGBA32F;
@@ -74,8 +77,11 @@ struct AnimationTexture {
   uint32_t jointCount = 0;
   uint32_t framesPerRow = 0;
   uint32_t frameCount = 0;
-  std::vector<uint8_t> texels; // width * height * bytesPerTexel, row-major
-  // Texel coordinates of joint `joint` in global frame `frame`.
+  std::vector<uint32_t> matrixJoints;  // QtsWithMatrices only: ascending, non-empty
+  std::vector<uint8_t> texels;         // width * height * bytesPerTexel, row-major
+  bool isMatrix(uint32_t joint) const; // stored as 3 matrix rows
+  uint32_t frameTexels() const;
+  // Texel coordinates of joint `joint`'s first texel in global frame `frame`.
   std::pair<uint32_t, uint32_t> texelOf(uint32_t frame, uint32_t joint) const;
   std::array<float, 4> texel(uint32_t x, uint32_t y) const;
 };

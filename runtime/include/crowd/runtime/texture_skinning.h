@@ -17,7 +17,8 @@ namespace crowd::runtime {
 using JointRows = std::array<glm::vec4, 3>;
 
 // Transform of `joint` at `alpha` in [0, 1] between clip frames `frame` and `frame + 1`
-// (the second is clamped to the clip's last frame).
+// (the second is clamped to the clip's last frame): matrix rows blend linearly, quaternion
+// frames screw-linearly (as dual quaternions), joint by joint as the texture stores them.
 JointRows sampleJoint(const pack::AnimationTexture &texture, const pack::Clip &clip, uint32_t frame,
                       float alpha, uint32_t joint);
 
@@ -64,6 +65,11 @@ SkinnedVertex morphVertex(const pack::Morphs &morphs, const ClipTime &at, uint32
 // The same in a crossfade: the two clip times' offsets mixed by `weight` (1: `to` alone).
 SkinnedVertex morphVertexFaded(const pack::Morphs &morphs, const ClipTime &from, const ClipTime &to,
                                float weight, uint32_t vertex, SkinnedVertex bind);
+
+// The shader's form of an animation texture's layout (its JointTexels buffer): per joint 2 ints,
+// its first texel within a frame and its texels (3: matrix rows, 2: quaternion, translation and
+// scale). The frame's texels are AnimationTexture::frameTexels().
+std::vector<int32_t> jointTexelWords(const pack::AnimationTexture &t);
 
 // The shader's form of a pack's morph slots (its MorphSlots buffer): per slot 4 ints, the
 // target's first offset pair in the offsets, first vertex, vertex count and the weight's bits.
