@@ -13,5 +13,6 @@ int cmdVerify(int argc, char **argv);
 int cmdExport(int argc, char **argv);
 int cmdPose(int argc, char **argv);
 int cmdCloth(int argc, char **argv);
+int cmdDiff(int argc, char **argv); // exits with the verdict (0..3), 4 when not compared
 
 } // namespace crowd::cli

@@ -9,6 +9,7 @@
 #include "crowd/bake/anim_bake.h"
 #include "crowd/bake/impostor_bake.h"
 #include "crowd/bake/lod_bake.h"
+#include "crowd/bake/provenance.h"
 #include "crowd/samples/cloth_caches.h"
 #include "crowd/samples/samples.h"
 
@@ -35,8 +36,11 @@ commands:
   export    write a pack's textures as images
   pose      write the mesh as the player draws it at given times (PLY, OBJ, PC2)
   cloth     a long cloth cache (PC2, MDD) of one garment into a loop in phase with a body clip
+  diff      a new pack against a golden one, chunk by chunk within tolerances (exit 0 same,
+            1 warn, 2 fail, 3 different contents, 4 unreadable)
 
-Run 'crowdbake <command> --help' for a command's options.
+Run 'crowdbake <command> --help' for a command's options; 'crowdbake --version' names the
+version and the toolchain it was built with.
 
 example:
   crowdbake samples --out s && crowdbake anim s/humanoid.glb -o h.crowdpack --report r.json
@@ -199,6 +203,10 @@ int main(int argc, char **argv) {
       std::cout << kTopHelp;
       return 0;
     }
+    if (command == "--version") {
+      std::cout << crowd::kBakerVersion << "\nbuilt with " << crowd::toolchain() << "\n";
+      return 0;
+    }
     // One function per command; each parses its own options (CLI11). The bakes read untrusted
     // input and run under the resource guard.
     const std::map<std::string, int (*)(int, char **)> commands = {
@@ -214,6 +222,7 @@ int main(int argc, char **argv) {
         {"export", cmdExport},
         {"pose", cmdPose},
         {"cloth", cmdCloth},
+        {"diff", cmdDiff},
     };
     auto it = commands.find(command);
     if (it == commands.end())

@@ -10,5 +10,9 @@ namespace crowd {
 
 inline constexpr const char *kBakerVersion = "crowdbake 0.1.0";
 
+// The compiler and C library this crowdbake was built with and runs on: floats may round
+// differently under another, so byte-identical goldens hold only on the same toolchain
+// (tests/golden/toolchain.txt; elsewhere they are checked with crowdbake diff's tolerances).
+std::string toolchain();
 
 } // namespace crowd

@@ -1,0 +1,550 @@
+#include "crowd/bake/pack_diff.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <map>
+#include <optional>
+
+#include <glm/glm.hpp>
+
+#include "crowd/bake/anim_bake.h"
+#include "crowd/formats/chunks.h"
+#include "crowd/formats/cloth.h"
+#include "crowd/formats/error.h"
+#include "crowd/formats/impostor.h"
+#include "crowd/runtime/texture_skinning.h"
+
+namespace crowd {
+
+namespace {
+
+using Pair = DiffTolerances::Pair;
+using nlohmann::ordered_json;
+
+// The tolerance pairs by their JSON names: the one list tolerancesFromJson and tolerancesJson read.
+std::vector<std::pair<const char *, Pair DiffTolerances::*>> tolerancePairs() {
+  return {{"animation_mm", &DiffTolerances::animationMm},
+          {"weight", &DiffTolerances::weight},
+          {"position_mm", &DiffTolerances::positionMm},
+          {"normal_deg", &DiffTolerances::normalDeg},
+          {"uv", &DiffTolerances::uv},
+          {"lod_error", &DiffTolerances::lodError},
+          {"cloth_mm", &DiffTolerances::clothMm},
+          {"texel", &DiffTolerances::texel},
+          {"texel_percent", &DiffTolerances::texelPercent}};
+}
+
+DiffVerdict grade(double value, Pair p) {
+  return value <= p.warn   ? DiffVerdict::Pass
+         : value <= p.fail ? DiffVerdict::Warn
+                           : DiffVerdict::Fail;
+}
+
+std::string format(const char *fmt, double v) {
+  char b[64];
+  std::snprintf(b, sizeof b, fmt, v);
+  return b;
+}
+
+// A chunk of one pack, keyed by what it holds (type, and for impostors and loops, their pair).
+struct Keyed {
+  std::string key;
+  const pack::ChunkEntry *entry;
+  std::span<const uint8_t> payload;
+};
+
+std::vector<Keyed> keyedChunks(const pack::Reader &r) {
+  std::vector<Keyed> out;
+  for (const auto &c : r.chunks()) {
+    std::string key = pack::fourccName(c.type);
+    const std::string ctx = r.name() + ": chunk " + key;
+    if (c.type == pack::kImpostor) {
+      const auto m = pack::decodeImpostor(r.payload(c), c.version, ctx);
+      key += " " + m.clip + "/" + (m.outfit.empty() ? "body" : m.outfit);
+    } else if (c.type == pack::kCloth) {
+      const auto l = pack::decodeClothLoop(r.payload(c), ctx);
+      key += " " + l.outfit + "/" + l.garment + "/" + l.clip;
+    }
+    out.push_back({key, &c, r.payload(c)});
+  }
+  return out;
+}
+
+// The chunks both packs hold, decoded on demand.
+struct Side {
+  const pack::Reader &reader;
+  std::map<std::string, Keyed> chunks;
+  std::span<const uint8_t> payload(const std::string &key) const { return chunks.at(key).payload; }
+  std::string context(const std::string &key) const { return reader.name() + ": chunk " + key; }
+  bool has(const std::string &key) const { return chunks.count(key) > 0; }
+};
+
+bool samePayload(const Side &a, const Side &b, const std::string &key) {
+  const auto x = a.payload(key), y = b.payload(key);
+  return x.size() == y.size() && std::equal(x.begin(), x.end(), y.begin());
+}
+
+// Model units to mm, the mesh's bind pose 1.8 m tall (its diagonal where it is flat).
+double millimetresPerUnit(const pack::Mesh &m) {
+  glm::dvec3 lo(INFINITY), hi(-INFINITY);
+  for (size_t v = 0; v < m.vertexCount(); ++v) {
+    const glm::dvec3 p(m.positions[v * 3], m.positions[v * 3 + 1], m.positions[v * 3 + 2]);
+    lo = glm::min(lo, p), hi = glm::max(hi, p);
+  }
+  const glm::dvec3 extent = hi - lo;
+  const double diagonal = glm::length(extent);
+  const double height = extent.y >= 0.1 * diagonal ? extent.y : diagonal;
+  return height > 0 ? kReferenceHeightMm / height : 0;
+}
+
+// The animation group's chunks of one pack, decoded.
+struct Animated {
+  pack::Skeleton skeleton;
+  std::vector<pack::Clip> clips;
+  pack::AnimationTexture animation;
+  pack::SkinTexture skin;
+  pack::Mesh mesh;
+  std::optional<pack::Morphs> morphs;
+  Animated(const Side &s)
+      : skeleton(pack::decodeSkeleton(s.payload("SKEL"), s.context("SKEL"))),
+        clips(pack::decodeClips(s.payload("CLIP"), s.context("CLIP"))),
+        animation(pack::decodeAnimationTexture(s.payload("ANIM"), s.context("ANIM"))),
+        skin(pack::decodeSkinTexture(s.payload("SKIN"), s.context("SKIN"))),
+        mesh(pack::decodeMesh(s.payload("MESH"), s.context("MESH"))) {
+    if (s.has("MRPH"))
+      morphs = pack::decodeMorphs(s.payload("MRPH"), s.context("MRPH"));
+  }
+  // Vertex v at `seconds` into clip c, as the player draws it.
+  glm::vec3 at(const pack::Clip &c, float seconds, uint32_t v) const {
+    const runtime::ClipTime t = runtime::clipTimeAt(c, seconds);
+    runtime::SkinnedVertex bind{
+        {mesh.positions[v * 3], mesh.positions[v * 3 + 1], mesh.positions[v * 3 + 2]},
+        glm::vec3(0.0f)};
+    if (morphs)
+      bind = runtime::morphVertex(*morphs, t, v, bind);
+    return runtime::skinVertex(animation, skin, c, t.frame, t.alpha, v, bind.position);
+  }
+};
+
+// Frame and mid-frame times of a clip, seconds into it.
+void addTimes(const pack::Clip &c, std::vector<float> &times) {
+  for (uint32_t k = 0; k < c.frameCount; ++k) {
+    times.push_back(float(k) / c.fps);
+    if (k + 1 < c.frameCount)
+      times.push_back((float(k) + 0.5f) / c.fps);
+  }
+}
+
+class Differ {
+public:
+  Differ(const pack::Reader &g, const pack::Reader &n, const DiffTolerances &t)
+      : golden_{g, {}}, fresh_{n, {}}, tol_(t) {
+    for (auto &k : keyedChunks(g))
+      golden_.chunks.emplace(k.key, k);
+    for (auto &k : keyedChunks(n))
+      fresh_.chunks.emplace(k.key, k);
+  }
+
+  PackDiff run() {
+    if (golden_.has("MESH"))
+      out_.mmPerUnit =
+          millimetresPerUnit(pack::decodeMesh(golden_.payload("MESH"), golden_.context("MESH")));
+    for (const auto &[key, c] : golden_.chunks)
+      if (!fresh_.has(key))
+        add({key, "chunk", 0, "", "only in the golden pack", DiffVerdict::Incomparable});
+    for (const auto &[key, c] : fresh_.chunks)
+      if (!golden_.has(key))
+        add({key, "chunk", 0, "", "only in the new pack", DiffVerdict::Incomparable});
+    for (const auto &[key, c] : golden_.chunks) {
+      if (!fresh_.has(key))
+        continue;
+      if (samePayload(golden_, fresh_, key)) {
+        DiffItem same{key, "bytes", 0, "", "", DiffVerdict::Pass};
+        same.identical = true;
+        add(same);
+        continue;
+      }
+      compare(key);
+    }
+    return out_;
+  }
+
+private:
+  void add(DiffItem item) {
+    out_.verdict = std::max(out_.verdict, item.informational ? DiffVerdict::Pass : item.verdict);
+    out_.items.push_back(std::move(item));
+  }
+  void incomparable(const std::string &key, const std::string &why) {
+    add({key, "structure", 0, "", why, DiffVerdict::Incomparable});
+  }
+  void informational(const std::string &key, const std::string &what, const std::string &text) {
+    DiffItem i{key, what, 0, "", text, DiffVerdict::Pass};
+    i.informational = true;
+    add(i);
+  }
+
+  void compare(const std::string &key) {
+    const std::string type = key.substr(0, 4);
+    if (type == "PROV")
+      provenance(key);
+    else if (type == "SKEL" || type == "CLIP" || type == "ANIM" || type == "MRPH")
+      animationGroup(key);
+    else if (type == "SKIN")
+      skin(key);
+    else if (type == "MESH")
+      mesh(key);
+    else if (type == "TEXR")
+      diffuse(key);
+    else if (type == "LODS")
+      lod(key);
+    else if (type == "IMPO")
+      impostor(key);
+    else if (type == "CLTH")
+      cloth(key);
+    else // outfits, vertex sources: exact, or they fail
+      add({key, "content", 1, "", "differs (compared exactly)", DiffVerdict::Fail});
+  }
+
+  void provenance(const std::string &key) {
+    const auto a = pack::decodeProvenance(golden_.payload(key), golden_.context(key));
+    const auto b = pack::decodeProvenance(fresh_.payload(key), fresh_.context(key));
+    std::string text;
+    auto note = [&](const std::string &s) { text += (text.empty() ? "" : "; ") + s; };
+    if (a.bakerVersion != b.bakerVersion)
+      note("baker " + a.bakerVersion + " -> " + b.bakerVersion);
+    std::map<std::string, std::string> sa(a.settings.begin(), a.settings.end()),
+        sb(b.settings.begin(), b.settings.end());
+    for (const auto &[k, v] : sa)
+      if (!sb.count(k) || sb[k] != v)
+        note("setting " + k);
+    for (const auto &[k, v] : sb)
+      if (!sa.count(k))
+        note("setting " + k);
+    const size_t inputs = std::max(a.inputs.size(), b.inputs.size());
+    for (size_t i = 0; i < inputs; ++i)
+      if (i >= a.inputs.size() || i >= b.inputs.size() || a.inputs[i].hash != b.inputs[i].hash ||
+          a.inputs[i].path != b.inputs[i].path)
+        note("input " + (i < b.inputs.size() ? b.inputs[i].path : a.inputs[i].path));
+    informational(key, "provenance", text.empty() ? "differs" : text);
+  }
+
+  // Skeleton, clips, animation texture and morphs together: where the player puts each vertex.
+  void animationGroup(const std::string &key) {
+    if (animationDone_)
+      return informational(key, "animation", "compared through the animation displacement");
+    animationDone_ = true;
+    for (const char *k : {"SKEL", "CLIP", "ANIM", "SKIN", "MESH"})
+      if (!golden_.has(k) || !fresh_.has(k))
+        return incomparable(key, std::string("no ") + k + " chunk to skin with");
+    const Animated a(golden_), b(fresh_);
+    if (a.skeleton.names != b.skeleton.names || a.skeleton.parents != b.skeleton.parents)
+      return incomparable("SKEL", "the joints differ (names or parents)");
+    if (a.mesh.vertexCount() != b.mesh.vertexCount())
+      return incomparable("MESH", std::to_string(a.mesh.vertexCount()) + " vertices against " +
+                                      std::to_string(b.mesh.vertexCount()));
+    std::vector<std::string> na, nb;
+    for (const auto &c : a.clips)
+      na.push_back(c.name);
+    for (const auto &c : b.clips)
+      nb.push_back(c.name);
+    if (na != nb)
+      return incomparable("CLIP", "the clips differ (names or order)");
+    DiffItem worst{"ANIM", "animation displacement", 0, "mm", "", DiffVerdict::Pass};
+    for (size_t ci = 0; ci < a.clips.size(); ++ci) {
+      std::vector<float> times;
+      addTimes(a.clips[ci], times);
+      addTimes(b.clips[ci], times);
+      for (float t : times)
+        for (uint32_t v = 0; v < a.mesh.vertexCount(); ++v) {
+          const double mm =
+              glm::length(a.at(a.clips[ci], t, v) - b.at(b.clips[ci], t, v)) * out_.mmPerUnit;
+          if (mm > worst.value) {
+            worst.value = mm;
+            worst.worst = "clip '" + a.clips[ci].name + "', t " + format("%.4f", t) +
+                          " s, vertex " + std::to_string(v) + " (joint '" +
+                          a.skeleton.names.at(heaviestJoint(a.skin, v)) + "')";
+          }
+        }
+    }
+    worst.verdict = grade(worst.value, tol_.animationMm);
+    add(worst);
+  }
+
+  static uint32_t heaviestJoint(const pack::SkinTexture &s, uint32_t v) {
+    const float *w = &s.texels[size_t(v) * 8 + 4];
+    return uint32_t(s.texels[size_t(v) * 8 + size_t(std::max_element(w, w + 4) - w)]);
+  }
+
+  void skin(const std::string &key) {
+    const auto a = pack::decodeSkinTexture(golden_.payload(key), golden_.context(key));
+    const auto b = pack::decodeSkinTexture(fresh_.payload(key), fresh_.context(key));
+    if (a.vertexCount != b.vertexCount)
+      return incomparable(key, "vertex counts differ");
+    DiffItem item{key, "skin weights", 0, "", "", DiffVerdict::Pass};
+    for (uint32_t v = 0; v < a.vertexCount; ++v) {
+      std::map<int, float> wa, wb; // joint -> weight, the influences with weight
+      for (int k = 0; k < 4; ++k) {
+        if (a.texels[size_t(v) * 8 + 4 + size_t(k)] > 0)
+          wa[int(a.texels[size_t(v) * 8 + size_t(k)])] += a.texels[size_t(v) * 8 + 4 + size_t(k)];
+        if (b.texels[size_t(v) * 8 + 4 + size_t(k)] > 0)
+          wb[int(b.texels[size_t(v) * 8 + size_t(k)])] += b.texels[size_t(v) * 8 + 4 + size_t(k)];
+      }
+      bool same = wa.size() == wb.size();
+      for (const auto &[j, w] : wa) {
+        same = same && wb.count(j);
+        if (same && std::abs(w - wb[j]) > item.value) {
+          item.value = std::abs(w - wb[j]);
+          item.worst = "vertex " + std::to_string(v) + ", joint " + std::to_string(j);
+        }
+      }
+      if (!same) {
+        item.value = 1;
+        item.worst = "vertex " + std::to_string(v) + ": other joints influence it";
+        item.verdict = DiffVerdict::Fail;
+        return add(item);
+      }
+    }
+    item.verdict = grade(item.value, tol_.weight);
+    add(item);
+  }
+
+  void mesh(const std::string &key) {
+    const auto a = pack::decodeMesh(golden_.payload(key), golden_.context(key));
+    const auto b = pack::decodeMesh(fresh_.payload(key), fresh_.context(key));
+    if (a.vertexCount() != b.vertexCount() || a.uvs.size() != b.uvs.size())
+      return incomparable(key, "vertex counts or UV sets differ");
+    if (a.indices != b.indices) {
+      size_t k = 0;
+      while (k < std::min(a.indices.size(), b.indices.size()) && a.indices[k] == b.indices[k])
+        ++k;
+      return add({key, "triangles", 1, "", "they differ from triangle " + std::to_string(k / 3),
+                  DiffVerdict::Fail});
+    }
+    DiffItem pos{key, "bind-pose positions", 0, "mm", "", DiffVerdict::Pass};
+    DiffItem nrm{key, "bind-pose normals", 0, "deg", "", DiffVerdict::Pass};
+    DiffItem uv{key, "texture coordinates", 0, "", "", DiffVerdict::Pass};
+    for (size_t v = 0; v < a.vertexCount(); ++v) {
+      const glm::vec3 pa(a.positions[v * 3], a.positions[v * 3 + 1], a.positions[v * 3 + 2]);
+      const glm::vec3 pb(b.positions[v * 3], b.positions[v * 3 + 1], b.positions[v * 3 + 2]);
+      const glm::vec3 na(a.normals[v * 3], a.normals[v * 3 + 1], a.normals[v * 3 + 2]);
+      const glm::vec3 nb(b.normals[v * 3], b.normals[v * 3 + 1], b.normals[v * 3 + 2]);
+      const std::string where = "vertex " + std::to_string(v);
+      worse(pos, glm::length(pa - pb) * out_.mmPerUnit, where);
+      // atan2 of |cross| and dot: exact near 0 degrees, where acos of a float dot is not.
+      const glm::dvec3 da(na), db(nb);
+      worse(nrm, glm::degrees(std::atan2(glm::length(glm::cross(da, db)), glm::dot(da, db))),
+            where);
+      if (!a.uvs.empty())
+        worse(uv,
+              std::max(std::abs(a.uvs[v * 2] - b.uvs[v * 2]),
+                       std::abs(a.uvs[v * 2 + 1] - b.uvs[v * 2 + 1])),
+              where);
+    }
+    pos.verdict = grade(pos.value, tol_.positionMm);
+    nrm.verdict = grade(nrm.value, tol_.normalDeg);
+    uv.verdict = grade(uv.value, tol_.uv);
+    add(pos), add(nrm), add(uv);
+  }
+
+  static void worse(DiffItem &item, double value, const std::string &where) {
+    if (value > item.value)
+      item.value = value, item.worst = where;
+  }
+
+  // Texels in 0..1 per channel: the largest change, and the percent of texels over the fail
+  // tolerance, idiff-style; `exact` channels (region ids) must not change at all.
+  void texels(const std::string &key, const std::string &what, size_t count, int channels,
+              const std::function<double(int which, size_t texel, int channel)> &value,
+              const std::vector<int> &exact = {}) {
+    DiffItem item{key, what, 0, "", "", DiffVerdict::Pass};
+    size_t over = 0, exactOff = 0;
+    for (size_t t = 0; t < count; ++t) {
+      double most = 0;
+      for (int c = 0; c < channels; ++c) {
+        const double d = std::abs(value(0, t, c) - value(1, t, c));
+        if (std::find(exact.begin(), exact.end(), c) != exact.end()) {
+          if (d != 0 && exactOff++ == 0)
+            item.worst = "texel " + std::to_string(t) + ": region id changed";
+          continue;
+        }
+        most = std::max(most, d);
+      }
+      over += most > tol_.texel.fail;
+      if (most > item.value) {
+        item.value = most;
+        if (!exactOff)
+          item.worst = "texel " + std::to_string(t);
+      }
+    }
+    const double percent = count ? 100.0 * double(over) / double(count) : 0;
+    item.verdict =
+        std::max(grade(item.value, {tol_.texel.warn, INFINITY}), grade(percent, tol_.texelPercent));
+    if (exactOff) {
+      item.verdict = DiffVerdict::Fail;
+      item.worst += " (" + std::to_string(exactOff) + " texels' region ids changed)";
+    } else if (over) {
+      item.worst += " (" + format("%.4g", percent) + "% of texels over the fail tolerance)";
+    }
+    add(item);
+  }
+
+  void diffuse(const std::string &key) {
+    const auto a = pack::decodeTexture(golden_.payload(key), golden_.context(key));
+    const auto b = pack::decodeTexture(fresh_.payload(key), fresh_.context(key));
+    if (a.width != b.width || a.height != b.height)
+      return incomparable(key, "texture sizes differ");
+    const pack::Texture *t[2] = {&a, &b};
+    texels(key, "diffuse texels", size_t(a.width) * a.height, 4,
+           [&](int w, size_t i, int c) { return t[w]->rgba[i * 4 + size_t(c)] / 255.0; });
+  }
+
+  void lod(const std::string &key) {
+    const auto a = pack::decodeLod(golden_.payload(key), golden_.context(key));
+    const auto b = pack::decodeLod(fresh_.payload(key), fresh_.context(key));
+    if (a.collapse.size() != b.collapse.size())
+      return incomparable(key, "vertex counts differ");
+    size_t first = 0;
+    while (first < a.collapse.size() && a.collapse[first] == b.collapse[first])
+      ++first;
+    double largest = 0;
+    for (float e : a.error)
+      largest = std::max(largest, double(e));
+    DiffItem item{key, "collapse error curve", 0, "of its largest", "", DiffVerdict::Pass};
+    for (size_t k = 0; k < a.error.size(); ++k)
+      worse(item, largest > 0 ? std::abs(double(a.error[k]) - b.error[k]) / largest : 0,
+            "at " + std::to_string(k) + " vertices");
+    item.worst += first == a.collapse.size()
+                      ? " (same collapse order)"
+                      : " (collapse order differs from vertex " + std::to_string(first) + ")";
+    item.verdict = grade(item.value, tol_.lodError);
+    add(item);
+  }
+
+  void impostor(const std::string &key) {
+    const auto &ga = golden_.chunks.at(key), &fa = fresh_.chunks.at(key);
+    const auto a = pack::decodeImpostor(ga.payload, ga.entry->version, golden_.context(key));
+    const auto b = pack::decodeImpostor(fa.payload, fa.entry->version, fresh_.context(key));
+    if (a.atlases.size() != b.atlases.size() || a.uvAtlases.size() != b.uvAtlases.size() ||
+        a.views.size() != b.views.size())
+      return incomparable(key, "atlas or view layouts differ");
+    const pack::Impostor *m[2] = {&a, &b};
+    // Normals RGB, region id + 1 in A (exact).
+    texels(key, "normal atlas", a.atlases.size() / 4, 4,
+           [&](int w, size_t i, int c) { return m[w]->atlases[i * 4 + size_t(c)] / 255.0; }, {3});
+    if (!a.uvAtlases.empty()) // u, v; region id + 1 (exact)
+      texels(key, "UV atlas", a.uvAtlases.size() / 4, 3,
+             [&](int w, size_t i, int c) { return m[w]->uvAtlases[i * 4 + size_t(c)] / 65535.0; },
+             {2});
+  }
+
+  void cloth(const std::string &key) {
+    const auto a = pack::decodeClothLoop(golden_.payload(key), golden_.context(key));
+    const auto b = pack::decodeClothLoop(fresh_.payload(key), fresh_.context(key));
+    if (a.cacheStart != b.cacheStart || a.cycles != b.cycles ||
+        a.positions.size() != b.positions.size() || a.vertexCount() != b.vertexCount() ||
+        a.blendFrames != b.blendFrames)
+      return add({key, "loop", 1, "",
+                  "start " + std::to_string(a.cacheStart) + " -> " + std::to_string(b.cacheStart) +
+                      ", cycles " + std::to_string(a.cycles) + " -> " + std::to_string(b.cycles) +
+                      ", blend " + std::to_string(a.blendFrames) + " -> " +
+                      std::to_string(b.blendFrames),
+                  DiffVerdict::Fail});
+    DiffItem item{key, "loop positions", 0, "mm", "", DiffVerdict::Pass};
+    double squares = 0;
+    const size_t n = a.positions.size() / 3, vc = std::max<size_t>(a.vertexCount(), 1);
+    for (size_t i = 0; i < n; ++i) {
+      glm::dvec3 d;
+      for (int c = 0; c < 3; ++c)
+        d[c] = (a.origin[size_t(c)] + a.step[size_t(c)] * a.positions[i * 3 + size_t(c)]) -
+               (b.origin[size_t(c)] + b.step[size_t(c)] * b.positions[i * 3 + size_t(c)]);
+      const double mm = glm::length(d) * out_.mmPerUnit;
+      squares += mm * mm;
+      worse(item, mm,
+            "frame " + std::to_string(i / vc) + ", loop vertex " + std::to_string(i % vc));
+    }
+    item.worst += " (RMS " + format("%.4g", n ? std::sqrt(squares / double(n)) : 0.0) + " mm)";
+    item.verdict = grade(item.value, tol_.clothMm);
+    add(item);
+  }
+
+  Side golden_, fresh_;
+  const DiffTolerances &tol_;
+  PackDiff out_;
+  bool animationDone_ = false;
+};
+
+} // namespace
+
+DiffTolerances tolerancesFromJson(const nlohmann::json &j, const std::string &context) {
+  DiffTolerances t;
+  if (!j.is_object())
+    throw Error(context + ": the tolerances are not a JSON object");
+  const auto pairs = tolerancePairs();
+  for (const auto &[key, value] : j.items()) {
+    auto it =
+        std::find_if(pairs.begin(), pairs.end(), [&](const auto &p) { return key == p.first; });
+    if (it == pairs.end())
+      throw Error(context + ": unknown tolerance '" + key + "'");
+    Pair &p = t.*(it->second);
+    if (!value.is_object())
+      throw Error(context + ": '" + key + "' is not {\"warn\": W, \"fail\": F}");
+    for (const auto &[k, v] : value.items()) {
+      if ((k != "warn" && k != "fail") || !v.is_number() || !(v.get<double>() >= 0))
+        throw Error(context + ": '" + key + "/" + k +
+                    "' must be \"warn\" or \"fail\" with a number >= 0");
+      (k == "warn" ? p.warn : p.fail) = v.get<double>();
+    }
+    if (p.warn > p.fail)
+      throw Error(context + ": '" + key + "': warn " + std::to_string(p.warn) + " is over fail " +
+                  std::to_string(p.fail));
+  }
+  return t;
+}
+
+ordered_json tolerancesJson(const DiffTolerances &t) {
+  ordered_json j;
+  for (const auto &[key, member] : tolerancePairs())
+    j[key] = {{"warn", (t.*member).warn}, {"fail", (t.*member).fail}};
+  return j;
+}
+
+PackDiff diffPacks(const pack::Reader &golden, const pack::Reader &fresh,
+                   const DiffTolerances &tolerances) {
+  return Differ(golden, fresh, tolerances).run();
+}
+
+const char *name(DiffVerdict v) {
+  switch (v) {
+  case DiffVerdict::Pass:
+    return "pass";
+  case DiffVerdict::Warn:
+    return "warn";
+  case DiffVerdict::Fail:
+    return "fail";
+  case DiffVerdict::Incomparable:
+    return "incomparable";
+  }
+  return "?";
+}
+
+ordered_json diffJson(const PackDiff &d, const DiffTolerances &t) {
+  ordered_json j;
+  j["verdict"] = name(d.verdict);
+  j["exit_code"] = int(d.verdict);
+  j["mm_per_model_unit"] = d.mmPerUnit;
+  j["tolerances"] = tolerancesJson(t);
+  j["items"] = ordered_json::array();
+  for (const auto &i : d.items)
+    j["items"].push_back({{"chunk", i.chunk},
+                          {"what", i.what},
+                          {"verdict", i.informational ? "listed" : name(i.verdict)},
+                          {"identical", i.identical},
+                          {"value", i.value},
+                          {"unit", i.unit},
+                          {"worst", i.worst}});
+  return j;
+}
+
+} // namespace crowd

@@ -1,0 +1,148 @@
+// crowdbake diff's comparisons: a pack against itself and a re-bake at another thread count pass;
+// another precision moves vertices and names where; changed influences, triangles, region ids
+// and loop starts fail; a missing chunk is incomparable; provenance is listed, never failing;
+// tolerances files are checked.
+#include <gtest/gtest.h>
+
+#include "crowd/bake/anim_bake.h"
+#include "crowd/bake/impostor_bake.h"
+#include "crowd/bake/pack_diff.h"
+#include "crowd/formats/character_pack.h"
+#include "crowd/formats/error.h"
+#include "sample_character.h"
+
+using namespace crowd;
+
+namespace {
+
+pack::AnimationPack bakeAt(const std::string &precision, int threads) {
+  AnimBakeOptions o;
+  o.precision = precision;
+  o.fps = 30;
+  o.threads = threads;
+  Reporter r;
+  r.quiet = true;
+  return bakeAnimation(test::sampleHumanoid(), o, r).pack;
+}
+
+const pack::AnimationPack &qts() {
+  static const pack::AnimationPack p = bakeAt("qts", 2);
+  return p;
+}
+
+pack::Reader reader(const std::vector<uint8_t> &bytes, const std::string &name) {
+  return pack::Reader(bytes, name);
+}
+
+PackDiff diff(const std::vector<uint8_t> &a, const std::vector<uint8_t> &b,
+              const DiffTolerances &t = {}) {
+  return diffPacks(reader(a, "golden"), reader(b, "new"), t);
+}
+
+const DiffItem *item(const PackDiff &d, const std::string &chunk, const std::string &what) {
+  for (const auto &i : d.items)
+    if (i.chunk == chunk && i.what == what)
+      return &i;
+  return nullptr;
+}
+
+TEST(PackDiff, APackAndARebakeAtAnotherThreadCountPass) {
+  const auto bytes = pack::packBytes(qts());
+  const PackDiff self = diff(bytes, bytes);
+  EXPECT_EQ(self.verdict, DiffVerdict::Pass);
+  for (const auto &i : self.items)
+    EXPECT_TRUE(i.identical) << i.chunk;
+  EXPECT_EQ(diff(bytes, pack::packBytes(bakeAt("qts", 1))).verdict, DiffVerdict::Pass);
+}
+
+TEST(PackDiff, AnotherPrecisionNamesTheWorstClipTimeVertexAndJoint) {
+  const PackDiff d = diff(pack::packBytes(qts()), pack::packBytes(bakeAt("half", 2)));
+  const DiffItem *anim = item(d, "ANIM", "animation displacement");
+  ASSERT_NE(anim, nullptr);
+  EXPECT_GT(anim->value, DiffTolerances{}.animationMm.warn);
+  EXPECT_GE(int(d.verdict), int(DiffVerdict::Warn));
+  EXPECT_NE(anim->worst.find("clip '"), std::string::npos) << anim->worst;
+  EXPECT_NE(anim->worst.find(" s, vertex "), std::string::npos) << anim->worst;
+  EXPECT_NE(anim->worst.find("(joint '"), std::string::npos) << anim->worst;
+  // A looser tolerance passes the same change.
+  DiffTolerances loose;
+  loose.animationMm = {50, 100};
+  EXPECT_EQ(diff(pack::packBytes(qts()), pack::packBytes(bakeAt("half", 2)), loose).verdict,
+            DiffVerdict::Pass);
+}
+
+TEST(PackDiff, ChangedInfluencesTrianglesAndMissingChunksAreCaught) {
+  const auto golden = pack::packBytes(qts());
+  pack::AnimationPack other = qts();
+  other.skin.texels[0] = float(qts().skeleton.jointCount() - 1); // another joint
+  const PackDiff influences = diff(golden, pack::packBytes(other));
+  const DiffItem *skin = item(influences, "SKIN", "skin weights");
+  ASSERT_NE(skin, nullptr);
+  EXPECT_EQ(skin->verdict, DiffVerdict::Fail) << skin->worst;
+
+  pack::AnimationPack flipped = qts();
+  std::swap(flipped.mesh.indices[0], flipped.mesh.indices[1]);
+  EXPECT_EQ(diff(golden, pack::packBytes(flipped)).verdict, DiffVerdict::Fail);
+
+  pack::AnimationPack noLod = test::sampleHumanoidLodPack();
+  const auto withLod = pack::packBytes(noLod);
+  noLod.lod.reset();
+  EXPECT_EQ(diff(withLod, pack::packBytes(noLod)).verdict, DiffVerdict::Incomparable);
+}
+
+TEST(PackDiff, ProvenanceIsListedNotFailing) {
+  pack::AnimationPack p = qts();
+  p.provenance.bakerVersion = "golden-1";
+  pack::AnimationPack q = qts();
+  q.provenance.bakerVersion = "new-2";
+  const PackDiff d = diff(pack::packBytes(p), pack::packBytes(q));
+  EXPECT_EQ(d.verdict, DiffVerdict::Pass);
+  const DiffItem *prov = item(d, "PROV", "provenance");
+  ASSERT_NE(prov, nullptr);
+  EXPECT_TRUE(prov->informational);
+  EXPECT_NE(prov->worst.find("golden-1 -> new-2"), std::string::npos) << prov->worst;
+}
+
+TEST(PackDiff, ImpostorRegionIdsAreExactAndTexelsWithinPercent) {
+  ImpostorOptions o;
+  o.clip = "walk";
+  o.frames = 2;
+  o.azimuths = 4;
+  o.elevations = 1;
+  o.texels = 24;
+  Reporter r;
+  r.quiet = true;
+  const pack::Impostor m = bakeImpostor(test::sampleHumanoid(), o, r).impostor;
+  const auto golden = pack::packBytes(pack::ImpostorPack{{}, m});
+  pack::Impostor shade = m; // one texel's normal a step off: within the fail tolerance
+  size_t drawn = 0;
+  while (shade.atlases[drawn * 4 + 3] == 0)
+    ++drawn;
+  shade.atlases[drawn * 4] = uint8_t(shade.atlases[drawn * 4] ^ 2); // 2/255
+  EXPECT_EQ(diff(golden, pack::packBytes(pack::ImpostorPack{{}, shade})).verdict,
+            DiffVerdict::Warn);
+  pack::Impostor region = m; // one texel's region id changed
+  region.atlases[drawn * 4 + 3] = uint8_t(region.atlases[drawn * 4 + 3] + 1);
+  const PackDiff d = diff(golden, pack::packBytes(pack::ImpostorPack{{}, region}));
+  EXPECT_EQ(d.verdict, DiffVerdict::Fail);
+}
+
+TEST(PackDiff, TolerancesFilesAreChecked) {
+  const auto t =
+      tolerancesFromJson(nlohmann::json::parse(R"({"animation_mm": {"fail": 2}})"), "t.json");
+  EXPECT_EQ(t.animationMm.fail, 2);
+  EXPECT_EQ(t.animationMm.warn, DiffTolerances{}.animationMm.warn);
+  for (const char *bad : {R"({"anim": {"fail": 2}})", R"({"uv": {"warn": 2, "fail": 1}})",
+                          R"({"uv": {"fail": -1}})", R"({"uv": 3})", R"([1])"})
+    EXPECT_THROW(tolerancesFromJson(nlohmann::json::parse(bad), "t.json"), Error) << bad;
+  // Every default is written back, so a report says what was used.
+  EXPECT_EQ(tolerancesJson(DiffTolerances{}).size(), 9u);
+}
+
+TEST(PackDiff, ATruncatedPackIsAClearError) {
+  auto bytes = pack::packBytes(qts());
+  bytes.resize(bytes.size() / 2);
+  EXPECT_THROW(reader(bytes, "cut.crowdpack"), Error);
+}
+
+} // namespace
