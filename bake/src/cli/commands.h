@@ -14,5 +14,6 @@ int cmdExport(int argc, char **argv);
 int cmdPose(int argc, char **argv);
 int cmdCloth(int argc, char **argv);
 int cmdDiff(int argc, char **argv); // exits with the verdict (0..3), 4 when not compared
+int cmdReport(int argc, char **argv);
 
 } // namespace crowd::cli

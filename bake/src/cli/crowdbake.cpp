@@ -38,6 +38,8 @@ commands:
   cloth     a long cloth cache (PC2, MDD) of one garment into a loop in phase with a body clip
   diff      a new pack against a golden one, chunk by chunk within tolerances (exit 0 same,
             1 warn, 2 fail, 3 different contents, 4 unreadable)
+  report    build and bake reports as one HTML page: time, bytes and error per character and
+            bake, with charts of error against bytes, triangles and memory
 
 Run 'crowdbake <command> --help' for a command's options; 'crowdbake --version' names the
 version and the toolchain it was built with.
@@ -223,6 +225,7 @@ int main(int argc, char **argv) {
         {"pose", cmdPose},
         {"cloth", cmdCloth},
         {"diff", cmdDiff},
+        {"report", cmdReport},
     };
     auto it = commands.find(command);
     if (it == commands.end())
