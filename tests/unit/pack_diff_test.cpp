@@ -121,6 +121,15 @@ TEST(PackDiff, ImpostorRegionIdsAreExactAndTexelsWithinPercent) {
   shade.atlases[drawn * 4] = uint8_t(shade.atlases[drawn * 4] ^ 2); // 2/255
   EXPECT_EQ(diff(golden, pack::packBytes(pack::ImpostorPack{{}, shade})).verdict,
             DiffVerdict::Warn);
+  pack::Impostor many = m; // every drawn texel's normal 10/255 off: past the fail tolerance
+  for (size_t t = 0; t < many.atlases.size() / 4; ++t)
+    if (many.atlases[t * 4 + 3] != 0)
+      many.atlases[t * 4] = uint8_t(std::min(255, many.atlases[t * 4] + 10));
+  const auto manyBytes = pack::packBytes(pack::ImpostorPack{{}, many});
+  EXPECT_EQ(diff(golden, manyBytes).verdict, DiffVerdict::Fail);
+  DiffTolerances relative; // idiff's -failrelative: small against the values themselves
+  relative.texelRelative = {5, 5};
+  EXPECT_EQ(diff(golden, manyBytes, relative).verdict, DiffVerdict::Pass);
   pack::Impostor region = m; // one texel's region id changed
   region.atlases[drawn * 4 + 3] = uint8_t(region.atlases[drawn * 4 + 3] + 1);
   const PackDiff d = diff(golden, pack::packBytes(pack::ImpostorPack{{}, region}));
@@ -136,7 +145,7 @@ TEST(PackDiff, TolerancesFilesAreChecked) {
                           R"({"uv": {"fail": -1}})", R"({"uv": 3})", R"([1])"})
     EXPECT_THROW(tolerancesFromJson(nlohmann::json::parse(bad), "t.json"), Error) << bad;
   // Every default is written back, so a report says what was used.
-  EXPECT_EQ(tolerancesJson(DiffTolerances{}).size(), 9u);
+  EXPECT_EQ(tolerancesJson(DiffTolerances{}).size(), 10u);
 }
 
 TEST(PackDiff, ATruncatedPackIsAClearError) {

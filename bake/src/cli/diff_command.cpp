@@ -24,8 +24,9 @@ packs, the largest displacement in mm at a 1.8 m character, naming the clip, tim
 its joint. Skin: the same influences, the largest weight change. Mesh: positions (mm), normals
 (degrees), UVs. LOD: the collapse error curve (relative), and whether the collapse order is the
 same. Outfits and vertex sources: exact. Cloth loops: start, cycles and blend exact, positions
-in mm (max and RMS). Impostor atlases and the diffuse texture: per channel in 0..1, with the
-percent of texels over the fail tolerance allowed by texel_percent; region ids exact.
+in mm (max and RMS). Impostor atlases and the diffuse texture: per channel in 0..1, absolute
+(texel) and relative to the mean of the two values (texel_relative), with the percent of
+texels past both fail tolerances allowed by texel_percent; region ids exact.
 Provenance differences are listed, never failing. --tolerances FILE overrides any default:
 {"animation_mm": {"warn": 0.01, "fail": 0.1}, "texel": {"fail": 0.02}, ...}; --report writes
 every comparison, the tolerances used and the worst element as JSON.)";

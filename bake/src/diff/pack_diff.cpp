@@ -33,6 +33,7 @@ std::vector<std::pair<const char *, Pair DiffTolerances::*>> tolerancePairs() {
           {"lod_error", &DiffTolerances::lodError},
           {"cloth_mm", &DiffTolerances::clothMm},
           {"texel", &DiffTolerances::texel},
+          {"texel_relative", &DiffTolerances::texelRelative},
           {"texel_percent", &DiffTolerances::texelPercent}};
 }
 
@@ -353,8 +354,10 @@ private:
       item.value = value, item.worst = where;
   }
 
-  // Texels in 0..1 per channel: the largest change, and the percent of texels over the fail
-  // tolerance, idiff-style; `exact` channels (region ids) must not change at all.
+  // Texels in 0..1 per channel, idiff-style: a channel counts as changed past a tolerance when
+  // its absolute change exceeds `texel` and its change relative to the mean of the two values
+  // exceeds `texel_relative`; the item is the largest change that counts for warn and the
+  // percent of texels past the fail tolerances. `exact` channels (region ids) must not change.
   void texels(const std::string &key, const std::string &what, size_t count, int channels,
               const std::function<double(int which, size_t texel, int channel)> &value,
               const std::vector<int> &exact = {}) {
@@ -362,16 +365,21 @@ private:
     size_t over = 0, exactOff = 0;
     for (size_t t = 0; t < count; ++t) {
       double most = 0;
+      bool failing = false;
       for (int c = 0; c < channels; ++c) {
-        const double d = std::abs(value(0, t, c) - value(1, t, c));
+        const double a = value(0, t, c), b = value(1, t, c), d = std::abs(a - b);
         if (std::find(exact.begin(), exact.end(), c) != exact.end()) {
           if (d != 0 && exactOff++ == 0)
             item.worst = "texel " + std::to_string(t) + ": region id changed";
           continue;
         }
-        most = std::max(most, d);
+        const double mean = 0.5 * (std::abs(a) + std::abs(b));
+        const double relative = mean > 0 ? d / mean : 0;
+        if (relative > tol_.texelRelative.warn)
+          most = std::max(most, d);
+        failing |= d > tol_.texel.fail && relative > tol_.texelRelative.fail;
       }
-      over += most > tol_.texel.fail;
+      over += failing;
       if (most > item.value) {
         item.value = most;
         if (!exactOff)

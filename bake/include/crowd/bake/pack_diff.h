@@ -31,7 +31,8 @@ struct DiffTolerances {
   Pair lodError{1e-4, 1e-2};        // collapse error curve, relative to its largest value
   Pair clothMm{0.01, 0.1};          // cloth loop positions
   Pair texel{1.0 / 255, 4.0 / 255}; // atlases and the diffuse texture, per channel in 0..1
-  Pair texelPercent{0.0, 0.1};      // percent of texels over `texel.fail` (idiff's -failpercent)
+  Pair texelRelative{0.0, 0.0};     // and relative to the mean of the two (idiff's -failrelative)
+  Pair texelPercent{0.0, 0.1};      // percent of texels past both fail tolerances (-failpercent)
 };
 // Reads {"animation_mm": {"warn": W, "fail": F}, ...}: only the keys given change. Throws
 // Error on an unknown key, a warn over its fail, or a negative value.
