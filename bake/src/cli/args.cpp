@@ -1,5 +1,6 @@
 #include "args.h"
 
+#include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <unistd.h>
@@ -118,6 +119,15 @@ void BakeArgs::runJob(const CharacterManifest &m, const std::string &command,
   const auto figures = runSingleJob(m, {command, kind, output, quiet, progress(), threads});
   if (!report.empty())
     writeJson(report, figures);
+}
+
+void printFailure(const std::exception &e) {
+  std::string msg = e.what();
+  for (char &ch : msg)
+    if (ch == '\n')
+      ch = ' ';
+  const bool usage = dynamic_cast<const UsageError *>(&e) != nullptr;
+  std::fprintf(stderr, "crowdbake: %s: %s\n", usage ? "usage" : "error", msg.c_str());
 }
 
 void writeJson(const std::string &path, const nlohmann::ordered_json &j) {

@@ -22,6 +22,10 @@ struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// One line on stderr: "crowdbake: usage: ..." for a UsageError, "crowdbake: error: ..." for any
+// other (newlines in the message become spaces). The caller picks the exit code.
+void printFailure(const std::exception &e);
+
 // Parses argv[2..] into `app`. False when --help was asked for (printed on stdout); a parse
 // error throws UsageError.
 bool parseArgs(CLI::App &app, int argc, char **argv);

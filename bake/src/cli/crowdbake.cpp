@@ -231,15 +231,8 @@ int main(int argc, char **argv) {
     if (it == commands.end())
       throw UsageError("unknown command '" + command + "' (see crowdbake --help)");
     return it->second(argc, argv);
-  } catch (const UsageError &e) {
-    std::fprintf(stderr, "crowdbake: usage: %s\n", e.what());
-    return 2;
   } catch (const std::exception &e) {
-    std::string msg = e.what();
-    for (char &ch : msg)
-      if (ch == '\n')
-        ch = ' ';
-    std::fprintf(stderr, "crowdbake: error: %s\n", msg.c_str());
-    return 1;
+    printFailure(e);
+    return dynamic_cast<const UsageError *>(&e) ? 2 : 1;
   }
 }

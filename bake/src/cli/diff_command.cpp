@@ -84,16 +84,10 @@ int cmdDiff(int argc, char **argv) {
     if (!report.empty())
       writeJson(report, diffJson(d, tolerances));
     return int(d.verdict);
-  } catch (const UsageError &e) {
-    std::fprintf(stderr, "crowdbake: usage: %s\n", e.what());
   } catch (const std::exception &e) {
-    std::string msg = e.what();
-    for (char &ch : msg)
-      if (ch == '\n')
-        ch = ' ';
-    std::fprintf(stderr, "crowdbake: error: %s\n", msg.c_str());
+    printFailure(e);
+    return 4; // not compared
   }
-  return 4; // not compared
 }
 
 } // namespace crowd::cli
