@@ -61,6 +61,16 @@ echo "ok: warm build: every good job cached"
 # A pack that still has the hash recorded for its link is neither loaded nor written again; an
 # altered one is written again from the cache.
 [ "$(grep -c '"pack_up_to_date": true' out1/build.report.json)" = 2 ] || fail "warm packs rewritten"
+# ... and still reports every good job's figures (each part's figures file in the cache).
+python3 - out1/build.report.json <<'PY' || fail "a warm build lost job figures"
+import json, sys
+r = json.load(open(sys.argv[1]))
+jobs = [j for c in r['characters'] for j in c['jobs'] if not j['failed']]
+empty = [j['label'] for j in jobs if not j.get('figures')]
+assert jobs and not empty, empty
+mesh = [j for j in jobs if j['kind'] == 'mesh']
+assert mesh and all(j['figures'].get('clips') for j in mesh), 'mesh figures without clips'
+PY
 printf 'X' | dd of=out1/runner.crowdpack bs=1 seek=5000 conv=notrunc status=none
 "$bin/crowdbake" build library.json -o out1 --jobs 2 -q || true
 cmp out1/runner.crowdpack out2/runner.crowdpack || fail "an altered pack was not written again"

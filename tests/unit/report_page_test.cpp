@@ -56,8 +56,9 @@ TEST(ReportPage, ABuildReportGivesEachCharacterItsJobsAndCharts) {
                                {"triangles": 659, "quadric_error": 5e-6}]}}},
          {"kind": "impostor", "label": "walker: impostor walk", "seconds": 0.5,
           "cached": true, "failed": false, "figures": {}},
-         {"kind": "cloth", "label": "walker: cloth", "seconds": 0.1, "cached": false,
+         {"kind": "cloth", "label": "walker: cloth", "seconds": 0, "cached": true,
           "failed": false, "figures": {"garment": "dress", "clip": "walk", "bytes": 750000,
+            "time_s": 0.1,
             "verdict": "a hard cut", "pass1": {"by_cycles": [{"cycles": 1, "distance": 2e-6}]},
             "candidates": [{"start": 99, "cycles": 4, "pass1_rank": 0, "pass2_edge_px": 0.58}]}}]},
       {"name": "broken", "status": "failed", "error": "broken.glb: not <glTF>", "jobs": []}]})");
@@ -69,7 +70,8 @@ TEST(ReportPage, ABuildReportGivesEachCharacterItsJobsAndCharts) {
   EXPECT_NE(page.find("Animation &#39;walk&#39;: error against bytes"), std::string::npos);
   EXPECT_NE(page.find("LOD: error against triangles"), std::string::npos);
   EXPECT_NE(page.find("pass 1, the best seam per loop length"), std::string::npos);
-  EXPECT_NE(page.find("(in the report of the build that baked it)"), std::string::npos);
+  EXPECT_NE(page.find("(no figures in the cache)"), std::string::npos);
+  EXPECT_NE(page.find("cached (0.10 s when baked)"), std::string::npos);
   EXPECT_NE(page.find("0.43 mm at any time (clip walk), qts-half"), std::string::npos);
   EXPECT_EQ(count(page, "<svg"), 3u); // animation, LOD, cloth; the cached impostor has no figures
   EXPECT_EQ(page.find("<script"), std::string::npos);

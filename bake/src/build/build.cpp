@@ -98,10 +98,9 @@ ordered_json sceneSavings(const BuildPlan &plan) {
   auto totals = [&](const std::vector<Job> &jobs) {
     Totals t;
     for (const Job &job : jobs) {
-      std::string problem;
-      if (auto part = cache.load(job.key, problem)) {
-        t.seconds += part->figures.value("time_s", 0.0);
-        t.bytes += part->figures.value("pack_bytes", uint64_t(0));
+      if (auto figures = cache.loadFigures(job.key)) {
+        t.seconds += figures->value("time_s", 0.0);
+        t.bytes += figures->value("pack_bytes", uint64_t(0));
       } else {
         ++t.missing;
       }

@@ -70,6 +70,21 @@ void ContentCache::store(const std::string &key, const Part &part) const {
   const std::string path = entryPath(key);
   createParent(folder_, path);
   pack::writeFileAtomic(path, partBytes(part));
+  const std::string figures = part.figures.dump();
+  pack::writeFileAtomic(path + ".figs", std::vector<uint8_t>(figures.begin(), figures.end()));
+}
+
+std::optional<nlohmann::ordered_json> ContentCache::loadFigures(const std::string &key) const {
+  const auto bytes = readFile(entryPath(key) + ".figs");
+  if (!bytes.empty()) {
+    auto j = nlohmann::ordered_json::parse(bytes.begin(), bytes.end(), nullptr, false);
+    if (j.is_object())
+      return j;
+  }
+  std::string problem;
+  if (auto part = load(key, problem))
+    return part->figures;
+  return std::nullopt;
 }
 
 void ContentCache::recordFailure(const std::string &key, const std::string &error) const {

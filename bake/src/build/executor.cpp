@@ -57,8 +57,10 @@ std::vector<JobOutcome> executeJobs(const std::vector<Job> &jobs, const ContentC
     for (size_t r : readers[i])
       needed = needed || !out[r].cached; // r will run
     if (!needed) {
-      out[i].cached = true; // not loaded: no reader needs it
+      out[i].cached = true; // not loaded: no reader needs it; its figures are for the report
       settled[i] = 1;
+      if (auto figures = cache.loadFigures(jobs[i].key))
+        out[i].part.figures = std::move(*figures);
       continue;
     }
     if (auto hit = cache.load(jobs[i].key, out[i].cacheProblem)) {

@@ -191,10 +191,13 @@ std::string jobsSection(const std::vector<JobView> &jobs) {
   std::string out = "<table>" + row({"job", "kind", "seconds", "size", "accuracy"}, "th");
   for (const auto &j : jobs) {
     const auto [size, error] = bytesAndError(j);
-    const std::string seconds = j.cached ? "cached" : num(j.seconds, "%.2f");
+    const double baked = number(j.figures, "time_s", -1); // when the part was baked
+    const std::string seconds = !j.cached    ? num(j.seconds, "%.2f")
+                                : baked >= 0 ? "cached (" + num(baked, "%.2f") + " s when baked)"
+                                             : "cached";
     const std::string accuracy = j.failed ? "<b>failed:</b> " + escapeXml(j.error)
                                  : j.cached && j.figures.empty()
-                                     ? "(in the report of the build that baked it)"
+                                     ? "(no figures in the cache)"
                                      : error;
     out += row({escapeXml(j.label), escapeXml(j.kind), seconds, size, accuracy});
   }

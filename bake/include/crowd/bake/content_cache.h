@@ -26,7 +26,12 @@ public:
   // The part stored under `key`, or nothing. A damaged entry is reported in `problem` (and
   // left to be overwritten by the rebuilt part).
   std::optional<Part> load(const std::string &key, std::string &problem) const;
+  // Writes the part and, beside it, its figures alone (KEY.part.figs, JSON), so that a warm
+  // build reports every job's figures without loading parts no pack needs.
   void store(const std::string &key, const Part &part) const;
+  // The figures stored with `key` (from the part itself where an older cache has no figures
+  // file), or nothing.
+  std::optional<nlohmann::ordered_json> loadFigures(const std::string &key) const;
   std::string entryPath(const std::string &key) const;
   // A farm task's failed job, as one line beside where its part would be: the task goes on and
   // the collect step reports it (executor option recordedFailures) instead of running it again.
