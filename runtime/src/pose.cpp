@@ -82,8 +82,11 @@ void poseAt(const pack::AnimationPack &pack, const PoseMesh &mesh, float seconds
   normals.resize(mesh.vertices.size());
   uint32_t frame = 0;
   float alpha = 0;
-  if (mesh.clip)
+  std::vector<JointRows> joints;
+  if (mesh.clip) {
     frameAt(*mesh.clip, seconds, frame, alpha);
+    joints = sampleJoints(pack.animation, *mesh.clip, frame, alpha);
+  }
   const auto clip = mesh.clip ? uint32_t(mesh.clip - pack.clips.data()) : 0;
   std::vector<uint8_t> looped(mesh.vertices.size(), 0);
   for (size_t k = 0; k < mesh.vertices.size(); ++k) {
@@ -104,8 +107,7 @@ void poseAt(const pack::AnimationPack &pack, const PoseMesh &mesh, float seconds
     SkinnedVertex bind{position, normal};
     if (pack.morphs)
       bind = morphVertex(*pack.morphs, {mesh.clip, frame, alpha}, v, bind);
-    const auto s = skinVertex(pack.animation, pack.skin, *mesh.clip, frame, alpha, v, bind.position,
-                              bind.normal);
+    const auto s = skinVertex(joints, pack.skin, v, bind.position, bind.normal);
     positions[k] = s.position;
     normals[k] = s.normal;
   }

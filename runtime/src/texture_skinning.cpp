@@ -174,6 +174,24 @@ glm::vec3 skinVertex(const pack::AnimationTexture &t, const pack::SkinTexture &s
   return skinVertex(t, skin, clip, frame, alpha, vertex, position, glm::vec3(0.0f)).position;
 }
 
+std::vector<JointRows> sampleJoints(const pack::AnimationTexture &t, const pack::Clip &clip,
+                                    uint32_t frame, float alpha) {
+  std::vector<JointRows> joints(t.jointCount);
+  for (uint32_t j = 0; j < t.jointCount; ++j)
+    joints[j] = sampleJoint(t, clip, frame, alpha, j);
+  return joints;
+}
+
+SkinnedVertex skinVertex(const std::vector<JointRows> &joints, const pack::SkinTexture &skin,
+                         uint32_t vertex, const glm::vec3 &position, const glm::vec3 &normal) {
+  return skinWith(skin, vertex, position, normal, [&](uint32_t j) { return joints[j]; });
+}
+
+glm::vec3 skinVertex(const std::vector<JointRows> &joints, const pack::SkinTexture &skin,
+                     uint32_t vertex, const glm::vec3 &position) {
+  return skinVertex(joints, skin, vertex, position, glm::vec3(0.0f)).position;
+}
+
 namespace {
 
 // Adds `factor` times the offsets of the active targets of global frame `frame` to `out`.

@@ -197,12 +197,14 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
   auto measure = [&](size_t ci, uint32_t frame, float alpha, const std::vector<glm::dvec3> &exact,
                      double *max, double *sum) {
     const runtime::ClipTime at{&pk.clips[ci], frame, alpha};
+    std::vector<std::vector<runtime::JointRows>> sampled;
+    for (const auto &t : textures)
+      sampled.push_back(runtime::sampleJoints(t, pk.clips[ci], frame, alpha));
     for (uint32_t v = 0; v < vertexCount; ++v) {
       const glm::vec3 bind = morphedBind(c.mesh, pk.morphs, at, v); // the same for every p
       for (size_t p = 0; p < np; ++p) {
-        double e = glm::length(glm::dvec3(runtime::skinVertex(textures[p], pk.skin, pk.clips[ci],
-                                                              frame, alpha, v, bind)) -
-                               exact[v]);
+        double e =
+            glm::length(glm::dvec3(runtime::skinVertex(sampled[p], pk.skin, v, bind)) - exact[v]);
         max[p] = std::max(max[p], e);
         sum[p] += e;
       }

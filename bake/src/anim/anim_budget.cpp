@@ -60,10 +60,13 @@ maxErrors(const Character &c, const ClipFrames &f,
       exact = &randomExact[k - frames - mids];
     }
     const runtime::ClipTime at{&clip, frame, alpha};
+    std::vector<std::vector<runtime::JointRows>> sampled;
+    for (const auto &t : textures)
+      sampled.push_back(runtime::sampleJoints(t, clip, frame, alpha));
     for (uint32_t v = 0; v < exact->size(); ++v) {
       const glm::vec3 bind = morphedBind(c.mesh, morphFrames, at, v); // the same for every p
       for (size_t p = 0; p < np; ++p) {
-        const glm::dvec3 got(runtime::skinVertex(textures[p], skin, clip, frame, alpha, v, bind));
+        const glm::dvec3 got(runtime::skinVertex(sampled[p], skin, v, bind));
         perTime[k * np + p] = std::max(perTime[k * np + p], glm::length(got - (*exact)[v]));
       }
     }

@@ -100,33 +100,31 @@ double millimetresPerUnit(const pack::Mesh &m) {
   return height > 0 ? kReferenceHeightMm / height : 0;
 }
 
-// The animation group's chunks of one pack, decoded.
-struct Animated {
-  pack::Skeleton skeleton;
-  std::vector<pack::Clip> clips;
-  pack::AnimationTexture animation;
-  pack::SkinTexture skin;
-  pack::Mesh mesh;
-  std::optional<pack::Morphs> morphs;
-  Animated(const Side &s)
-      : skeleton(pack::decodeSkeleton(s.payload("SKEL"), s.context("SKEL"))),
-        clips(pack::decodeClips(s.payload("CLIP"), s.context("CLIP"))),
-        animation(pack::decodeAnimationTexture(s.payload("ANIM"), s.context("ANIM"))),
-        skin(pack::decodeSkinTexture(s.payload("SKIN"), s.context("SKIN"))),
-        mesh(pack::decodeMesh(s.payload("MESH"), s.context("MESH"))) {
-    if (s.has("MRPH"))
-      morphs = pack::decodeMorphs(s.payload("MRPH"), s.context("MRPH"));
-  }
-  // Vertex v at `seconds` into clip c, as the player draws it.
-  glm::vec3 at(const pack::Clip &c, float seconds, uint32_t v) const {
+// The animation group of one pack, read as the player reads it (its chunks checked against each
+// other: joint ids, frame ranges, vertex counts).
+struct Animated : pack::AnimationPack {
+  explicit Animated(const Side &s) : pack::AnimationPack(pack::loadAnimationPack(s.reader)) {}
+  // Vertex v at `seconds` into clip c, as the player draws it; the joints are sampled once per
+  // time (the last time asked is kept).
+  glm::vec3 at(const pack::Clip &c, float seconds, uint32_t v) {
     const runtime::ClipTime t = runtime::clipTimeAt(c, seconds);
+    if (sampledClip_ != &c || sampledFrame_ != t.frame || sampledAlpha_ != t.alpha) {
+      joints_ = runtime::sampleJoints(animation, c, t.frame, t.alpha);
+      sampledClip_ = &c, sampledFrame_ = t.frame, sampledAlpha_ = t.alpha;
+    }
     runtime::SkinnedVertex bind{
         {mesh.positions[v * 3], mesh.positions[v * 3 + 1], mesh.positions[v * 3 + 2]},
         glm::vec3(0.0f)};
     if (morphs)
       bind = runtime::morphVertex(*morphs, t, v, bind);
-    return runtime::skinVertex(animation, skin, c, t.frame, t.alpha, v, bind.position);
+    return runtime::skinVertex(joints_, skin, v, bind.position);
   }
+
+private:
+  std::vector<runtime::JointRows> joints_;
+  const pack::Clip *sampledClip_ = nullptr;
+  uint32_t sampledFrame_ = 0;
+  float sampledAlpha_ = -1;
 };
 
 // Frame and mid-frame times of a clip, seconds into it.
@@ -239,7 +237,7 @@ private:
     for (const char *k : {"SKEL", "CLIP", "ANIM", "SKIN", "MESH"})
       if (!golden_.has(k) || !fresh_.has(k))
         return incomparable(key, std::string("no ") + k + " chunk to skin with");
-    const Animated a(golden_), b(fresh_);
+    Animated a(golden_), b(fresh_);
     if (a.skeleton.names != b.skeleton.names || a.skeleton.parents != b.skeleton.parents)
       return incomparable("SKEL", "the joints differ (names or parents)");
     if (a.mesh.vertexCount() != b.mesh.vertexCount())

@@ -13,6 +13,7 @@ std::vector<uint8_t> renderPreview(const pack::AnimationPack &p, size_t clip, ui
   const auto &m = p.mesh;
   const auto &c = p.clips.at(clip);
   std::vector<glm::vec3> pos(m.vertexCount()), nrm(m.vertexCount());
+  const auto joints = runtime::sampleJoints(p.animation, c, frame, 0.0f);
   for (uint32_t v = 0; v < m.vertexCount(); ++v) {
     glm::vec3 bind(m.positions[v * 3], m.positions[v * 3 + 1], m.positions[v * 3 + 2]);
     glm::vec3 n(m.normals[v * 3], m.normals[v * 3 + 1], m.normals[v * 3 + 2]);
@@ -21,9 +22,9 @@ std::vector<uint8_t> renderPreview(const pack::AnimationPack &p, size_t clip, ui
       bind = morphed.position;
       n = morphed.normal;
     }
-    pos[v] = runtime::skinVertex(p.animation, p.skin, c, frame, 0, v, bind);
+    pos[v] = runtime::skinVertex(joints, p.skin, v, bind);
     // Normals through the same blend (no translation): good enough for shading a preview.
-    nrm[v] = runtime::skinVertex(p.animation, p.skin, c, frame, 0, v, bind + n) - pos[v];
+    nrm[v] = runtime::skinVertex(joints, p.skin, v, bind + n) - pos[v];
   }
   const auto &s = m.boundingSphere;
   glm::dvec3 centre(s[0], s[1], s[2]);

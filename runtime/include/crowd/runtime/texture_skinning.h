@@ -22,6 +22,11 @@ using JointRows = std::array<glm::vec4, 3>;
 JointRows sampleJoint(const pack::AnimationTexture &texture, const pack::Clip &clip, uint32_t frame,
                       float alpha, uint32_t joint);
 
+// Every joint at one clip time: sampleJoint for each, in joint order. Skinning many vertices at
+// one time samples the joints once this way instead of once per influence (same numbers).
+std::vector<JointRows> sampleJoints(const pack::AnimationTexture &texture, const pack::Clip &clip,
+                                    uint32_t frame, float alpha);
+
 // A joint's transform in a crossfade, `weight` of the way from `from` to `to` (0: `from`): both
 // taken as a rotation, translation and uniform scale and blended as dual quaternions, the same
 // screw-linear blend that qts frames use. What rows carry beyond that (shear, non-uniform scale)
@@ -49,6 +54,13 @@ glm::vec3 skinVertex(const pack::AnimationTexture &texture, const pack::SkinText
 struct SkinnedVertex {
   glm::vec3 position, normal;
 };
+
+// A vertex skinned with joint transforms sampled beforehand (`joints`: sampleJoints at the
+// time): the same sum as skinVertex below. The skin's joint ids must be below joints.size().
+SkinnedVertex skinVertex(const std::vector<JointRows> &joints, const pack::SkinTexture &skin,
+                         uint32_t vertex, const glm::vec3 &position, const glm::vec3 &normal);
+glm::vec3 skinVertex(const std::vector<JointRows> &joints, const pack::SkinTexture &skin,
+                     uint32_t vertex, const glm::vec3 &position);
 SkinnedVertex skinVertex(const pack::AnimationTexture &texture, const pack::SkinTexture &skin,
                          const pack::Clip &clip, uint32_t frame, float alpha, uint32_t vertex,
                          const glm::vec3 &position, const glm::vec3 &normal);
