@@ -249,6 +249,9 @@ TEST(Usage, BadUsageExitsTwo) {
   EXPECT_EQ(crowdbake("anim --help").code, 0);
   EXPECT_EQ(crowdbake("impostor a.glb -o x --views 32").code, 2);
   EXPECT_EQ(crowdbake("impostor a.glb -o x --texels 2").code, 2);
+  EXPECT_EQ(crowdbake("impostor a.glb -o x --texels 12x").code, 2);
+  EXPECT_EQ(crowdbake("impostor a.glb -o x --texels auto").code, 2);       // no --switch-distance
+  EXPECT_EQ(crowdbake("impostor a.glb -o x --switch-distance 5").code, 2); // without auto
   EXPECT_EQ(crowdbake("impostor --help").code, 0);
   EXPECT_EQ(crowdbake("lod a.glb").code, 2);
   EXPECT_EQ(crowdbake("lod a.glb -o x --floor 2").code, 2);
@@ -267,8 +270,7 @@ TEST(ResourceGuard, StopsPastEitherLimitAndWritesNothing) {
   expectOneLineError(crowdbake(bake + "--max-memory 1"), "over --max-memory 1 MiB");
   expectOneLineError(crowdbake(bake + "--max-seconds 0.001"), "over --max-seconds 0.001 s");
   for (const auto &e : fs::directory_iterator(dir))
-    EXPECT_TRUE(e.path().filename().string().rfind("q.", 0) == 0)
-        << "left behind: " << e.path();
+    EXPECT_TRUE(e.path().filename().string().rfind("q.", 0) == 0) << "left behind: " << e.path();
   fs::remove_all(dir);
 }
 

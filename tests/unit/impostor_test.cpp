@@ -6,6 +6,7 @@
 #include "crowd/bake/import.h"
 #include "crowd/bake/impostor_bake.h"
 #include "crowd/formats/error.h"
+#include "crowd/formats/limits.h"
 #include "crowd/runtime/impostor_runtime.h"
 #include "gltf_writer.h"
 #include "sample_character.h"
@@ -114,6 +115,31 @@ TEST(Impostor, OneFrameClipsRestPosesAndMemoryGuard) {
 } // namespace
 
 namespace {
+TEST(Impostor, TexelsFromTheSwitchDistanceCoverAPixelThereAndClampPast512) {
+  Reporter r;
+  r.quiet = true;
+  auto o = small();
+  o.frames = 1;
+  o.azimuths = 2;
+  o.elevations = 1;
+  o.switchDistance = 12;
+  const auto far = bakeImpostor(humanoid(), o, r).impostor;
+  // At the switch, a pixel spans 2 d tan(fov / 2) / H units and a texel 2 r / texels: the
+  // fewest texels (a multiple of 4) for which a texel is at most a pixel.
+  const double radius = far.sphere[3];
+  const double pixel = 2 * o.switchDistance * std::tan(o.fovDegrees * M_PI / 360) / o.screenHeight;
+  EXPECT_EQ(far.texels % 4, 0u);
+  EXPECT_LE(2 * radius / far.texels, pixel * (1 + 1e-9));
+  EXPECT_GT(2 * radius / (far.texels - 4), pixel);
+  EXPECT_TRUE(r.warnings().empty());
+
+  o.switchDistance = 0.5; // nearer than 512 texels can serve
+  const auto near = bakeImpostor(humanoid(), o, r).impostor;
+  EXPECT_EQ(near.texels, limits::kAutoImpostorTexels);
+  ASSERT_EQ(r.warnings().size(), 1u);
+  EXPECT_EQ(r.warnings()[0].code, "texels_clamped");
+}
+
 TEST(Impostor, MirroringIsMeasuredNotAssumed) {
   Reporter r;
   auto o = small();
@@ -203,7 +229,7 @@ TEST(ImpostorRuntime, ChoosesTheNearestStoredViewAndFrame) {
     return glm::vec3(std::cos(e) * std::sin(a), std::sin(e), std::cos(e) * std::cos(a));
   };
   auto c = runtime::chooseImpostorView(m, dir(44, 10), 1.1 * step, true);
-  EXPECT_EQ(c.azimuth, 1u); // 45 degrees apart: 44 is nearest to 45
+  EXPECT_EQ(c.azimuth, 1u);   // 45 degrees apart: 44 is nearest to 45
   EXPECT_EQ(c.elevation, 0u); // rows at 22.5 and 67.5
   EXPECT_EQ(c.frame, 1u);
   EXPECT_FALSE(c.flip);

@@ -148,10 +148,22 @@ TEST(PackDiff, TolerancesFilesAreChecked) {
   EXPECT_EQ(tolerancesJson(DiffTolerances{}).size(), 10u);
 }
 
-TEST(PackDiff, ATruncatedPackIsAClearError) {
+TEST(PackDiff, ATruncatedOrInconsistentPackIsAClearError) {
   auto bytes = pack::packBytes(qts());
   bytes.resize(bytes.size() / 2);
   EXPECT_THROW(reader(bytes, "cut.crowdpack"), Error);
+  // Every chunk reads on its own, but a vertex names a joint the skeleton lacks: the player's
+  // reader refuses it, and so does diff before it skins anything (a changed animation texture
+  // makes it skin).
+  pack::AnimationPack stray = qts();
+  stray.skin.texels[0] = float(stray.skeleton.jointCount());
+  stray.animation.texels[0] ^= 1;
+  try {
+    diff(pack::packBytes(qts()), pack::packBytes(stray));
+    ADD_FAILURE() << "a joint id past the skeleton was compared";
+  } catch (const Error &e) {
+    EXPECT_NE(std::string(e.what()).find("uses joint"), std::string::npos) << e.what();
+  }
 }
 
 } // namespace

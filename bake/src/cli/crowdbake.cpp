@@ -76,7 +76,9 @@ normals (RGB) with the region (sub-mesh) id + 1 in alpha, each view cropped to i
 dilated (empty texels copy their nearest covered neighbour, region 0) and shelf-packed into one
 atlas per frame, with a 16-bit UV map and a best impostor plane per view. crowdplay draws the
 pack for instances of this clip past the distance where a texel covers a pixel (scene file:
-"impostor" in a pack).)";
+"impostor" in a pack). --texels auto sizes the views the other way round: from the distance where
+the player should switch (--switch-distance, --screen, --fov), so no texel is stored that no
+pixel shows.)";
 
 int cmdSamples(int argc, char **argv) {
   CLI::App app(kSamplesHelp, "crowdbake samples");
@@ -164,7 +166,18 @@ int cmdImpostor(int argc, char **argv) {
   app.add_option("--frames", opt.frames, "frames sampled evenly over the clip")
       ->capture_default_str();
   app.add_option("--views", views, "azimuths x elevations")->capture_default_str();
-  app.add_option("--texels", opt.texels, "a full view's size before cropping")
+  std::string texels = std::to_string(opt.texels);
+  app.add_option("--texels", texels,
+                 "a full view's size before cropping, or auto: the fewest for which one texel "
+                 "covers one pixel at --switch-distance (at most 512, with a warning)")
+      ->capture_default_str();
+  app.add_option("--switch-distance", opt.switchDistance,
+                 "with --texels auto: where the player turns the character into an impostor, "
+                 "model units from its centre");
+  app.add_option("--screen", opt.screenHeight, "with --texels auto: the viewport's height, pixels")
+      ->capture_default_str();
+  app.add_option("--fov", opt.fovDegrees,
+                 "with --texels auto: the camera's vertical field of view, degrees")
       ->capture_default_str();
   app.add_flag("--mirror", opt.mirror,
                "store azimuths 0..A/2 only: the others are mirrors of the views half a clip "
@@ -181,6 +194,21 @@ int cmdImpostor(int argc, char **argv) {
     opt.elevations = uint32_t(std::stoul(views.substr(x + 1)));
   } catch (const std::exception &) {
     throw UsageError("--views expects AxE, e.g. 32x8, got '" + views + "'");
+  }
+  if (texels == "auto") {
+    if (!(opt.switchDistance > 0))
+      throw UsageError("--texels auto needs --switch-distance (model units, > 0)");
+  } else {
+    if (opt.switchDistance != 0)
+      throw UsageError("--switch-distance sizes the views only with --texels auto");
+    try {
+      size_t end = 0;
+      opt.texels = uint32_t(std::stoul(texels, &end));
+      if (end != texels.size())
+        throw std::invalid_argument(texels);
+    } catch (const std::exception &) {
+      throw UsageError("--texels expects a number of texels or auto, got '" + texels + "'");
+    }
   }
   validated(opt);
   crowd::CharacterManifest m = b.manifest();

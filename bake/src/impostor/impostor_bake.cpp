@@ -96,8 +96,8 @@ uint32_t texelsAtSwitchDistance(double radius, const ImpostorOptions &o) {
   // texels and rounded up: at the switch distance a texel is at most a pixel.
   const double t =
       radius * o.screenHeight / (o.switchDistance * std::tan(glm::radians(o.fovDegrees) / 2));
-  const double rounded = std::ceil(std::min(t, 4096.0) / 4) * 4;
-  return uint32_t(std::clamp(rounded, 4.0, 4096.0));
+  const double rounded = std::ceil(std::min(t, 1e6) / 4) * 4; // past the cap: bakeImpostor warns
+  return uint32_t(std::clamp(rounded, 4.0, 1e6));
 }
 
 ImpostorBakeResult bakeImpostor(const Character &c, const ImpostorOptions &options,
@@ -145,8 +145,16 @@ ImpostorBakeResult bakeImpostor(const Character &c, const ImpostorOptions &optio
       radius = std::max(radius, glm::length(glm::dvec3(q) - centre));
   radius = std::max(radius * 1.02, 1e-6); // a texel of margin around the silhouette
   m.sphere = {float(centre.x), float(centre.y), float(centre.z), float(radius)};
-  if (o.switchDistance > 0)
-    m.texels = o.texels = texelsAtSwitchDistance(radius, o);
+  if (o.switchDistance > 0) {
+    const uint32_t needed = texelsAtSwitchDistance(radius, o);
+    m.texels = o.texels = std::min(needed, limits::kAutoImpostorTexels);
+    if (needed > o.texels)
+      reporter.warn("texels_clamped",
+                    "the switch distance needs " + std::to_string(needed) +
+                        " texels a view (a texel a pixel there); clamped to " +
+                        std::to_string(o.texels) +
+                        ": a texel covers more than a pixel at the switch (switch farther away)");
+  }
   const uint64_t naive = uint64_t(o.frames) * views * o.texels * o.texels * 4;
   if (naive > o.maxBytes)
     throw Error("impostor would need " + std::to_string(naive >> 20) +

@@ -22,6 +22,7 @@ struct ImpostorOptions {
   // impostor's sphere, on a viewport `screenHeight` pixels tall with a vertical field of view of
   // `fovDegrees`. The player switches to the impostor where a texel covers a pixel: at this
   // distance or up to 4 texels' worth nearer, so no texel is stored that no pixel shows.
+  // At most limits::kAutoImpostorTexels (a nearer switch is clamped, with a warning).
   double switchDistance = 0;
   int screenHeight = 1080;
   double fovDegrees = 50;
@@ -29,7 +30,7 @@ struct ImpostorOptions {
   // Measure the baked atlas against the true render (measureImpostor) for the figures; it
   // changes no byte of the atlas.
   bool measure = false;
-  int threads = 0;     // 0: all cores; the bytes never depend on it
+  int threads = 0;                       // 0: all cores; the bytes never depend on it
   uint64_t maxBytes = uint64_t(4) << 30; // memory guard on the uncropped views
   void validate() const;                 // throws crowd::Error naming the first field out of range
 };
@@ -47,7 +48,8 @@ struct ImpostorBakeResult {
 ImpostorBakeResult bakeImpostor(const Character &character, const ImpostorOptions &options,
                                 Reporter &reporter);
 
-// The texels of a view for a sphere of `radius` under options.switchDistance (see there).
+// The texels of a view for a sphere of `radius` under options.switchDistance (see there);
+// bakeImpostor clamps them to limits::kAutoImpostorTexels, warning.
 uint32_t texelsAtSwitchDistance(double radius, const ImpostorOptions &options);
 
 // Accuracy of a baked impostor against the true render, for frame 0: each camera direction is

@@ -32,6 +32,11 @@ inline constexpr uint64_t kFrameVertices = uint64_t(1) << 26;
 // streamed, so its byte size is bounded only by the input byte bound.
 inline constexpr uint32_t kCacheFrames = uint32_t(1) << 20;
 
+// Impostor views sized from a switch distance (--texels auto): a nearer switch would need more
+// texels than this per view; they are clamped here, with a warning (a texel then covers more
+// than a pixel at the switch).
+inline constexpr uint32_t kAutoImpostorTexels = 512;
+
 // Packs: texture sides and element counts a chunk may declare, chunks per container.
 inline constexpr uint32_t kTextureSide = 65536;
 inline constexpr uint64_t kChunkElements = uint64_t(1) << 32;
