@@ -183,6 +183,14 @@ TEST(Impostor, AccuracyIsExactAtTheViewsAndImprovesWithMoreViews) {
   EXPECT_GE(a.atViews.iouMin, 0.999);
   EXPECT_LT(a.atViews.normalMeanDeg, 1.0);
   EXPECT_LT(a.betweenViews.iouMean, a.atViews.iouMean);
+  // Per elevation row: the rows' means average to the whole mean.
+  for (const auto *f : {&a.atViews, &a.betweenViews}) {
+    ASSERT_EQ(f->iouMeanByElevation.size(), o.elevations);
+    double sum = 0;
+    for (double row : f->iouMeanByElevation)
+      sum += row;
+    EXPECT_NEAR(sum / o.elevations, f->iouMean, 1e-9);
+  }
   o.azimuths = 32;
   o.elevations = 8;
   ImpostorAccuracy fine = measureImpostor(humanoid(), bakeImpostor(humanoid(), o, r).impostor, 1);

@@ -105,7 +105,8 @@ ordered_json impostorAccuracyFigures(const ImpostorAccuracy &a) {
                         {"normal_error_mean_deg", f.normalMeanDeg},
                         {"normal_error_max_deg", f.normalMaxDeg},
                         {"uv_error_mean", f.uvMean},
-                        {"uv_error_max", f.uvMax}};
+                        {"uv_error_max", f.uvMax},
+                        {"iou_mean_by_elevation", f.iouMeanByElevation}};
   };
   return {{"frame", 0},
           {"at_views", figures(a.atViews)},

@@ -464,8 +464,10 @@ ImpostorAccuracy measureImpostor(const Character &c, const pack::Impostor &m, in
     ImpostorAccuracy::Figures &f = part ? acc.betweenViews : acc.atViews;
     double angleSum = 0, uvSum = 0;
     size_t angles = 0;
+    f.iouMeanByElevation.assign(m.elevations, 0.0);
     for (size_t k = 0; k < views; ++k) {
       const Result &r = results[size_t(part) * views + k];
+      f.iouMeanByElevation[k / m.azimuths] += r.iou / double(m.azimuths);
       uvSum += r.uvSum;
       f.uvMax = std::max(f.uvMax, r.uvMax);
       f.iouMean += r.iou / double(views);

@@ -5,6 +5,7 @@
 #pragma once
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "crowd/bake/character.h"
 #include "crowd/bake/report.h"
@@ -60,6 +61,9 @@ struct ImpostorAccuracy {
     double iouMean = 0, iouMin = 1;             // silhouette intersection over union
     double normalMeanDeg = 0, normalMaxDeg = 0; // angle between stored and true normals
     double uvMean = 0, uvMax = 0; // distance between stored and true UVs (texture widths)
+    // Mean IoU of each elevation row, lowest first: where between-view accuracy is lost (a
+    // standing figure's projection changes fastest with elevation near the top).
+    std::vector<double> iouMeanByElevation;
   };
   Figures atViews, betweenViews; // directions at the sampled views; halfway between them
   double worstAzimuthDeg = 0, worstElevationDeg = 0, worstIou = 1; // lowest IoU found
