@@ -73,7 +73,7 @@ int searchFile(const std::string &path, double cycle) {
   // samples know).
   ClothLoopOptions co;
   co.search = o;
-  const ClothLoop loop = chooseLoop(
+  const LoopChoice loop = chooseLoop(
       reader.info().frameCount, reader.info().vertexCount,
       [&](uint32_t f, uint32_t first, uint32_t count, auto &out) {
         reader.read(f, first, count, out);

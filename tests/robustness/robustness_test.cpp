@@ -250,8 +250,9 @@ TEST(Usage, BadUsageExitsTwo) {
   EXPECT_EQ(crowdbake("impostor a.glb -o x --views 32").code, 2);
   EXPECT_EQ(crowdbake("impostor a.glb -o x --texels 2").code, 2);
   EXPECT_EQ(crowdbake("impostor a.glb -o x --texels 12x").code, 2);
-  EXPECT_EQ(crowdbake("impostor a.glb -o x --texels auto").code, 2);       // no --switch-distance
-  EXPECT_EQ(crowdbake("impostor a.glb -o x --switch-distance 5").code, 2); // without auto
+  EXPECT_EQ(crowdbake("impostor a.glb -o x --texels -4294967200").code, 2); // no wrap to 96
+  EXPECT_EQ(crowdbake("impostor a.glb -o x --texels auto").code, 2);        // no --switch-distance
+  EXPECT_EQ(crowdbake("impostor a.glb -o x --switch-distance 5").code, 2);  // without auto
   EXPECT_EQ(crowdbake("impostor --help").code, 0);
   EXPECT_EQ(crowdbake("lod a.glb").code, 2);
   EXPECT_EQ(crowdbake("lod a.glb -o x --floor 2").code, 2);

@@ -328,6 +328,10 @@ TEST(ClothManifest, LoopsNameTheirOutfitClipAndCache) {
   const std::string one =
       R"({"outfit": "dress", "garment": "g", "clip": "walk", "cache": "c.pc2"})";
   EXPECT_NE(error("[" + one + ", " + one + "]").find("a second loop"), std::string::npos);
+  EXPECT_NE(error(R"([{"outfit": "dress", "garment": "g", "clip": "walk", "cache": "c.pc2",
+                       "blend": 2.5}])")
+                .find("expected a whole number of frames"),
+            std::string::npos);
   EXPECT_NE(
       error(R"([{"outfit": "dress", "garment": "g", "clip": "walk", "cache": "/etc/c.pc2"}])"),
       "no error");

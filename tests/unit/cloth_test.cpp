@@ -219,15 +219,15 @@ TEST(SampleCloth, LooseSkirtsCloseStiffOnesSettleNoiseNever) {
   const auto choose = [](const Frames &frames, double cycle) {
     ClothLoopOptions o;
     o.search.cycleFrames = cycle;
-    const ClothLoop loop = chooseLoop(uint32_t(frames.size()), uint32_t(frames[0].size()),
-                                      inMemory(frames), samples::dressIndices(), o);
+    const LoopChoice loop = chooseLoop(uint32_t(frames.size()), uint32_t(frames[0].size()),
+                                       inMemory(frames), samples::dressIndices(), o);
     const LoopCandidate &best = loop.candidates.front().seam;
     EXPECT_EQ(best.length, std::lround(best.cycles * cycle));
     for (size_t i = 1; i < loop.candidates.size(); ++i) // pass 2's order
       EXPECT_LE(loop.candidates[0].edgeDistance, loop.candidates[i].edgeDistance);
     return loop;
   };
-  std::map<std::string, ClothLoop> r;
+  std::map<std::string, LoopChoice> r;
   for (const auto &sample : samples::cacheSamples()) {
     samples::ClothSettings settings = sample.settings;
     settings.cycles = std::min(settings.cycles, 12u);
@@ -248,7 +248,7 @@ TEST(SampleCloth, LooseSkirtsCloseStiffOnesSettleNoiseNever) {
   EXPECT_LT(r["skirt_stiff.pc2"].positionRatio, 0.15);
   // Noise: a clear verdict, never a silent bad loop.
   const Frames noise = samples::noiseCache(30 * 4, samples::dressVertexCount());
-  const ClothLoop never = choose(noise, 30.0);
+  const LoopChoice never = choose(noise, 30.0);
   EXPECT_FALSE(never.acceptable);
   EXPECT_GT(never.positionRatio, 0.8);
   EXPECT_GT(never.bestToMedian, 0.8);

@@ -272,8 +272,12 @@ CharacterManifest parse(const JsonChecker &c, const json &j, const Keys &at,
       auto &o = cl.options;
       if (e.contains("fps"))
         o.cache.fps = c.number(e["fps"], at("fps"), 0, 1000);
-      if (e.contains("blend"))
-        o.blend = int(c.number(e["blend"], at("blend"), -1, 100000));
+      if (e.contains("blend")) { // a whole number of frames, or -1: what the seam needs
+        const double blend = c.number(e["blend"], at("blend"), -1, 100000);
+        if (blend != std::floor(blend))
+          c.fail(at("blend"), "expected a whole number of frames (-1: what the seam needs)");
+        o.blend = int(blend);
+      }
       if (e.contains("candidates"))
         o.loop.search.candidates = whole(c, e["candidates"], at("candidates"), 1, 100);
       if (e.contains("views"))

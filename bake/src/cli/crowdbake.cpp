@@ -1,5 +1,6 @@
 // crowdbake: the command-line front of the bake library. Sub-commands like git; every
 // failure is one line on stderr and a non-zero exit (1 bad input or failed bake, 2 bad usage).
+#include <cctype>
 #include <cstdio>
 #include <iostream>
 #include <map>
@@ -204,7 +205,7 @@ int cmdImpostor(int argc, char **argv) {
     try {
       size_t end = 0;
       opt.texels = uint32_t(std::stoul(texels, &end));
-      if (end != texels.size())
+      if (end != texels.size() || !std::isdigit(static_cast<unsigned char>(texels[0])))
         throw std::invalid_argument(texels);
     } catch (const std::exception &) {
       throw UsageError("--texels expects a number of texels or auto, got '" + texels + "'");

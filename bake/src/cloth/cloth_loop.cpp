@@ -28,14 +28,14 @@ void ClothLoopOptions::validate() const {
     throw Error("exact ratio: must be in (0, max-jump]");
 }
 
-ClothLoop chooseLoop(uint32_t frameCount, uint32_t vertexCount, const ClothFrames &frames,
-                     const std::vector<uint32_t> &indices, const ClothLoopOptions &options) {
+LoopChoice chooseLoop(uint32_t frameCount, uint32_t vertexCount, const ClothFrames &frames,
+                      const std::vector<uint32_t> &indices, const ClothLoopOptions &options) {
   options.validate();
   for (uint32_t i : indices)
     if (i >= vertexCount)
       throw Error("cloth loop: a garment triangle names vertex " + std::to_string(i) +
                   " of a cache of " + std::to_string(vertexCount));
-  ClothLoop out;
+  LoopChoice out;
   auto t0 = std::chrono::steady_clock::now();
   const LoopSearch search = searchLoops(frameCount, vertexCount, frames, options.search);
   out.pass1Seconds = secondsSince(t0);

@@ -36,7 +36,7 @@ struct ClothBakeOptions {
 };
 
 struct ClothBakeResult {
-  ClothLoop loop;              // the search, both passes and the verdict
+  LoopChoice loop;             // the search, both passes and the verdict
   pack::ClothLoop chunk;       // what the pack stores
   double mmPerUnit = 0.0;      // model units to millimetres, the body 1.8 m tall
   bool blendClamped = false;   // the blend asked for did not fit before the loop's start

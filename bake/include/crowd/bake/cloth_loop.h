@@ -37,7 +37,8 @@ struct ClothLoopCandidate {
   double edgeDistance = 0.0;         // their sum
 };
 
-struct ClothLoop {
+// The search's result (what pack::ClothLoop stores is cut from the cache around it).
+struct LoopChoice {
   std::vector<ClothLoopCandidate> candidates; // in pass 2's order: the chosen one first
   double meanMotion = 0.0, meanVelocityChange = 0.0;
   // The chosen seam's jumps against them, and how far it beats the median seam of pass 1
@@ -54,7 +55,7 @@ struct ClothLoop {
 };
 
 // `indices`: the garment's triangles over the cache's vertices (pass 2 draws them).
-ClothLoop chooseLoop(uint32_t frameCount, uint32_t vertexCount, const ClothFrames &frames,
-                     const std::vector<uint32_t> &indices, const ClothLoopOptions &options);
+LoopChoice chooseLoop(uint32_t frameCount, uint32_t vertexCount, const ClothFrames &frames,
+                      const std::vector<uint32_t> &indices, const ClothLoopOptions &options);
 
 } // namespace crowd

@@ -61,8 +61,7 @@ struct ImpostorAccuracy {
     double iouMean = 0, iouMin = 1;             // silhouette intersection over union
     double normalMeanDeg = 0, normalMaxDeg = 0; // angle between stored and true normals
     double uvMean = 0, uvMax = 0; // distance between stored and true UVs (texture widths)
-    // Mean IoU of each elevation row, lowest first: where between-view accuracy is lost (a
-    // standing figure's projection changes fastest with elevation near the top).
+    // Mean IoU of each elevation row, lowest first: where between-view accuracy is lost.
     std::vector<double> iouMeanByElevation;
   };
   Figures atViews, betweenViews; // directions at the sampled views; halfway between them

@@ -54,16 +54,16 @@ glm::vec3 skinVertex(const pack::AnimationTexture &texture, const pack::SkinText
 struct SkinnedVertex {
   glm::vec3 position, normal;
 };
+SkinnedVertex skinVertex(const pack::AnimationTexture &texture, const pack::SkinTexture &skin,
+                         const pack::Clip &clip, uint32_t frame, float alpha, uint32_t vertex,
+                         const glm::vec3 &position, const glm::vec3 &normal);
 
 // A vertex skinned with joint transforms sampled beforehand (`joints`: sampleJoints at the
-// time): the same sum as skinVertex below. The skin's joint ids must be below joints.size().
+// time): the same sum as skinVertex above. The skin's joint ids must be below joints.size().
 SkinnedVertex skinVertex(const std::vector<JointRows> &joints, const pack::SkinTexture &skin,
                          uint32_t vertex, const glm::vec3 &position, const glm::vec3 &normal);
 glm::vec3 skinVertex(const std::vector<JointRows> &joints, const pack::SkinTexture &skin,
                      uint32_t vertex, const glm::vec3 &position);
-SkinnedVertex skinVertex(const pack::AnimationTexture &texture, const pack::SkinTexture &skin,
-                         const pack::Clip &clip, uint32_t frame, float alpha, uint32_t vertex,
-                         const glm::vec3 &position, const glm::vec3 &normal);
 
 // A vertex in a crossfade from one clip time to another: each clip's joint as a rigid transform
 // (matrix frames converted one by one, then blended screw-linearly), the two blended as
