@@ -63,6 +63,7 @@ TEST(ClothBake, ALooseSkirtIsAHardCutThatReplaysItsCacheFrames) {
   const ClothBakeResult r = bake(path, {}, rep);
   const pack::ClothLoop &c = r.chunk;
   EXPECT_TRUE(r.loop.acceptable) << r.loop.verdict;
+  EXPECT_FALSE(r.rate.mismatch) << r.rate.residual << " against " << r.rate.bestResidual;
   EXPECT_EQ(c.blendFrames, 0u);
   EXPECT_EQ(r.pushedVertices, 0u);
   EXPECT_EQ(c.vertexCount(), samples::dressVertexCount());
@@ -90,8 +91,8 @@ TEST(ClothBake, ALooseSkirtIsAHardCutThatReplaysItsCacheFrames) {
 
 // A cache simulated at 24 fps under a clip baked at 30: the loop is whole clip cycles of the
 // cache's own frames. Read at the wrong rate (30), a "cycle" is 1.25 true cycles: 4 of them are
-// 5 true ones, a seam that closes as well, so the verdict cannot tell (printed, not asserted:
-// the rate must come from the file or --fps, and the README says so).
+// 5 true ones, a seam that closes as well, so the verdict cannot tell; the frame-rate fit can:
+// the skirt's waistband follows the body at 24 fps, not at 30.
 TEST(ClothBake, ACacheAtAnotherFrameRateLoopsInItsOwnFrames) {
   samples::ClothSettings s = samples::cacheSamples()[0].settings; // skirt_walk
   s.cycles = 8;
@@ -105,6 +106,8 @@ TEST(ClothBake, ACacheAtAnotherFrameRateLoopsInItsOwnFrames) {
   EXPECT_EQ(r.chunk.fps, 24.0f);
   const AnimationClip &walk = test::sampleHumanoid().clips[0];
   EXPECT_NEAR(r.chunk.frameCount(), r.chunk.cycles * (walk.end - walk.start) * 24.0, 0.5);
+  EXPECT_FALSE(r.rate.mismatch) << r.rate.residual << " against " << r.rate.bestResidual;
+  EXPECT_TRUE(rep.warnings().empty());
   o.cache.fps = 30; // the wrong rate: a cycle is 25% too long
   Reporter wrong;
   const ClothBakeResult w = bake(path, o, wrong);
@@ -114,6 +117,13 @@ TEST(ClothBake, ACacheAtAnotherFrameRateLoopsInItsOwnFrames) {
               w.loop.velocityRatio, w.loop.acceptable ? "accepted" : "rejected");
   EXPECT_EQ(w.chunk.fps, 30.0f);
   EXPECT_EQ(w.chunk.cycles % 4, 0u); // only multiples of 4 false cycles close
+  EXPECT_TRUE(w.rate.mismatch);
+  EXPECT_EQ(w.rate.bestRate, 24.0);
+  EXPECT_LT(w.rate.bestResidual, 0.5 * w.rate.residual);
+  ASSERT_FALSE(wrong.warnings().empty());
+  EXPECT_EQ(wrong.warnings()[0].code, "cloth_fps_mismatch");
+  std::printf("waistband off the skinned skirt: %.2f mm at 24 fps, %.2f mm read at 30\n",
+              w.rate.bestResidual * w.mmPerUnit, w.rate.residual * w.mmPerUnit);
 }
 
 TEST(ClothBake, NoiseIsCrossFadedAndWhatTheBlendPushedIntoTheBodyComesOut) {
@@ -123,6 +133,7 @@ TEST(ClothBake, NoiseIsCrossFadedAndWhatTheBlendPushedIntoTheBodyComesOut) {
   const ClothBakeResult r = bake(path, {}, rep);
   const pack::ClothLoop &c = r.chunk;
   ASSERT_FALSE(r.loop.acceptable);
+  EXPECT_FALSE(r.rate.mismatch) << "noise follows no body: every rate fits alike";
   EXPECT_EQ(c.blendFrames, std::min(r.loop.blendFrames, c.cacheStart));
   ASSERT_GT(c.blendFrames, 1u);
   // The last frame now leads into the first: it is the blend of its own frame and the frame

@@ -139,6 +139,11 @@ ordered_json clothFigures(const ClothBakeResult &r) {
   f["best_to_median"] = l.bestToMedian;
   f["mean_motion_mm"] = l.meanMotion * mm;
   f["mean_velocity_change_mm_s"] = l.meanVelocityChange * mm * c.fps;
+  // The frame rate read, against the common rate that fits best (cloth_input.h: FrameRateFit).
+  f["fps_fit"] = {{"residual_mm", r.rate.residual * mm},
+                  {"best_other_rate", r.rate.bestRate},
+                  {"best_other_residual_mm", r.rate.bestResidual * mm},
+                  {"mismatch", r.rate.mismatch}};
   f["blend_frames"] = c.blendFrames;
   f["blend_clamped"] = r.blendClamped;
   f["pushed_out"] = {

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <iomanip>
+#include <sstream>
 
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
@@ -107,6 +109,21 @@ ClothBakeResult bakeClothLoop(const Character &body, const Character &outfit,
   PointCacheReader cache(cachePath, policy);
   const double fps = cacheFps(cache, options.cache);
   checkGarment(cache, outfit, garmentIds, clip, options.cache);
+  r.mmPerUnit = millimetresPerUnit(body);
+  r.rate = fitFrameRate(cache, outfit, garmentIds, clip, fps);
+  if (r.rate.mismatch) {
+    const auto text = [](double v) {
+      std::ostringstream o;
+      o << std::setprecision(3) << v;
+      return o.str();
+    };
+    reporter.warn("cloth_fps_mismatch",
+                  "the garment's body-bound vertices follow the body at " + text(r.rate.bestRate) +
+                      " fps (" + text(r.rate.bestResidual * r.mmPerUnit) +
+                      " mm off on average), not at the " + text(fps) + " fps read (" +
+                      text(r.rate.residual * r.mmPerUnit) +
+                      " mm): is the cache's frame rate (--fps, or the manifest's \"fps\") right?");
+  }
   const uint32_t n = cache.info().vertexCount;
   const ClothFrames frames = rootFrames(cache, body, clip, fps);
   ClothLoopOptions lo = options.loop;
@@ -137,7 +154,6 @@ ClothBakeResult bakeClothLoop(const Character &body, const Character &outfit,
   for (uint32_t i = 0; i < x.size(); ++i)
     frames(start - blend + i, 0, n, x[i]);
   std::vector<std::vector<glm::vec3>> loopFrames(x.begin() + blend, x.end());
-  r.mmPerUnit = millimetresPerUnit(body);
   const double margin = options.pushMarginMm / r.mmPerUnit;
   for (uint32_t j = 0; j < blend; ++j) {
     const uint32_t f = length - blend + j;

@@ -88,6 +88,54 @@ void checkGarment(PointCacheReader &cache, const Character &outfit,
                 "or it starts elsewhere in the clip");
 }
 
+FrameRateFit fitFrameRate(PointCacheReader &cache, const Character &outfit,
+                          const std::vector<uint32_t> &garment, const AnimationClip &clip,
+                          double fps) {
+  FrameRateFit fit;
+  const uint32_t frameCount = cache.info().frameCount;
+  if (garment.empty() || frameCount < 2 || !(clip.end > clip.start))
+    return fit;
+  // The body-bound vertices, by distance then index (the same on every machine).
+  std::vector<glm::vec3> positions;
+  cache.readFrame(0, positions);
+  const std::vector<glm::dvec3> rest = posedPositions(outfit, &clip, clip.start);
+  std::vector<std::pair<double, uint32_t>> bound(garment.size());
+  for (uint32_t v = 0; v < garment.size(); ++v)
+    bound[v] = {glm::length(glm::dvec3(positions[v]) - rest[garment[v]]), v};
+  const size_t count = std::max<size_t>(1, bound.size() / 10);
+  std::partial_sort(bound.begin(), bound.begin() + ptrdiff_t(count), bound.end());
+  bound.resize(count);
+  const uint32_t samples = std::min<uint32_t>(frameCount, 48);
+  std::vector<uint32_t> frames(samples);
+  std::vector<std::vector<glm::dvec3>> at(samples);
+  for (uint32_t k = 0; k < samples; ++k) {
+    frames[k] = uint32_t(uint64_t(k) * (frameCount - 1) / std::max<uint32_t>(1, samples - 1));
+    cache.readFrame(frames[k], positions);
+    for (const auto &b : bound)
+      at[k].push_back(glm::dvec3(positions[b.second]));
+  }
+  const auto residual = [&](double rate) {
+    double sum = 0.0;
+    for (uint32_t k = 0; k < samples; ++k) {
+      const auto posed = posedPositions(outfit, &clip, cacheFrameTime(clip, frames[k], rate));
+      for (size_t i = 0; i < count; ++i)
+        sum += glm::length(at[k][i] - posed[garment[bound[i].second]]);
+    }
+    return sum / double(size_t(samples) * count);
+  };
+  fit.residual = residual(fps);
+  for (double rate : {24.0, 25.0, 30.0, 48.0, 50.0, 60.0}) {
+    if (std::abs(rate - fps) < 1e-3 * rate)
+      continue;
+    const double r = residual(rate);
+    if (fit.bestRate == 0.0 || r < fit.bestResidual)
+      fit.bestRate = rate, fit.bestResidual = r;
+  }
+  fit.mismatch = fit.bestRate > 0.0 && fit.bestResidual < 0.5 * fit.residual &&
+                 fit.residual > 0.002 * restDiagonal(outfit);
+  return fit;
+}
+
 glm::dmat4 toRootFrame(const Character &body, const AnimationClip &clip, uint32_t frame,
                        double fps) {
   const int top = topJointNode(body);

@@ -37,6 +37,7 @@ struct ClothBakeOptions {
 
 struct ClothBakeResult {
   LoopChoice loop;             // the search, both passes and the verdict
+  FrameRateFit rate;           // whether the cache's frame rate fits the body (cloth_input.h)
   pack::ClothLoop chunk;       // what the pack stores
   double mmPerUnit = 0.0;      // model units to millimetres, the body 1.8 m tall
   bool blendClamped = false;   // the blend asked for did not fit before the loop's start

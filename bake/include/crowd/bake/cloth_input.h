@@ -36,6 +36,24 @@ void checkGarment(PointCacheReader &cache, const Character &outfit,
                   const std::vector<uint32_t> &garment, const AnimationClip &clip,
                   const ClothCacheOptions &options);
 
+// Whether the cache's frame rate fits the body. The loop search cannot tell a wrong rate: read
+// at 30, four "cycles" of a 24 fps cache are five true ones and close as well, and the loop then
+// plays 25% fast. The garment's body-bound vertices (the tenth nearest the skinned garment at
+// frame 0: a waistband) follow the skinned garment at the true rate and drift from it at a wrong
+// one: their mean distance from it, over up to 48 frames spread over the cache, at `fps` and at
+// the common rates 24, 25, 30, 48, 50 and 60.
+struct FrameRateFit {
+  double residual = 0.0;     // at `fps`, model units
+  double bestRate = 0.0;     // the common rate (other than `fps`) that fits best; 0: none tried
+  double bestResidual = 0.0; // its mean distance
+  // That rate fits clearly better: under half the residual, which is past 0.2% of the garment's
+  // rest diagonal (cloth that follows no body, like noise, fits every rate alike).
+  bool mismatch = false;
+};
+FrameRateFit fitFrameRate(PointCacheReader &cache, const Character &outfit,
+                          const std::vector<uint32_t> &garment, const AnimationClip &clip,
+                          double fps);
+
 // The clip of that name, or an error listing the body's clips.
 const AnimationClip &findClip(const Character &body, const std::string &name);
 
