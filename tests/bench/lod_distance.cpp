@@ -71,6 +71,8 @@ LodDistanceMeasure::LodDistanceMeasure(const Character &c, double fps, int sampl
   for (const auto &clip : c.clips)
     for (double t = clip.start; t <= clip.end + 1e-9; t += 1.0 / fps)
       frames_.push_back(posedPositions(c, &clip, t));
+  if (frames_.empty()) // no clips: the rest pose is the one pose drawn
+    frames_.push_back(rest_);
 }
 
 LodDistance LodDistanceMeasure::measure(const std::vector<uint32_t> &lod) const {

@@ -25,8 +25,8 @@ struct LodDistance {
 
 class LodDistanceMeasure {
 public:
-  // Poses the character at rest and at every clip's frames at `fps`; `samples` area samples per
-  // surface and direction.
+  // Poses the character at rest and at every clip's frames at `fps` (at rest only, without
+  // clips); `samples` area samples per surface and direction.
   LodDistanceMeasure(const Character &c, double fps = 30.0, int samples = 4000);
   // `lod`: triangles as indices into the character's vertices.
   LodDistance measure(const std::vector<uint32_t> &lod) const;
