@@ -1,7 +1,9 @@
 // Which body faces a worn outfit hides in every frame, by ray casting against a CGAL AABB tree of
 // the skinned body and garments (see outfit_bake.h).
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <map>
 #include <tuple>
 
 #include <CGAL/AABB_traits.h>
@@ -40,6 +42,26 @@ bool surelyCrosses(const K::Ray_3 &ray, const Triangle &tri) {
   constexpr double margin = 1e-7;
   return bu > margin && bv > margin && bu + bv < 1 - margin &&
          t * glm::length(w) > margin * (glm::length(e1) + glm::length(e2));
+}
+
+// Per occluder (an index into `occluders`), the occluders across its edges (by vertex index;
+// kNone where the edge is open, or where a third face shares it).
+std::vector<std::array<uint32_t, 3>> edgeNeighbours(const std::vector<uint32_t> &idx,
+                                                    const std::vector<uint32_t> &occluders) {
+  constexpr uint32_t kNone = UINT32_MAX;
+  std::vector<std::array<uint32_t, 3>> across(occluders.size(), {kNone, kNone, kNone});
+  std::map<std::pair<uint32_t, uint32_t>, std::pair<uint32_t, int>> first; // edge -> (face, side)
+  for (uint32_t k = 0; k < occluders.size(); ++k)
+    for (int e = 0; e < 3; ++e) {
+      const auto [a, b] =
+          std::minmax(idx[3 * occluders[k] + e], idx[3 * occluders[k] + (e + 1) % 3]);
+      const auto [it, fresh] = first.emplace(std::pair(a, b), std::pair(k, e));
+      if (!fresh && across[it->second.first][it->second.second] == kNone) {
+        across[it->second.first][it->second.second] = k;
+        across[k][e] = it->second.first;
+      }
+    }
+  return across;
 }
 
 // Directions over the hemisphere around +Z in rings: `azimuths` of them on the lowest ring, 1
@@ -135,11 +157,12 @@ std::vector<uint8_t> hiddenBodyFaces(const Character &merged, uint32_t bodyTrian
   // cast it (kNone: none yet). Bodies move little between frames, so the same triangle, or the
   // one that blocked a neighbouring ray, usually blocks the ray again: tested alone first (the
   // predicate the tree's own test uses, after a quick sure-hit test), they answer most rays
-  // without a tree query. When none blocks, the tree answers, so every answer is the tree's: the
-  // hidden faces are the same bits as without the cache (sample dress: 4.9x less CPU time).
+  // without a tree query (sample dress: 98% of them). When none blocks, the tree answers, so
+  // every answer is the tree's: the hidden faces are the same bits as without the cache.
   constexpr uint32_t kNone = UINT32_MAX;
   const size_t raysPerFace = size_t(o.points) * directions.size();
   std::vector<uint32_t> blocker(size_t(bodyTriangles) * raysPerFace, kNone);
+  const auto across = edgeNeighbours(idx, occluders);
   std::vector<Triangle> soup;
   std::vector<uint32_t> soupOf(occluders.size()), occluderOf; // occluder <-> soup triangle
   for (const auto &pose : frames) {
@@ -160,16 +183,28 @@ std::vector<uint8_t> hiddenBodyFaces(const Character &merged, uint32_t bodyTrian
     }
     Tree tree(soup.begin(), soup.end());
     tree.build();
-    // Whether the ray is blocked, remembering by what.
+    // Whether the ray is blocked, remembering by what: the guesses first, then the occluders
+    // within two edge steps of its last blocker (the ray slid off it onto a neighbour), then
+    // the tree.
     const auto blocked = [&](const K::Ray_3 &ray, uint32_t &last,
                              std::initializer_list<uint32_t> guesses) {
+      const auto blocks = [&](uint32_t k) {
+        return k != kNone && soupOf[k] != kNone &&
+               (surelyCrosses(ray, soup[soupOf[k]]) || CGAL::do_intersect(ray, soup[soupOf[k]]));
+      };
       for (auto g = guesses.begin(); g != guesses.end(); ++g)
-        if (const uint32_t k = *g;
-            k != kNone && soupOf[k] != kNone && std::find(guesses.begin(), g, k) == g &&
-            (surelyCrosses(ray, soup[soupOf[k]]) || CGAL::do_intersect(ray, soup[soupOf[k]]))) {
-          last = k;
+        if (std::find(guesses.begin(), g, *g) == g && blocks(*g)) {
+          last = *g;
           return true;
         }
+      if (last != kNone)
+        for (uint32_t a : across[last])
+          if (a != kNone)
+            for (uint32_t k : {a, across[a][0], across[a][1], across[a][2]})
+              if (k != last && blocks(k)) {
+                last = k;
+                return true;
+              }
       const auto hit = tree.any_intersected_primitive(ray);
       if (!hit)
         return false;
