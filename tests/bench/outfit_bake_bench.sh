@@ -36,7 +36,8 @@ for o in dict.fromkeys(r["outfit"] for r in rows):
     for t in dict.fromkeys(r["threads"] for r in rows):
         b, n = [next(r for r in rows if r["outfit"] == o and r["threads"] == t and r["binary"] == k)
                 for k in ("base", "new")]
-        print(f"{o}, {t} thread(s): visibility {float(b['visibility_s']) / float(n['visibility_s']):.1f}x"
+        cores = "all cores" if t == "0" else f"{t} thread(s)"
+        print(f"{o}, {cores}: visibility {float(b['visibility_s']) / float(n['visibility_s']):.1f}x"
               f" faster, whole bake {float(b['wall_s']) / float(n['wall_s']):.1f}x (wall),"
               f" same bytes: {n['same_bytes']}")
 PY
