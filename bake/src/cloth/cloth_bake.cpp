@@ -3,8 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <iomanip>
-#include <sstream>
+#include <cstdio>
 
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
@@ -112,17 +111,14 @@ ClothBakeResult bakeClothLoop(const Character &body, const Character &outfit,
   r.mmPerUnit = millimetresPerUnit(body);
   r.rate = fitFrameRate(cache, outfit, garmentIds, clip, fps);
   if (r.rate.mismatch) {
-    const auto text = [](double v) {
-      std::ostringstream o;
-      o << std::setprecision(3) << v;
-      return o.str();
-    };
-    reporter.warn("cloth_fps_mismatch",
-                  "the garment's body-bound vertices follow the body at " + text(r.rate.bestRate) +
-                      " fps (" + text(r.rate.bestResidual * r.mmPerUnit) +
-                      " mm off on average), not at the " + text(fps) + " fps read (" +
-                      text(r.rate.residual * r.mmPerUnit) +
-                      " mm): is the cache's frame rate (--fps, or the manifest's \"fps\") right?");
+    char text[256];
+    std::snprintf(text, sizeof text,
+                  "the garment's body-bound vertices follow the body at %.3g fps (%.3g mm off on "
+                  "average), not at the %.3g fps read (%.3g mm): is the cache's frame rate "
+                  "(--fps, or the manifest's \"fps\") right?",
+                  r.rate.bestRate, r.rate.bestResidual * r.mmPerUnit, fps,
+                  r.rate.residual * r.mmPerUnit);
+    reporter.warn("cloth_fps_mismatch", text);
   }
   const uint32_t n = cache.info().vertexCount;
   const ClothFrames frames = rootFrames(cache, body, clip, fps);
