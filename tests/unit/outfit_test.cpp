@@ -1,5 +1,9 @@
 // Outfit bake: coverage of the sample outfits, the hole-free proof, the pack's outfit table, and
 // the failure modes (another skeleton, no skin, covers nothing, see-through, intersecting).
+#include <algorithm>
+#include <array>
+#include <set>
+
 #include <gtest/gtest.h>
 
 #include "crowd/bake/outfit_bake.h"
@@ -98,6 +102,66 @@ TEST(Outfits, ThePackCarriesTheOutfitTableAndTheReaderChecksIt) {
   bad = *back.outfits;
   bad.outfits[0].coverage[0] = pack::Coverage::Hidden; // but still drawn
   EXPECT_THROW(pack::checkOutfits(bad, back.mesh, "test"), Error);
+}
+
+// With LOD (as every character build has it), an outfit's copy of a partly covered body part
+// keeps its faces: its triangles repeat the part's on the same vertices, and the LOD once made
+// the copies empty (the dress's wearers walked without legs). At every cut a copy's triangles are
+// among its part's: it simplifies as the part does.
+TEST(Outfits, LodKeepsEveryOutfitCopyAndCutsItAsItsPart) {
+  auto outfits = test::sampleOutfits();
+  outfits.resize(1);
+  Reporter plainRep, lodRep;
+  const auto plain = bake(outfits, plainRep);
+  OutfitOptions o = fast();
+  o.lod = LodOptions{};
+  o.lod->poses = 2;
+  const auto r = bake(outfits, lodRep, o);
+  const pack::Mesh &mesh = r.anim.pack.mesh;
+  const pack::Lod &lod = *r.anim.pack.lod;
+  ASSERT_EQ(mesh.subMeshes.size(), plain.anim.pack.mesh.subMeshes.size());
+  const uint32_t n = uint32_t(lod.collapse.size());
+  auto cut = [&](size_t s, uint32_t v) { // the sub-mesh's triangles at v vertices, as sets
+    std::set<std::array<uint32_t, 3>> out;
+    for (uint32_t t = 0; t < lod.triangleCount(s, v); ++t) {
+      std::array<uint32_t, 3> tri;
+      for (int k = 0; k < 3; ++k) {
+        uint32_t i = mesh.indices[mesh.subMeshes[s].firstIndex + 3 * t + k];
+        while (i >= v)
+          i = lod.collapse[i];
+        tri[k] = i;
+      }
+      std::sort(tri.begin(), tri.end());
+      if (tri[0] != tri[1] && tri[1] != tri[2])
+        out.insert(tri);
+    }
+    return out;
+  };
+  size_t copies = 0;
+  for (size_t s = 0; s < mesh.subMeshes.size(); ++s) {
+    const auto &sub = mesh.subMeshes[s];
+    EXPECT_EQ(lod.triangleCount(s, n), sub.indexCount / 3) << sub.name;
+    const auto at = sub.name.find('@');
+    if (at == std::string::npos)
+      continue;
+    ++copies;
+    size_t part = 0;
+    while (part < s && mesh.subMeshes[part].name != sub.name.substr(0, at))
+      ++part;
+    ASSERT_LT(part, s) << sub.name << ": no part it copies";
+    // The copy keeps its faces, less those the LOD repaired away in its part (zero-area ones).
+    const auto &plainSubs = plain.anim.pack.mesh.subMeshes;
+    const uint32_t repaired = plainSubs[part].indexCount - mesh.subMeshes[part].indexCount;
+    EXPECT_GT(sub.indexCount, 0u) << sub.name;
+    EXPECT_GE(sub.indexCount + repaired, plainSubs[s].indexCount) << sub.name;
+    EXPECT_LE(sub.indexCount, plainSubs[s].indexCount) << sub.name;
+    for (uint32_t v : {n, n / 2, n / 4, std::max(n / 10, lod.floorVertices)}) {
+      const auto copy = cut(s, v), whole = cut(part, v);
+      for (const auto &tri : copy)
+        EXPECT_TRUE(whole.count(tri)) << sub.name << " at " << v << " vertices";
+    }
+  }
+  EXPECT_GT(copies, 0u);
 }
 
 TEST(Outfits, AnOutfitOnAnotherSkeletonFailsNamingTheJoint) {

@@ -424,13 +424,71 @@ void LodOptions::validate() const {
     throw Error("max normal deviation: must be in (0, 180] degrees");
 }
 
+namespace {
+
+// A sub-mesh may repeat triangles of another, on the same vertices: an outfit's copy of a partly
+// covered body part holds the faces of that part it leaves visible. The collapse order is made
+// once, over the distinct triangles (the half-edge mesh would drop a repeat as a duplicate face
+// and leave the copy empty), and each repeat then goes with its first: the same new indices, the
+// same vertex removal deleting it, so a copy simplifies exactly as the part it copies. Returns
+// `bake(indices, group)`'s result with the repeats listed after their first (r.source: input
+// triangles). Without repeats, bake sees the mesh's own indices and subMeshGroups' groups.
+template <class Bake> LodResult repeatsFollowTheirFirst(const SkinnedMesh &in, Bake bake) {
+  const uint32_t triangles = uint32_t(in.indices.size() / 3);
+  std::vector<uint32_t> distinct;             // the distinct triangles' indices
+  std::vector<std::vector<uint32_t>> inputsOf; // per distinct triangle, its input triangles
+  // Sub-meshes weld separately: where two touch (a sleeve on an arm), welding them would make
+  // edges with four faces; apart, each keeps its own border. A vertex's group is the sub-mesh of
+  // its last distinct triangle (subMeshGroups' rule; a repeat does not move it).
+  std::vector<uint32_t> partOf(triangles, 0), group(in.positions.size(), 0);
+  for (uint32_t p = 0; p < in.parts.size(); ++p)
+    for (uint32_t t = in.parts[p].firstIndex / 3;
+         t < (in.parts[p].firstIndex + in.parts[p].indexCount) / 3; ++t)
+      partOf[t] = p;
+  std::map<std::array<uint32_t, 3>, uint32_t> first; // a triangle's vertices -> distinct index
+  for (uint32_t t = 0; t < triangles; ++t) {
+    std::array<uint32_t, 3> v = {in.indices[3 * t], in.indices[3 * t + 1], in.indices[3 * t + 2]};
+    std::rotate(v.begin(), std::min_element(v.begin(), v.end()), v.end()); // keeps the winding
+    const auto it = first.find(v);
+    // A repeat within one sub-mesh is a duplicate face: bakeLod drops it and says so.
+    if (it != first.end() && partOf[inputsOf[it->second][0]] != partOf[t]) {
+      inputsOf[it->second].push_back(t);
+      continue;
+    }
+    first.emplace(v, uint32_t(inputsOf.size()));
+    inputsOf.push_back({t});
+    distinct.insert(distinct.end(), &in.indices[3 * t], &in.indices[3 * t] + 3);
+    for (uint32_t k : v)
+      group[k] = partOf[t];
+  }
+  LodResult r = bake(distinct, group);
+  const std::vector<uint32_t> source = std::move(r.source), killedBy = std::move(r.killedBy),
+                              indices = std::move(r.indices);
+  r.source.clear(), r.killedBy.clear(), r.indices.clear();
+  std::vector<uint32_t> listed(source.size() + 1, 0); // input triangles of the first t kept
+  for (size_t t = 0; t < source.size(); ++t) {
+    for (uint32_t input : inputsOf[source[t]]) {
+      r.source.push_back(input);
+      r.killedBy.push_back(killedBy[t]);
+      r.indices.insert(r.indices.end(), &indices[3 * t], &indices[3 * t] + 3);
+    }
+    listed[t + 1] = uint32_t(r.source.size());
+  }
+  for (uint32_t &count : r.triangleCount)
+    count = listed[count];
+  r.inputTriangles = triangles;
+  return r;
+}
+
+} // namespace
+
 pack::Lod applyLod(Character &c, const LodOptions &o, Reporter &reporter, LodResult *details) {
   o.validate();
   SkinnedMesh &in = c.mesh;
-  // Sub-meshes weld separately: where two touch (a sleeve on an arm), welding them would make
-  // edges with four faces; apart, each keeps its own border.
-  LodResult r =
-      bakeLod(in.positions, in.indices, o, reporter, subMeshGroups(in), samplePoses(c, o.poses));
+  LodResult r = repeatsFollowTheirFirst(in, [&](const std::vector<uint32_t> &indices,
+                                                const std::vector<uint32_t> &group) {
+    return bakeLod(in.positions, indices, o, reporter, group, samplePoses(c, o.poses));
+  });
   SkinnedMesh out;
   out.morphDefaults = in.morphDefaults;
   for (const auto &target : in.morphs)
