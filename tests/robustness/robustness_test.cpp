@@ -275,6 +275,20 @@ TEST(ResourceGuard, StopsPastEitherLimitAndWritesNothing) {
   fs::remove_all(dir);
 }
 
+// A cloth cache that is not there, or is a folder, is named as such before anything is baked.
+TEST(ClothCache, AMissingOrFolderCacheIsNamed) {
+  std::string dir = crowd::test::tempDir("robust_cache");
+  std::string input = quad().write(dir, "q");
+  const std::string rest = " --body " + input + " --outfit q=" + input +
+                           " --garment skin --clip wave --fps 8 -o " + dir + "/out.crowdpack --quiet";
+  expectOneLineError(crowdbake("cloth " + dir + "/missing.pc2" + rest), "missing.pc2: no such file");
+  fs::create_directory(dir + "/folder.pc2");
+  expectOneLineError(crowdbake("cloth " + dir + "/folder.pc2" + rest),
+                     "folder.pc2: not a regular file");
+  EXPECT_FALSE(fs::exists(dir + "/out.crowdpack"));
+  fs::remove_all(dir);
+}
+
 // A damaged pack fails verify with a message naming what is wrong.
 TEST(DamagedPack, TruncatedAndBitFlippedPacksFailVerify) {
   std::string dir = crowd::test::tempDir("robust_pack");

@@ -163,3 +163,8 @@ expect_error 1 "required chunk SKEL is missing" "$bin/crowdbake" pose i.crowdpac
 pose --clip walk --time 3 -o wrapped.ply 2>err.txt
 grep -q "past clip 'walk' (1 s): the player wraps it to" err.txt || fail "no wrap warning: $(cat err.txt)"
 echo "ok: $(cat err.txt)"
+# Many times past the clip's end: one warning line, not one per time.
+pose --clip walk --times 0.5,1.5,2.5,3.5 -o series.pc2 2>err.txt
+[ "$(wc -l < err.txt)" = 1 ] && grep -q "3 of 4 times are past clip 'walk' (1 s): the player wraps them" err.txt ||
+  fail "not one wrap warning for a series: $(cat err.txt)"
+echo "ok: $(cat err.txt)"

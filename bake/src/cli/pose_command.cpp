@@ -1,5 +1,6 @@
 // crowdbake pose: the mesh exactly as the player draws it at given times, as PLY, glTF, OBJ or
 // PC2.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -51,22 +52,32 @@ std::vector<float> parseTimes(const std::string &text) {
   return times;
 }
 
-// The clip time the player shows for `t`, with a warning where it differs.
-void checkTime(const pack::Clip *clip, float t, bool quiet) {
-  if (!std::isfinite(t) || t < 0) {
-    char text[64];
-    std::snprintf(text, sizeof text, "time %g: must be a finite number of seconds >= 0", t);
-    throw UsageError(text);
-  }
+// Every time must be a finite number of seconds >= 0; the times past the clip's end get one
+// warning (the player wraps a looping clip and clamps another), not one line each.
+void checkTimes(const pack::Clip *clip, const std::vector<float> &times, bool quiet) {
+  for (float t : times)
+    if (!std::isfinite(t) || t < 0) {
+      char text[64];
+      std::snprintf(text, sizeof text, "time %g: must be a finite number of seconds >= 0", t);
+      throw UsageError(text);
+    }
   if (!clip || clip->frameCount < 2 || quiet)
     return;
   const float duration = float(clip->frameCount - 1) / clip->fps;
-  if (t <= duration)
+  const auto past = std::count_if(times.begin(), times.end(), [&](float t) { return t > duration; });
+  if (past == 0)
     return;
+  const float t = *std::find_if(times.begin(), times.end(), [&](float x) { return x > duration; });
   const float shown = clip->loop ? std::fmod(t, duration) : duration;
-  std::fprintf(stderr,
-               "crowdbake: warning: time %g s is past clip '%s' (%g s): the player %s %g s\n", t,
-               clip->name.c_str(), duration, clip->loop ? "wraps it to" : "clamps it to", shown);
+  const char *rule = clip->loop ? "wraps" : "clamps";
+  if (past == 1)
+    std::fprintf(stderr, "crowdbake: warning: time %g s is past clip '%s' (%g s): the player %s it to %g s\n",
+                 t, clip->name.c_str(), duration, rule, shown);
+  else
+    std::fprintf(stderr,
+                 "crowdbake: warning: %td of %zu times are past clip '%s' (%g s): the player %s "
+                 "them (the first, %g s, to %g s)\n",
+                 past, times.size(), clip->name.c_str(), duration, rule, t, shown);
 }
 
 std::string numbered(const std::string &out, size_t k) {
@@ -113,8 +124,7 @@ int cmdPose(int argc, char **argv) {
   const pack::CharacterPack character = pack::loadCharacterPack(pack::Reader::open(path));
   const pack::AnimationPack &pack = character.body;
   const runtime::PoseMesh mesh = runtime::poseMesh(pack, opt, character.cloths);
-  for (float t : times)
-    checkTime(mesh.clip, t, quiet);
+  checkTimes(mesh.clip, times, quiet);
   std::vector<pack::VertexSource> sources(mesh.vertices.size());
   if (pack.sources) {
     const auto all = pack.sources->expand();

@@ -127,7 +127,10 @@ std::string sha256Hex(const std::string &bytes) {
 
 FileHash hashFile(const std::string &path) {
   std::error_code ec;
-  if (!fs::is_regular_file(path, ec))
+  const fs::file_status st = fs::status(path, ec);
+  if (!fs::exists(st))
+    throw Error(path + ": no such file");
+  if (!fs::is_regular_file(st))
     throw Error(path + ": not a regular file");
   std::ifstream f(path, std::ios::binary);
   if (!f)
