@@ -280,8 +280,10 @@ TEST(ClothCache, AMissingOrFolderCacheIsNamed) {
   std::string dir = crowd::test::tempDir("robust_cache");
   std::string input = quad().write(dir, "q");
   const std::string rest = " --body " + input + " --outfit q=" + input +
-                           " --garment skin --clip wave --fps 8 -o " + dir + "/out.crowdpack --quiet";
-  expectOneLineError(crowdbake("cloth " + dir + "/missing.pc2" + rest), "missing.pc2: no such file");
+                           " --garment skin --clip wave --fps 8 -o " + dir +
+                           "/out.crowdpack --quiet";
+  expectOneLineError(crowdbake("cloth " + dir + "/missing.pc2" + rest),
+                     "missing.pc2: no such file");
   fs::create_directory(dir + "/folder.pc2");
   expectOneLineError(crowdbake("cloth " + dir + "/folder.pc2" + rest),
                      "folder.pc2: not a regular file");

@@ -64,15 +64,18 @@ void checkTimes(const pack::Clip *clip, const std::vector<float> &times, bool qu
   if (!clip || clip->frameCount < 2 || quiet)
     return;
   const float duration = float(clip->frameCount - 1) / clip->fps;
-  const auto past = std::count_if(times.begin(), times.end(), [&](float t) { return t > duration; });
+  const auto past =
+      std::count_if(times.begin(), times.end(), [&](float t) { return t > duration; });
   if (past == 0)
     return;
   const float t = *std::find_if(times.begin(), times.end(), [&](float x) { return x > duration; });
   const float shown = clip->loop ? std::fmod(t, duration) : duration;
   const char *rule = clip->loop ? "wraps" : "clamps";
   if (past == 1)
-    std::fprintf(stderr, "crowdbake: warning: time %g s is past clip '%s' (%g s): the player %s it to %g s\n",
-                 t, clip->name.c_str(), duration, rule, shown);
+    std::fprintf(
+        stderr,
+        "crowdbake: warning: time %g s is past clip '%s' (%g s): the player %s it to %g s\n", t,
+        clip->name.c_str(), duration, rule, shown);
   else
     std::fprintf(stderr,
                  "crowdbake: warning: %td of %zu times are past clip '%s' (%g s): the player %s "

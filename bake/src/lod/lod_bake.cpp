@@ -435,7 +435,7 @@ namespace {
 // triangles). Without repeats, bake sees the mesh's own indices and subMeshGroups' groups.
 template <class Bake> LodResult repeatsFollowTheirFirst(const SkinnedMesh &in, Bake bake) {
   const uint32_t triangles = uint32_t(in.indices.size() / 3);
-  std::vector<uint32_t> distinct;             // the distinct triangles' indices
+  std::vector<uint32_t> distinct;              // the distinct triangles' indices
   std::vector<std::vector<uint32_t>> inputsOf; // per distinct triangle, its input triangles
   // Sub-meshes weld separately: where two touch (a sleeve on an arm), welding them would make
   // edges with four faces; apart, each keeps its own border. A vertex's group is the sub-mesh of
@@ -485,10 +485,10 @@ template <class Bake> LodResult repeatsFollowTheirFirst(const SkinnedMesh &in, B
 pack::Lod applyLod(Character &c, const LodOptions &o, Reporter &reporter, LodResult *details) {
   o.validate();
   SkinnedMesh &in = c.mesh;
-  LodResult r = repeatsFollowTheirFirst(in, [&](const std::vector<uint32_t> &indices,
-                                                const std::vector<uint32_t> &group) {
-    return bakeLod(in.positions, indices, o, reporter, group, samplePoses(c, o.poses));
-  });
+  LodResult r = repeatsFollowTheirFirst(
+      in, [&](const std::vector<uint32_t> &indices, const std::vector<uint32_t> &group) {
+        return bakeLod(in.positions, indices, o, reporter, group, samplePoses(c, o.poses));
+      });
   SkinnedMesh out;
   out.morphDefaults = in.morphDefaults;
   for (const auto &target : in.morphs)
