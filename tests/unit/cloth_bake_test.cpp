@@ -304,12 +304,14 @@ TEST(ClothManifest, LoopsNameTheirOutfitClipAndCache) {
   const std::string head = R"({"name": "n", "body": "b.glb", "outfits": {"dress": "d.glb"}, )";
   const CharacterManifest m = parseManifest(
       head + R"("cloth": [{"outfit": "dress", "garment": "g", "clip": "walk", "cache": "c.pc2",
-               "fps": 25, "blend": 4}]})",
+               "fps": 25, "blend": 4, "max_cycles": 6}]})",
       dir + "/m.json");
   ASSERT_EQ(m.cloth.size(), 1u);
   EXPECT_EQ(m.cloth[0].cache, dir + "/c.pc2");
   EXPECT_EQ(m.cloth[0].options.cache.fps, 25.0);
   EXPECT_EQ(m.cloth[0].options.blend, 4);
+  EXPECT_EQ(m.cloth[0].options.loop.search.maxCycles, 6u);
+  EXPECT_EQ(m.canonical()["cloth"][0]["max_cycles"], 6);
   EXPECT_EQ(m.canonical()["cloth"][0]["garment"], "g");
   // The plan: the loop's job first, the mesh job (whose visibility poses the loop) reading it,
   // then the link reading the mesh first and the loop after.
@@ -346,4 +348,9 @@ TEST(ClothManifest, LoopsNameTheirOutfitClipAndCache) {
   EXPECT_NE(
       error(R"([{"outfit": "dress", "garment": "g", "clip": "walk", "cache": "/etc/c.pc2"}])"),
       "no error");
+  // Unset, the cap is not in the loop's key: the keys of loops baked before it stay valid.
+  EXPECT_FALSE(parseManifest(head + R"("cloth": [)" + one + "]}", dir + "/m.json")
+                   .cloth[0]
+                   .canonical()
+                   .contains("max_cycles"));
 }

@@ -62,10 +62,11 @@ ClothFrames inMemory(const Frames &frames) {
   };
 }
 
-LoopSearch search(const Frames &frames, double cycle, int threads = 0) {
+LoopSearch search(const Frames &frames, double cycle, int threads = 0, uint32_t maxCycles = 0) {
   LoopSearchOptions o;
   o.cycleFrames = cycle;
   o.threads = threads;
+  o.maxCycles = maxCycles;
   return searchLoops(uint32_t(frames.size()), uint32_t(frames[0].size()), inMemory(frames), o);
 }
 
@@ -148,6 +149,15 @@ TEST(LoopSearch, ASwingOfTwoCyclesClosesOnlyOnEvenCycles) {
   // An odd loop in the chart is far worse than the chosen one.
   const size_t oddRow = 0; // 1 cycle
   EXPECT_GT(s.distances[oddRow * frames.size() + 40], 1e-3);
+  // --max-cycles 4: only loops of 2 and 4 cycles remain, and the chart stops at 4.
+  const LoopSearch capped = search(frames, 16.0, 0, 4);
+  EXPECT_EQ(capped.maxCycles, 4u);
+  EXPECT_EQ(capped.distances.size(), 4 * frames.size());
+  ASSERT_FALSE(capped.candidates.empty());
+  for (const auto &c : capped.candidates) {
+    EXPECT_LE(c.cycles, 4u);
+    EXPECT_EQ(c.cycles % 2, 0u);
+  }
 }
 
 TEST(LoopSearch, ATransientThatDiesOutIsLeftBehind) {
@@ -188,6 +198,11 @@ TEST(LoopSearch, ShortCachesAndBadOptionsAreErrors) {
   o.cycleFrames = 8;
   o.candidates = 0;
   EXPECT_NE(errorOf([&] { o.validate(); }).find("candidates"), std::string::npos);
+  o.candidates = 5;
+  o.minCycles = 3;
+  o.maxCycles = 2;
+  EXPECT_NE(errorOf([&] { o.validate(); }).find("max-cycles: 2 is under min-cycles 3"),
+            std::string::npos);
 }
 
 TEST(LoopSearch, StreamsFromAPointCacheAFewVerticesAtATime) {

@@ -251,7 +251,8 @@ CharacterManifest parse(const JsonChecker &c, const json &j, const Keys &at,
       };
       const json &e = list[i];
       c.onlyKeys(e, k,
-                 {"outfit", "garment", "clip", "cache", "fps", "blend", "candidates", "views"});
+                 {"outfit", "garment", "clip", "cache", "fps", "blend", "candidates", "views",
+                  "max_cycles"});
       for (const char *required : {"outfit", "garment", "clip", "cache"})
         if (!e.contains(required))
           c.fail(k, std::string("a cloth loop needs \"") + required + "\"");
@@ -282,6 +283,8 @@ CharacterManifest parse(const JsonChecker &c, const json &j, const Keys &at,
         o.loop.search.candidates = whole(c, e["candidates"], at("candidates"), 1, 100);
       if (e.contains("views"))
         o.loop.edges.views = whole(c, e["views"], at("views"), 1, 64);
+      if (e.contains("max_cycles"))
+        o.loop.search.maxCycles = whole(c, e["max_cycles"], at("max_cycles"), 0, 100000);
       validate(c, o, k);
       m.cloth.push_back(std::move(cl));
     }
@@ -292,13 +295,16 @@ CharacterManifest parse(const JsonChecker &c, const json &j, const Keys &at,
 } // namespace
 
 nlohmann::ordered_json ClothEntry::canonical() const {
-  return {{"outfit", outfit},
-          {"garment", garment},
-          {"clip", clip},
-          {"fps", options.cache.fps},
-          {"blend", options.blend},
-          {"candidates", options.loop.search.candidates},
-          {"views", options.loop.edges.views}};
+  nlohmann::ordered_json j = {{"outfit", outfit},
+                              {"garment", garment},
+                              {"clip", clip},
+                              {"fps", options.cache.fps},
+                              {"blend", options.blend},
+                              {"candidates", options.loop.search.candidates},
+                              {"views", options.loop.edges.views}};
+  if (options.loop.search.maxCycles != 0) // absent when unset: earlier keys stay valid
+    j["max_cycles"] = options.loop.search.maxCycles;
+  return j;
 }
 
 nlohmann::ordered_json CharacterManifest::canonical() const {

@@ -51,6 +51,10 @@ int cmdCloth(int argc, char **argv) {
       ->capture_default_str();
   app.add_option("--min-cycles", o.loop.search.minCycles, "the shortest loop, in clip cycles")
       ->capture_default_str();
+  app.add_option("--max-cycles", o.loop.search.maxCycles,
+                 "the longest loop, in clip cycles: caps the loop's bytes, which grow with its "
+                 "length (0: as long as the cache allows)")
+      ->capture_default_str();
   app.add_option("--blend", o.blend,
                  "cross-fade frames when the seam is not acceptable (-1: as many as the verdict "
                  "names; 0: a hard cut always)")

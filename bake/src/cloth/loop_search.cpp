@@ -69,6 +69,9 @@ void LoopSearchOptions::validate() const {
     throw Error("window: " + std::to_string(window) + " frames is over 16");
   if (minCycles < 1)
     throw Error("min-cycles: must be at least 1");
+  if (maxCycles != 0 && maxCycles < minCycles)
+    throw Error("max-cycles: " + std::to_string(maxCycles) + " is under min-cycles " +
+                std::to_string(minCycles));
 }
 
 LoopSearch searchLoops(uint32_t frameCount, uint32_t vertexCount, const ClothFrames &frames,
@@ -87,7 +90,8 @@ LoopSearch searchLoops(uint32_t frameCount, uint32_t vertexCount, const ClothFra
   LoopSearch out;
   out.minCycles = options.minCycles;
   // A loop (s, L) needs frames s - w .. s + L + w + 1 (the last for the velocity).
-  for (uint32_t c = options.minCycles; length(c) + 2 * w + 2 <= n; ++c)
+  for (uint32_t c = options.minCycles;
+       length(c) + 2 * w + 2 <= n && (options.maxCycles == 0 || c <= options.maxCycles); ++c)
     out.maxCycles = c;
   if (out.maxCycles < out.minCycles)
     throw Error("cloth loop: no loop of " + std::to_string(options.minCycles) +

@@ -28,6 +28,8 @@ struct LoopSearchOptions {
   double velocityWeight = 1.0; // against position; velocities are per-frame displacements
   uint32_t window = 2;         // half-width, in frames, of the filter along the diagonal
   uint32_t minCycles = 1;      // shortest loop, in cycles
+  uint32_t maxCycles = 0;      // longest loop, in cycles (0: as long as the cache allows); a
+                               // cap on the loop's bytes, which grow with its length
   int threads = 0;             // 0: all cores
   void validate() const;
 };
