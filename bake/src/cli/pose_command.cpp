@@ -64,11 +64,12 @@ void checkTimes(const pack::Clip *clip, const std::vector<float> &times, bool qu
   if (!clip || clip->frameCount < 2 || quiet)
     return;
   const float duration = float(clip->frameCount - 1) / clip->fps;
-  const auto past =
-      std::count_if(times.begin(), times.end(), [&](float t) { return t > duration; });
-  if (past == 0)
+  const auto isPast = [&](float x) { return x > duration; };
+  const auto firstPast = std::find_if(times.begin(), times.end(), isPast);
+  if (firstPast == times.end())
     return;
-  const float t = *std::find_if(times.begin(), times.end(), [&](float x) { return x > duration; });
+  const auto past = std::count_if(firstPast, times.end(), isPast);
+  const float t = *firstPast;
   const float shown = clip->loop ? std::fmod(t, duration) : duration;
   const char *rule = clip->loop ? "wraps" : "clamps";
   if (past == 1)

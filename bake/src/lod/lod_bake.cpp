@@ -401,6 +401,15 @@ std::vector<uint32_t> subMeshGroups(const SkinnedMesh &m) {
   return group;
 }
 
+std::vector<uint32_t> triangleParts(const SkinnedMesh &m) {
+  std::vector<uint32_t> part(m.indices.size() / 3, 0);
+  for (uint32_t p = 0; p < m.parts.size(); ++p)
+    for (uint32_t t = m.parts[p].firstIndex / 3;
+         t < (m.parts[p].firstIndex + m.parts[p].indexCount) / 3 && t < part.size(); ++t)
+      part[t] = p;
+  return part;
+}
+
 std::vector<std::vector<glm::vec3>> samplePoses(const Character &c, uint32_t count) {
   std::vector<std::vector<glm::vec3>> poses;
   if (c.clips.empty())
@@ -431,20 +440,18 @@ namespace {
 // once, over the distinct triangles (the half-edge mesh would drop a repeat as a duplicate face
 // and leave the copy empty), and each repeat then goes with its first: the same new indices, the
 // same vertex removal deleting it, so a copy simplifies exactly as the part it copies. Returns
-// `bake(indices, group)`'s result with the repeats listed after their first (r.source: input
-// triangles). Without repeats, bake sees the mesh's own indices and subMeshGroups' groups.
-template <class Bake> LodResult repeatsFollowTheirFirst(const SkinnedMesh &in, Bake bake) {
+// bakeLod's result with the repeats listed after their first (r.source: input triangles).
+// Without repeats, bakeLod sees the mesh's own indices and subMeshGroups' groups.
+LodResult bakeWithRepeats(const Character &c, const LodOptions &o, Reporter &reporter,
+                          const std::vector<uint32_t> &partOf) {
+  const SkinnedMesh &in = c.mesh;
   const uint32_t triangles = uint32_t(in.indices.size() / 3);
   std::vector<uint32_t> distinct;              // the distinct triangles' indices
   std::vector<std::vector<uint32_t>> inputsOf; // per distinct triangle, its input triangles
   // Sub-meshes weld separately: where two touch (a sleeve on an arm), welding them would make
   // edges with four faces; apart, each keeps its own border. A vertex's group is the sub-mesh of
   // its last distinct triangle (subMeshGroups' rule; a repeat does not move it).
-  std::vector<uint32_t> partOf(triangles, 0), group(in.positions.size(), 0);
-  for (uint32_t p = 0; p < in.parts.size(); ++p)
-    for (uint32_t t = in.parts[p].firstIndex / 3;
-         t < (in.parts[p].firstIndex + in.parts[p].indexCount) / 3; ++t)
-      partOf[t] = p;
+  std::vector<uint32_t> group(in.positions.size(), 0);
   std::map<std::array<uint32_t, 3>, uint32_t> first; // a triangle's vertices -> distinct index
   for (uint32_t t = 0; t < triangles; ++t) {
     std::array<uint32_t, 3> v = {in.indices[3 * t], in.indices[3 * t + 1], in.indices[3 * t + 2]};
@@ -461,7 +468,7 @@ template <class Bake> LodResult repeatsFollowTheirFirst(const SkinnedMesh &in, B
     for (uint32_t k : v)
       group[k] = partOf[t];
   }
-  LodResult r = bake(distinct, group);
+  LodResult r = bakeLod(in.positions, distinct, o, reporter, group, samplePoses(c, o.poses));
   const std::vector<uint32_t> source = std::move(r.source), killedBy = std::move(r.killedBy),
                               indices = std::move(r.indices);
   r.source.clear(), r.killedBy.clear(), r.indices.clear();
@@ -485,10 +492,8 @@ template <class Bake> LodResult repeatsFollowTheirFirst(const SkinnedMesh &in, B
 pack::Lod applyLod(Character &c, const LodOptions &o, Reporter &reporter, LodResult *details) {
   o.validate();
   SkinnedMesh &in = c.mesh;
-  LodResult r = repeatsFollowTheirFirst(
-      in, [&](const std::vector<uint32_t> &indices, const std::vector<uint32_t> &group) {
-        return bakeLod(in.positions, indices, o, reporter, group, samplePoses(c, o.poses));
-      });
+  const std::vector<uint32_t> partOf = triangleParts(in);
+  LodResult r = bakeWithRepeats(c, o, reporter, partOf);
   SkinnedMesh out;
   out.morphDefaults = in.morphDefaults;
   for (const auto &target : in.morphs)
@@ -509,11 +514,6 @@ pack::Lod applyLod(Character &c, const LodOptions &o, Reporter &reporter, LodRes
   }
   // Each part keeps its triangles, in the LOD order; its counts follow from when each goes.
   const uint32_t n = uint32_t(r.order.size());
-  std::vector<uint32_t> partOf(in.indices.size() / 3, 0);
-  for (uint32_t p = 0; p < in.parts.size(); ++p)
-    for (uint32_t t = in.parts[p].firstIndex / 3;
-         t < (in.parts[p].firstIndex + in.parts[p].indexCount) / 3; ++t)
-      partOf[t] = p;
   pack::Lod lod;
   lod.floorVertices = r.floorVertices;
   lod.collapse = r.collapse;

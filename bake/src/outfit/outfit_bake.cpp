@@ -325,10 +325,7 @@ OutfitBakeResult bakeOutfits(const Character &template_, const std::vector<Outfi
   }
   std::optional<pack::Lod> lod;
   if (options.lod) { // reorders triangles within each sub-mesh: the outfit table stays valid
-    std::vector<uint32_t> partOf(out.mesh.indices.size() / 3);
-    for (uint32_t p = 0; p < out.mesh.parts.size(); ++p)
-      for (uint32_t k = 0; k < out.mesh.parts[p].indexCount / 3; ++k)
-        partOf[out.mesh.parts[p].firstIndex / 3 + k] = p;
+    const std::vector<uint32_t> partOf = triangleParts(out.mesh);
     LodResult details;
     lod = applyLod(out, *options.lod, reporter, &details);
     std::vector<uint32_t> source; // applyLod's output order: per part, the kept triangles

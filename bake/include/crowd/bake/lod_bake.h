@@ -41,6 +41,8 @@ struct Character;
 struct SkinnedMesh;
 // Per vertex, the sub-mesh using it (applyLod welds sub-meshes separately).
 std::vector<uint32_t> subMeshGroups(const SkinnedMesh &mesh);
+// Per triangle, the sub-mesh holding it (0 for a triangle in none).
+std::vector<uint32_t> triangleParts(const SkinnedMesh &mesh);
 // `count` poses of the mesh, round robin over every clip at mid-interval times (none without
 // clips): the poses applyLod's collapse costs sum over.
 std::vector<std::vector<glm::vec3>> samplePoses(const Character &character, uint32_t count);
