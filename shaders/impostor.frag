@@ -1,15 +1,17 @@
 #version 450 core
 // Per-pixel lighting of an impostor from its normal map, the colour of each texel's region from
 // the instance's palette, re-textured through the UV map. Texels are fetched, never filtered:
-// region ids must not be averaged (the mip levels were built with a mode filter).
+// region ids must not be averaged (the mip levels were built with a mode filter). Normals and UVs
+// are BC5 blocks the GPU decodes; the normal is octahedral.
 in vec2 v_texel;
 flat in vec4 v_rect;
 flat in int v_layer, v_level, v_flip;
 flat in vec3 v_rows0, v_rows1, v_rows2;
 flat in float v_palette;
 
-layout(binding = 0) uniform sampler2DArray u_normals; // RGB normal, A region id + 1
-layout(binding = 1) uniform sampler2DArray u_uvs;     // 16-bit u, v
+layout(binding = 0) uniform sampler2DArray u_normals;  // octahedral normal
+layout(binding = 1) uniform sampler2DArray u_uvs;      // u, v
+layout(binding = 3) uniform usampler2DArray u_regions; // region id + 1
 layout(binding = 2) uniform sampler2D u_diffuse;
 layout(std430, binding = 2) readonly buffer Palettes { vec4 colours[]; };
 uniform bool u_hasTexture, u_hasUvs;
@@ -21,13 +23,14 @@ void main() {
   vec2 t = clamp(v_texel, vec2(0), v_rect.zw - 0.001);
   if (v_flip == 1) t.x = v_rect.z - 0.001 - t.x;
   ivec3 at = ivec3((ivec2(v_rect.xy) + ivec2(t)) >> v_level, v_layer);
-  vec4 texel = texelFetch(u_normals, at, v_level);
-  int region = int(round(texel.a * 255.0));
+  int region = int(texelFetch(u_regions, at, v_level).r);
   // Sampled before the discard: implicit derivatives need the whole 2x2 pixel quad.
   vec3 textured = u_hasTexture && u_hasUvs ? texture(u_diffuse, texelFetch(u_uvs, at, v_level).xy).rgb
                                            : vec3(1.0);
   if (region == 0) discard;
-  vec3 n = texel.rgb * 2.0 - 1.0;
+  vec2 o = texelFetch(u_normals, at, v_level).rg * 2.0 - 1.0;
+  vec3 n = vec3(o, 1.0 - abs(o.x) - abs(o.y));
+  if (n.z < 0.0) n.xy = (1.0 - abs(n.yx)) * vec2(n.x < 0.0 ? -1.0 : 1.0, n.y < 0.0 ? -1.0 : 1.0);
   if (v_flip == 1) n.x = -n.x;
   n = normalize(vec3(dot(v_rows0, n), dot(v_rows1, n), dot(v_rows2, n)));
   float diffuse = max(dot(n, u_lightDirection), 0.0);

@@ -231,42 +231,44 @@ Description describeImpostor(std::span<const uint8_t> b, uint32_t version, const
       .add("mirrored", yesNo(m.mirrored))
       .add("atlas", text(size2(m.atlasWidth, m.atlasHeight)))
       .add("occupancy", number(double(used) / (double(m.frames) * m.atlasWidth * m.atlasHeight)))
-      .add("uv_atlases", yesNo(!m.uvAtlases.empty()));
+      .add("bytes_per_frame", number(double(m.bytesPerFrame())))
+      .add("uvs", yesNo(!m.uvs.empty()));
   return d;
 }
 
-// Per frame: the normals as RGB (black where empty), the UVs when stored, and the region ids as
-// distinct greys, so each can be looked at; the pack keeps normals and regions in one texel.
+// Per frame: the normals as RGB (n * 0.5 + 0.5, black where empty), the UVs when stored and the
+// region ids as distinct greys, decoded as the GPU samples them, so each can be looked at.
 std::vector<Image> imagesImpostor(std::span<const uint8_t> b, uint32_t version,
                                   const std::string &ctx) {
   Impostor m = decodeImpostor(b, version, ctx);
-  const size_t texels = size_t(m.atlasWidth) * m.atlasHeight;
+  const size_t texels = m.frameTexels();
   const std::string prefix = "impostor_" + m.clip + (m.outfit.empty() ? "" : "_" + m.outfit);
   std::vector<Image> out;
   for (uint32_t f = 0; f < m.frames; ++f) {
     char frame[24];
     std::snprintf(frame, sizeof frame, "_frame_%03u", f);
+    const ImpostorTexels t = decodeTexels(m, f);
     Image normals{
         prefix + frame + "_normals", m.atlasWidth, m.atlasHeight, 3, Image::Pixel::U8, {}};
     Image regions{
         prefix + frame + "_regions", m.atlasWidth, m.atlasHeight, 1, Image::Pixel::U8, {}};
     normals.bytes.resize(texels * 3);
     regions.bytes.resize(texels);
-    const uint8_t *src = m.atlases.data() + f * texels * 4;
-    for (size_t t = 0; t < texels; ++t) {
-      const bool empty = src[t * 4 + 3] == 0;
+    for (size_t i = 0; i < texels; ++i) {
+      const auto n = t.normal(i);
       for (size_t k = 0; k < 3; ++k)
-        normals.bytes[t * 3 + k] = empty ? 0 : src[t * 4 + k];
-      regions.bytes[t] = uint8_t(std::min(255, src[t * 4 + 3] * 37));
+        normals.bytes[i * 3 + k] =
+            t.regions[i] == 0 ? 0 : uint8_t(std::lround((n[k] * 0.5f + 0.5f) * 255.0f));
+      regions.bytes[i] = uint8_t(std::min(255, t.regions[i] * 37));
     }
     out.push_back(std::move(normals));
-    if (!m.uvAtlases.empty()) {
+    if (!t.uv.empty()) {
       Image uv{prefix + frame + "_uv", m.atlasWidth, m.atlasHeight, 3, Image::Pixel::U16, {}};
       uv.bytes.resize(texels * 3 * 2);
       auto *dst = reinterpret_cast<uint16_t *>(uv.bytes.data());
-      for (size_t t = 0; t < texels; ++t)
+      for (size_t i = 0; i < texels; ++i)
         for (size_t k = 0; k < 3; ++k)
-          dst[t * 3 + k] = k < 2 ? m.uvAtlases[(f * texels + t) * 4 + k] : 0;
+          dst[i * 3 + k] = k < 2 ? uint16_t(std::lround(t.uv[i * 2 + k] * 65535.0f)) : 0;
       out.push_back(std::move(uv));
     }
     out.push_back(std::move(regions));

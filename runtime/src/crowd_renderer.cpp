@@ -62,7 +62,7 @@ struct CrowdRenderer::Character {
   // Mesh, normals, indices of every LOD level, clips, instances, palettes, UVs, geometry ids
   // (sorted by level), impostor ids, views, draw commands, morph slots and offsets, cloth
   // vertices, loops and positions.
-  unsigned vao = 0, buffers[17] = {}, textures[5] = {};
+  unsigned vao = 0, buffers[17] = {}, textures[6] = {};
   ClothBuffers cloth;
   // Per instance: 3 rows, params (clip, time offset, speed, palette) and fade (clip faded from
   // or -1, its time offset, fade start, fade length): kInstanceFloats floats.
@@ -83,7 +83,7 @@ struct CrowdRenderer::Character {
   ~Character() {
     glDeleteVertexArrays(1, &vao);
     glDeleteBuffers(GLsizei(std::size(buffers)), buffers);
-    glDeleteTextures(5, textures);
+    glDeleteTextures(6, textures);
   }
 };
 
@@ -113,9 +113,10 @@ std::array<float, 4> regionColour(const pack::AnimationPack &p, size_t s,
   return {col.r, col.g, col.b, textured};
 }
 
-// The impostor's atlases as two texture arrays (a layer per frame) with the mode-filtered mip
-// chain, and its view table.
-uint32_t uploadImpostor(const pack::Impostor &m, unsigned normals, unsigned uvs, unsigned views) {
+// The impostor's planes as three texture arrays (a layer per frame: normals and UVs in BC5 blocks
+// as stored, region ids as bytes) with the mode-filtered mip chain, and its view table.
+// `textures`: normals, UVs, regions.
+uint32_t uploadImpostor(const pack::Impostor &m, const unsigned textures[3], unsigned views) {
   // Mip levels stop where a level would mix whole views: half the smallest crop dimension.
   uint32_t smallest = UINT32_MAX;
   for (const auto &v : m.views)
@@ -125,19 +126,26 @@ uint32_t uploadImpostor(const pack::Impostor &m, unsigned normals, unsigned uvs,
   while (levels < 6 && (smallest >> levels) >= 2)
     ++levels;
   const auto w = GLsizei(m.atlasWidth), h = GLsizei(m.atlasHeight), d = GLsizei(m.frames);
-  glTextureStorage3D(normals, GLsizei(levels), GL_RGBA8, w, h, d);
-  if (!m.uvAtlases.empty())
-    glTextureStorage3D(uvs, GLsizei(levels), GL_RGBA16, w, h, d);
+  glTextureStorage3D(textures[0], GLsizei(levels), GL_COMPRESSED_RG_RGTC2, w, h, d);
+  if (!m.uvs.empty())
+    glTextureStorage3D(textures[1], GLsizei(levels), GL_COMPRESSED_RG_RGTC2, w, h, d);
+  glTextureStorage3D(textures[2], GLsizei(levels), GL_R8UI, w, h, d);
+  // An integer texture is incomplete, and reads 0, under a linear filter.
+  glTextureParameteri(textures[2], GL_TEXTURE_MIN_FILTER, GL_NEAREST_MIPMAP_NEAREST);
+  glTextureParameteri(textures[2], GL_TEXTURE_MAG_FILTER, GL_NEAREST);
   for (uint32_t f = 0; f < m.frames; ++f) {
     auto mips = impostorMips(m, f, levels);
     for (uint32_t l = 0; l < mips.size(); ++l) {
-      glTextureSubImage3D(normals, GLint(l), 0, 0, GLint(f), GLsizei(mips[l].width),
-                          GLsizei(mips[l].height), 1, GL_RGBA, GL_UNSIGNED_BYTE,
-                          mips[l].normals.data());
-      if (!m.uvAtlases.empty())
-        glTextureSubImage3D(uvs, GLint(l), 0, 0, GLint(f), GLsizei(mips[l].width),
-                            GLsizei(mips[l].height), 1, GL_RGBA, GL_UNSIGNED_SHORT,
-                            mips[l].uvs.data());
+      const auto mw = GLsizei(mips[l].width), mh = GLsizei(mips[l].height);
+      glCompressedTextureSubImage3D(textures[0], GLint(l), 0, 0, GLint(f), mw, mh, 1,
+                                    GL_COMPRESSED_RG_RGTC2, GLsizei(mips[l].normals.size()),
+                                    mips[l].normals.data());
+      if (!m.uvs.empty())
+        glCompressedTextureSubImage3D(textures[1], GLint(l), 0, 0, GLint(f), mw, mh, 1,
+                                      GL_COMPRESSED_RG_RGTC2, GLsizei(mips[l].uvs.size()),
+                                      mips[l].uvs.data());
+      glTextureSubImage3D(textures[2], GLint(l), 0, 0, GLint(f), mw, mh, 1, GL_RED_INTEGER,
+                          GL_UNSIGNED_BYTE, mips[l].regions.data());
     }
   }
   std::vector<float> table;
@@ -333,8 +341,8 @@ CrowdRenderer::CrowdRenderer(const std::vector<const pack::AnimationPack *> &pac
 
     glCreateTextures(GL_TEXTURE_2D, 3, c->textures);
     if (c->impostor) {
-      glCreateTextures(GL_TEXTURE_2D_ARRAY, 2, c->textures + 3);
-      c->mipLevels = uploadImpostor(*c->impostor, c->textures[3], c->textures[4], c->buffers[9]);
+      glCreateTextures(GL_TEXTURE_2D_ARRAY, 3, c->textures + 3);
+      c->mipLevels = uploadImpostor(*c->impostor, c->textures + 3, c->buffers[9]);
     }
     const auto &t = p.animation;
     bool half = t.format == pack::TexelFormat::RGBA16F;
@@ -517,11 +525,12 @@ DrawStats CrowdRenderer::draw(const FrameView &view, float seconds, const DrawOp
       glUniform1f(iloc("u_oneToOne"), float(oneToOneDistance(m, view.fovY, view.viewportHeight)));
       glUniform1i(iloc("u_maxLevel"), int(c->mipLevels) - 1);
       glUniform1i(iloc("u_hasTexture"), p.diffuse ? 1 : 0);
-      glUniform1i(iloc("u_hasUvs"), !m.uvAtlases.empty());
+      glUniform1i(iloc("u_hasUvs"), !m.uvs.empty());
       glUniform1i(iloc("u_subMeshCount"), int(p.mesh.subMeshes.size()));
       glUniform3fv(iloc("u_lightDirection"), 1, glm::value_ptr(light_));
       glBindTextureUnit(0, c->textures[3]);
       glBindTextureUnit(1, c->textures[4]);
+      glBindTextureUnit(3, c->textures[5]);
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, c->buffers[8]);
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, c->buffers[9]);
       glDrawArraysInstanced(GL_TRIANGLES, 0, 6, GLsizei(chosen.impostorIds.size()));

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "crowd/formats/bc5.h"
+
 namespace crowd::runtime {
 
 namespace {
@@ -23,8 +25,8 @@ ImpostorChoice chooseImpostorView(const pack::Impostor &m, glm::vec3 toEye, doub
   c.azimuth = uint32_t(((a % long(m.azimuths)) + long(m.azimuths)) % long(m.azimuths));
   double len = glm::length(glm::dvec3(toEye));
   double el = len > 0 ? std::asin(std::clamp(double(toEye.y) / len, 0.0, 1.0)) : 0.0;
-  c.elevation = uint32_t(std::min(std::floor(el / (0.5 * kPi / m.elevations)),
-                                  double(m.elevations - 1)));
+  c.elevation =
+      uint32_t(std::min(std::floor(el / (0.5 * kPi / m.elevations)), double(m.elevations - 1)));
   auto [view, flip] = m.lookup(c.frame, c.elevation, c.azimuth);
   c.view = view;
   c.flip = flip;
@@ -38,24 +40,28 @@ double oneToOneDistance(const pack::Impostor &m, double fovY, int viewportHeight
 }
 
 std::vector<ImpostorMip> impostorMips(const pack::Impostor &m, uint32_t frame, uint32_t levels) {
+  const size_t texels = m.frameTexels(), blocks = pack::bc5Bytes(m.atlasWidth, m.atlasHeight);
   std::vector<ImpostorMip> mips(1);
-  ImpostorMip &base = mips[0];
+  ImpostorMip &base = mips[0]; // the stored blocks as they are
   base.width = m.atlasWidth;
   base.height = m.atlasHeight;
-  size_t texels = size_t(m.atlasWidth) * m.atlasHeight;
-  base.normals.assign(m.atlases.begin() + long(frame * texels * 4),
-                      m.atlases.begin() + long((frame + 1) * texels * 4));
-  if (!m.uvAtlases.empty())
-    base.uvs.assign(m.uvAtlases.begin() + long(frame * texels * 4),
-                    m.uvAtlases.begin() + long((frame + 1) * texels * 4));
+  base.normals.assign(m.normals.begin() + long(frame * blocks),
+                      m.normals.begin() + long((frame + 1) * blocks));
+  base.regions.assign(m.regions.begin() + long(frame * texels),
+                      m.regions.begin() + long((frame + 1) * texels));
+  if (!m.uvs.empty())
+    base.uvs.assign(m.uvs.begin() + long(frame * blocks),
+                    m.uvs.begin() + long((frame + 1) * blocks));
+  // The level above as decoded values (octahedral normal, UV), each level picked from them.
+  const pack::ImpostorTexels decoded = pack::decodeTexels(m, frame);
+  std::vector<float> oct = decoded.oct, uv = decoded.uv;
   while (mips.size() < levels && (mips.back().width > 1 || mips.back().height > 1)) {
     const ImpostorMip &src = mips.back();
     ImpostorMip dst;
     dst.width = std::max(1u, src.width / 2);
     dst.height = std::max(1u, src.height / 2);
-    dst.normals.assign(size_t(dst.width) * dst.height * 4, 0);
-    if (!src.uvs.empty())
-      dst.uvs.assign(dst.normals.size(), 0);
+    dst.regions.assign(size_t(dst.width) * dst.height, 0);
+    std::vector<float> dstOct(dst.regions.size() * 2, 0.5f), dstUv(uv.empty() ? 0 : dstOct.size());
     for (uint32_t y = 0; y < dst.height; ++y)
       for (uint32_t x = 0; x < dst.width; ++x) {
         size_t block[4];
@@ -64,7 +70,7 @@ std::vector<ImpostorMip> impostorMips(const pack::Impostor &m, uint32_t frame, u
           for (uint32_t sx = 2 * x; sx < std::min(2 * x + 2, src.width); ++sx) {
             size_t i = size_t(sy) * src.width + sx;
             ++inside;
-            if (src.normals[i * 4 + 3] != 0)
+            if (src.regions[i] != 0)
               block[n++] = i;
           }
         if (n == 0 || 2 * n < inside)
@@ -72,19 +78,23 @@ std::vector<ImpostorMip> impostorMips(const pack::Impostor &m, uint32_t frame, u
         size_t pick = block[0];
         int bestCount = 0;
         for (int k = 0; k < n; ++k) {
-          uint8_t region = src.normals[block[k] * 4 + 3];
+          uint8_t region = src.regions[block[k]];
           int count = 0;
           for (int j = 0; j < n; ++j)
-            count += src.normals[block[j] * 4 + 3] == region;
-          uint8_t bestRegion = src.normals[pick * 4 + 3];
-          if (count > bestCount || (count == bestCount && region < bestRegion))
+            count += src.regions[block[j]] == region;
+          if (count > bestCount || (count == bestCount && region < src.regions[pick]))
             bestCount = count, pick = block[k];
         }
         size_t o = size_t(y) * dst.width + x;
-        std::copy_n(&src.normals[pick * 4], 4, &dst.normals[o * 4]);
-        if (!src.uvs.empty())
-          std::copy_n(&src.uvs[pick * 4], 4, &dst.uvs[o * 4]);
+        dst.regions[o] = src.regions[pick];
+        std::copy_n(&oct[pick * 2], 2, &dstOct[o * 2]);
+        if (!uv.empty())
+          std::copy_n(&uv[pick * 2], 2, &dstUv[o * 2]);
       }
+    dst.normals = pack::encodeBc5(dstOct.data(), dst.regions.data(), dst.width, dst.height);
+    if (!uv.empty())
+      dst.uvs = pack::encodeBc5(dstUv.data(), dst.regions.data(), dst.width, dst.height);
+    oct = std::move(dstOct), uv = std::move(dstUv);
     mips.push_back(std::move(dst));
   }
   return mips;

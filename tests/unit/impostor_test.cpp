@@ -1,3 +1,5 @@
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <set>
 
@@ -5,6 +7,8 @@
 
 #include "crowd/bake/import.h"
 #include "crowd/bake/impostor_bake.h"
+#include "crowd/formats/bc5.h"
+#include "crowd/formats/bytes.h"
 #include "crowd/formats/error.h"
 #include "crowd/formats/limits.h"
 #include "crowd/runtime/impostor_runtime.h"
@@ -55,11 +59,9 @@ TEST(Impostor, ViewsAreCroppedPackedWithoutOverlapAndHoldRegions) {
           size_t t = size_t(y) * m.atlasWidth + x;
           ASSERT_EQ(owner[t], -1) << "views overlap in frame " << f;
           owner[t] = int(v);
-          const uint8_t *texel = &m.atlases[(size_t(f) * m.atlasWidth * m.atlasHeight + t) * 4];
-          EXPECT_LE(texel[3], humanoid().mesh.parts.size());
-          filled += texel[3] > 0;
-          // Dilated: empty texels of a crop hold a neighbour's normal (never black), region 0.
-          ASSERT_GT(int(texel[0]) + texel[1] + texel[2], 0) << "undilated texel in frame " << f;
+          const uint8_t region = m.regions[size_t(f) * m.frameTexels() + t];
+          EXPECT_LE(region, humanoid().mesh.parts.size());
+          filled += region > 0;
         }
       // Cropped to the silhouette: every crop row and column is touched, so it is well filled.
       EXPECT_GT(filled, size_t(view.width) * view.height / 5);
@@ -68,10 +70,18 @@ TEST(Impostor, ViewsAreCroppedPackedWithoutOverlapAndHoldRegions) {
       EXPECT_LT(view.pivotX, view.width);
     }
   }
-  // The UV map shares the layout and carries the same region ids.
-  ASSERT_EQ(m.uvAtlases.size(), m.atlases.size());
-  for (size_t t = 0; t < m.atlases.size(); t += 4)
-    ASSERT_EQ(m.uvAtlases[t + 2], m.atlases[t + 3]);
+  // Three planes of one layout: BC5 normals and UVs, a region byte per texel.
+  EXPECT_EQ(m.atlasWidth % 4, 0u);
+  EXPECT_EQ(m.atlasHeight % 4, 0u);
+  EXPECT_EQ(m.uvs.size(), m.normals.size());
+  EXPECT_EQ(m.normals.size(), m.frames * pack::bc5Bytes(m.atlasWidth, m.atlasHeight));
+  EXPECT_EQ(res.bytesPerFrame, 3 * m.frameTexels());
+  // What the blocks cost, over every covered texel: a few degrees at these 24-texel views (a
+  // limb spans a block), 1.6 degrees at the default 128.
+  EXPECT_GT(res.compression.texels, 0u);
+  EXPECT_GT(res.compression.normalMeanDeg, 0.0);
+  EXPECT_LT(res.compression.normalMeanDeg, 4.0);
+  EXPECT_LT(res.compression.uvMean, 0.03);
   pack::Reader reader(pack::packBytes(pack::ImpostorPack{{}, m}), "mem");
   EXPECT_EQ(pack::loadImpostorPack(reader).impostor.views.size(), m.views.size());
 }
@@ -95,7 +105,7 @@ TEST(Impostor, OneFrameClipsRestPosesAndMemoryGuard) {
     codes.insert(w.code);
   EXPECT_TRUE(codes.count("no_animation"));
   EXPECT_TRUE(codes.count("no_uvs")) << "the quad has no UVs: no UV map";
-  EXPECT_TRUE(res.impostor.uvAtlases.empty());
+  EXPECT_TRUE(res.impostor.uvs.empty());
 
   EXPECT_TRUE(codes.count("empty_views")) << "the flat quad seen edge-on from the horizon";
 
@@ -177,11 +187,13 @@ namespace {
 TEST(Impostor, AccuracyIsExactAtTheViewsAndImprovesWithMoreViews) {
   Reporter r;
   auto o = small();
-  auto coarse = bakeImpostor(humanoid(), o, r).impostor;
+  auto baked = bakeImpostor(humanoid(), o, r);
+  const auto &coarse = baked.impostor;
   ImpostorAccuracy a = measureImpostor(humanoid(), coarse, 1);
-  // At a stored view the impostor is that view: only 8-bit normal quantisation is left.
+  // At a stored view the impostor is that view: only the blocks' error is left (measured over
+  // every frame by the bake, over frame 0 here).
   EXPECT_GE(a.atViews.iouMin, 0.999);
-  EXPECT_LT(a.atViews.normalMeanDeg, 1.0);
+  EXPECT_NEAR(a.atViews.normalMeanDeg, baked.compression.normalMeanDeg, 0.5);
   EXPECT_LT(a.betweenViews.iouMean, a.atViews.iouMean);
   // Per elevation row: the rows' means average to the whole mean.
   for (const auto *f : {&a.atViews, &a.betweenViews}) {
@@ -214,7 +226,7 @@ TEST(Impostor, MirroredPacksStoreHalfTheAzimuthsAndStillMatch) {
   EXPECT_EQ(index, m.viewIndex(2, 1, 2)); // azimuth 8 - 6, two frames (half the clip) later
   ImpostorAccuracy a = measureImpostor(humanoid(), m, 1);
   EXPECT_GE(a.atViews.iouMean, 0.99); // the mirrored views stand in for the real ones
-  EXPECT_LT(a.atViews.normalMeanDeg, 2.0);
+  EXPECT_LT(a.atViews.normalMeanDeg, mirrored.compression.normalMeanDeg + 1.0);
   pack::Reader reader(pack::packBytes(pack::ImpostorPack{{}, m}), "mem");
   EXPECT_TRUE(pack::loadImpostorPack(reader).impostor.mirrored);
   o.frames = 3;
@@ -259,21 +271,70 @@ TEST(ImpostorRuntime, MipLevelsNeverAverageRegionIds) {
   pack::Impostor m;
   m.frames = 1;
   m.atlasWidth = 4;
-  m.atlasHeight = 2;
-  // Block 1: regions 1, 3, 3, empty -> 3 (the mode), never 2. Block 2: one texel covered -> empty.
-  const uint8_t a[8] = {1, 3, 0, 0, 3, 0, 0, 9};
-  for (uint8_t region : a) {
-    m.atlases.insert(m.atlases.end(), {uint8_t(region * 20), 0, 0, region});
-    m.uvAtlases.insert(m.uvAtlases.end(), {uint16_t(region * 1000), 7, region, 0});
-  }
+  m.atlasHeight = 4;
+  // Rows 0-1: block 1 holds regions 1, 3, 3, empty -> 3 (the mode), never 2; block 2 one covered
+  // texel -> empty. Rows 2-3 empty. Each region has its own normal and UV.
+  m.regions = {1, 3, 0, 0, 3, 0, 0, 9, 0, 0, 0, 0, 0, 0, 0, 0};
+  std::vector<float> oct(32, 0.5f), uv(32, 0.0f);
+  for (size_t t = 0; t < 16; ++t)
+    if (m.regions[t])
+      oct[t * 2] = m.regions[t] * 0.1f, uv[t * 2] = m.regions[t] * 0.05f;
+  m.normals = pack::encodeBc5(oct.data(), m.regions.data(), 4, 4);
+  m.uvs = pack::encodeBc5(uv.data(), m.regions.data(), 4, 4);
   auto mips = runtime::impostorMips(m, 0, 8);
-  ASSERT_EQ(mips.size(), 3u); // 4x2, 2x1, 1x1
+  ASSERT_EQ(mips.size(), 3u);            // 4x4, 2x2, 1x1
+  EXPECT_EQ(mips[0].normals, m.normals); // level 0 is the stored blocks
   EXPECT_EQ(mips[1].width, 2u);
-  EXPECT_EQ(mips[1].normals[3], 3);
-  EXPECT_EQ(mips[1].normals[0], 60); // the normal of a region-3 texel, not a blend
-  EXPECT_EQ(mips[1].uvs[0], 3000);
-  EXPECT_EQ(mips[1].normals[7], 0); // a lone covered texel does not survive
-  EXPECT_EQ(mips[2].normals[3], 3); // one covered texel of two: half
+  EXPECT_EQ(mips[1].regions, (std::vector<uint8_t>{3, 0, 0, 0})); // a lone texel does not survive
+  // Level 1 takes level 0's decoded values: texel 1's (region 3), not a blend.
+  float level0[32], level1[8];
+  pack::decodeBc5(m.normals.data(), 4, 4, level0);
+  pack::decodeBc5(mips[1].normals.data(), 2, 2, level1);
+  EXPECT_NEAR(level1[0], level0[2], 0.6f / 255);
+  pack::decodeBc5(m.uvs.data(), 4, 4, level0);
+  pack::decodeBc5(mips[1].uvs.data(), 2, 2, level1);
+  EXPECT_NEAR(level1[0], level0[2], 0.6f / 255);
+  EXPECT_EQ(mips[2].regions, (std::vector<uint8_t>{0})); // one covered texel of four
+}
+
+TEST(Bc5, BlocksRoundTripWithinTheirLevelsAndIgnoreUnusedTexels) {
+  // A 6x5 image (partial blocks at both edges): a smooth ramp in R, a step in G.
+  const uint32_t w = 6, h = 5;
+  std::vector<float> rg(w * h * 2);
+  std::vector<uint8_t> used(w * h, 1);
+  for (uint32_t y = 0; y < h; ++y)
+    for (uint32_t x = 0; x < w; ++x) {
+      rg[(y * w + x) * 2] = float(x + y * w) / float(w * h);
+      rg[(y * w + x) * 2 + 1] = x < 2 ? 0.1f : 0.9f;
+    }
+  used[w * h - 1] = 0;
+  rg[(w * h - 1) * 2] = 1e6f; // unused: its value must not widen the block's range
+  auto blocks = pack::encodeBc5(rg.data(), used.data(), w, h);
+  ASSERT_EQ(blocks.size(), 2u * 2 * 16);
+  EXPECT_EQ(blocks, pack::encodeBc5(rg.data(), used.data(), w, h)); // deterministic
+  std::vector<float> back(rg.size());
+  pack::decodeBc5(blocks.data(), w, h, back.data());
+  for (size_t t = 0; t + 1 < w * h; ++t) {
+    EXPECT_NEAR(back[t * 2], rg[t * 2], 0.5f / 255 + 1.0f / 14) << t; // within half a level
+    EXPECT_NEAR(back[t * 2 + 1], rg[t * 2 + 1], 0.6f / 255) << t;     // a step: both endpoints
+  }
+  // A flat block and a block with no used texel.
+  std::vector<float> flat(32, 0.0f);
+  std::vector<uint8_t> none(16, 0), all(16, 1);
+  std::vector<float> out(32, -1.0f);
+  pack::decodeBc5(pack::encodeBc5(flat.data(), all.data(), 4, 4).data(), 4, 4, out.data());
+  EXPECT_EQ(out, flat);
+  EXPECT_EQ(pack::encodeBc5(flat.data(), none.data(), 4, 4), std::vector<uint8_t>(16, 0));
+}
+
+TEST(Bc5, OctahedralNormalsRoundTrip) {
+  for (const auto &n : std::vector<std::array<float, 3>>{
+           {0, 0, 1}, {0, 0, -1}, {1, 0, 0}, {0, -1, 0}, {0.6f, -0.48f, -0.64f}}) {
+    const auto o = pack::octEncode(n);
+    const auto back = pack::octDecode(o[0], o[1]);
+    for (int k = 0; k < 3; ++k)
+      EXPECT_NEAR(back[size_t(k)], n[size_t(k)], 1e-6f);
+  }
 }
 } // namespace
 
@@ -305,8 +366,96 @@ TEST(Impostor, DegenerateMeshesFailClearlyAndExtraRegionsAreClamped) {
     warned |= w.code == "too_many_regions";
   EXPECT_TRUE(warned);
   uint8_t highest = 0;
-  for (size_t t = 3; t < res.impostor.atlases.size(); t += 4)
-    highest = std::max(highest, res.impostor.atlases[t]);
+  for (uint8_t region : res.impostor.regions)
+    highest = std::max(highest, region);
   EXPECT_EQ(highest, 255); // clamped, not wrapped around to low ids
+}
+} // namespace
+
+namespace {
+// A 4x4 one-frame impostor with one view, its texels covered in the top-left block only.
+pack::Impostor tinyImpostor() {
+  pack::Impostor m;
+  m.clip = "walk";
+  m.frames = m.azimuths = m.elevations = 1;
+  m.texels = 8;
+  m.sphere = {0, 1, 0, 1};
+  m.atlasWidth = 8, m.atlasHeight = 4;
+  m.views = {{0, 0, 8, 4, 4, 2, 0}};
+  m.regions.assign(32, 0);
+  std::vector<float> oct(64, 0.5f), uv(64, 0.25f);
+  for (uint32_t t : {0u, 1u, 8u, 9u})
+    m.regions[t] = 2, oct[t * 2] = 0.8f;
+  m.normals = pack::encodeBc5(oct.data(), m.regions.data(), 8, 4);
+  m.uvs = pack::encodeBc5(uv.data(), m.regions.data(), 8, 4);
+  return m;
+}
+
+TEST(ImpostorChunk, OnlyBlocksWithACoveredTexelAreStoredAndDamageIsAClearError) {
+  const pack::Impostor m = tinyImpostor();
+  const auto bytes = pack::encode(m);
+  const pack::Impostor back = pack::decodeImpostor(bytes, pack::kImpostorVersion, "chunk");
+  EXPECT_EQ(back.normals, m.normals); // the empty block reads zero, as the encoder left it
+  EXPECT_EQ(back.uvs, m.uvs);
+  EXPECT_EQ(back.regions, m.regions);
+  EXPECT_EQ(back.bytesPerFrame(), 3u * 32);
+  pack::Impostor full = m; // all covered: both blocks stored, 16 bytes more per plane
+  full.regions.assign(32, 1);
+  EXPECT_EQ(pack::encode(full).size(), bytes.size() + 2 * pack::kBc5BlockBytes);
+  // A region byte cleared after encoding: the chunk stores a block more than the regions say.
+  auto damaged = bytes;
+  const auto at = std::search(damaged.begin(), damaged.end(), m.regions.begin(), m.regions.end());
+  ASSERT_NE(at, damaged.end());
+  at[0] = 0, at[1] = 0, at[8] = 0, at[9] = 0;
+  try {
+    pack::decodeImpostor(damaged, pack::kImpostorVersion, "chunk");
+    FAIL() << "a block count that does not match the regions decoded";
+  } catch (const Error &e) {
+    EXPECT_NE(std::string(e.what()).find("field 'normals'"), std::string::npos) << e.what();
+  }
+  auto odd = m; // not whole blocks
+  odd.atlasHeight = 3;
+  odd.regions.resize(24);
+  EXPECT_THROW(pack::decodeImpostor(pack::encode(odd), pack::kImpostorVersion, "chunk"), Error);
+}
+
+TEST(ImpostorChunk, AVersion2ChunkIsReadAndEncodedAsVersion3) {
+  // Version 2: RGBA8 normals with the region in A, RGBA16 UVs; a 3-texel-tall atlas.
+  pack::ByteWriter w;
+  w.putString("walk");
+  w.putString("");
+  w.put<float>(0);
+  w.put<float>(0.1f);
+  for (uint32_t v : {1u, 1u, 1u, 8u})
+    w.put<uint32_t>(v);
+  w.put<uint8_t>(0);
+  for (float f : {0.0f, 1.0f, 0.0f, 1.0f})
+    w.put<float>(f);
+  w.put<uint32_t>(4);
+  w.put<uint32_t>(3);
+  w.put<uint64_t>(1);
+  for (uint16_t u : {0, 0, 4, 3})
+    w.put<uint16_t>(u);
+  for (float f : {2.0f, 1.5f, 0.0f})
+    w.put<float>(f);
+  std::vector<uint8_t> rgba(12 * 4, 0);
+  std::vector<uint16_t> uv(12 * 4, 0);
+  for (size_t t : {0u, 5u, 11u}) { // normal (0, 0, -1); regions 1, 2, 3
+    rgba[t * 4] = rgba[t * 4 + 1] = 128, rgba[t * 4 + 2] = 0, rgba[t * 4 + 3] = uint8_t(t % 4 + 1);
+    uv[t * 4] = 65535 / 2, uv[t * 4 + 1] = 65535 / 4;
+  }
+  w.putArray(rgba);
+  w.putArray(uv);
+  const pack::Impostor m = pack::decodeImpostor(w.take(), 2, "chunk");
+  ASSERT_EQ(m.atlasHeight, 4u); // padded to whole blocks
+  const pack::ImpostorTexels t = pack::decodeTexels(m, 0);
+  for (size_t v : {0u, 5u, 11u}) {
+    const size_t i = v / 4 * 4 + v % 4; // same row and column in the 4-wide atlas
+    EXPECT_EQ(t.regions[i], v % 4 + 1);
+    EXPECT_LT(t.normal(i)[2], -0.99f);
+    EXPECT_NEAR(t.uv[i * 2], 0.5f, 1.0f / 255);
+    EXPECT_NEAR(t.uv[i * 2 + 1], 0.25f, 1.0f / 255);
+  }
+  EXPECT_EQ(std::count(m.regions.begin(), m.regions.end(), 0), 16 - 3);
 }
 } // namespace

@@ -114,24 +114,29 @@ TEST(PackDiff, ImpostorRegionIdsAreExactAndTexelsWithinPercent) {
   r.quiet = true;
   const pack::Impostor m = bakeImpostor(test::sampleHumanoid(), o, r).impostor;
   const auto golden = pack::packBytes(pack::ImpostorPack{{}, m});
-  pack::Impostor shade = m; // one texel's normal a step off: within the fail tolerance
+  // The normals are BC5 blocks: moving a block's first red endpoint moves its texels' normals.
   size_t drawn = 0;
-  while (shade.atlases[drawn * 4 + 3] == 0)
+  while (m.regions[drawn] == 0)
     ++drawn;
-  shade.atlases[drawn * 4] = uint8_t(shade.atlases[drawn * 4] ^ 2); // 2/255
+  const size_t block = (drawn / m.atlasWidth / 4) * (m.atlasWidth / 4) + drawn % m.atlasWidth / 4;
+  pack::Impostor shade = m; // one block's normals a step off: within the fail tolerance
+  const int step = shade.normals[block * 16] == 255 ? -1 : 1; // both endpoints, in order
+  for (size_t e = 0; e < 2; ++e)
+    shade.normals[block * 16 + e] = uint8_t(shade.normals[block * 16 + e] + step);
   EXPECT_EQ(diff(golden, pack::packBytes(pack::ImpostorPack{{}, shade})).verdict,
             DiffVerdict::Warn);
-  pack::Impostor many = m; // every drawn texel's normal 10/255 off: past the fail tolerance
-  for (size_t t = 0; t < many.atlases.size() / 4; ++t)
-    if (many.atlases[t * 4 + 3] != 0)
-      many.atlases[t * 4] = uint8_t(std::min(255, many.atlases[t * 4] + 10));
+  pack::Impostor many = m; // every block's normals 10 steps off: past the fail tolerance
+  for (size_t b = 0; b < many.normals.size(); b += 16)
+    for (size_t e = 0; e < 2; ++e)
+      many.normals[b + e] =
+          uint8_t(many.normals[b + e] > 128 ? many.normals[b + e] - 10 : many.normals[b + e] + 10);
   const auto manyBytes = pack::packBytes(pack::ImpostorPack{{}, many});
   EXPECT_EQ(diff(golden, manyBytes).verdict, DiffVerdict::Fail);
   DiffTolerances relative; // idiff's -failrelative: small against the values themselves
   relative.texelRelative = {5, 5};
   EXPECT_EQ(diff(golden, manyBytes, relative).verdict, DiffVerdict::Pass);
   pack::Impostor region = m; // one texel's region id changed
-  region.atlases[drawn * 4 + 3] = uint8_t(region.atlases[drawn * 4 + 3] + 1);
+  region.regions[drawn] = uint8_t(region.regions[drawn] + 1);
   const PackDiff d = diff(golden, pack::packBytes(pack::ImpostorPack{{}, region}));
   EXPECT_EQ(d.verdict, DiffVerdict::Fail);
 }

@@ -247,10 +247,8 @@ Part linkJob(const Job &job, const std::vector<const Part *> &deps, int) {
           throw Error(ctx + ": an impostor of outfit '" + m.outfit + "' but no outfit table");
         auto map = regionMap(*table, m.outfit, imp.figures.at("body_regions").get<uint32_t>(),
                              imp.figures.at("garment_regions").get<uint32_t>(), ctx);
-        for (size_t t = 3; t < m.atlases.size(); t += 4)
-          m.atlases[t] = map[m.atlases[t]];
-        for (size_t t = 2; t < m.uvAtlases.size(); t += 4)
-          m.uvAtlases[t] = map[std::min<uint16_t>(m.uvAtlases[t], 255)];
+        for (uint8_t &region : m.regions)
+          region = map[region];
       }
       part.chunks.push_back({pack::kImpostor, pack::kImpostorVersion, pack::encode(m)});
     }

@@ -432,17 +432,26 @@ private:
     const auto &ga = golden_.chunks.at(key), &fa = fresh_.chunks.at(key);
     const auto a = pack::decodeImpostor(ga.payload, ga.entry->version, golden_.context(key));
     const auto b = pack::decodeImpostor(fa.payload, fa.entry->version, fresh_.context(key));
-    if (a.atlases.size() != b.atlases.size() || a.uvAtlases.size() != b.uvAtlases.size() ||
-        a.views.size() != b.views.size())
+    if (a.frames != b.frames || a.atlasWidth != b.atlasWidth || a.atlasHeight != b.atlasHeight ||
+        a.uvs.size() != b.uvs.size() || a.views.size() != b.views.size())
       return incomparable(key, "atlas or view layouts differ");
-    const pack::Impostor *m[2] = {&a, &b};
-    // Normals RGB, region id + 1 in A (exact).
-    texels(key, "normal atlas", a.atlases.size() / 4, 4,
-           [&](int w, size_t i, int c) { return m[w]->atlases[i * 4 + size_t(c)] / 255.0; }, {3});
-    if (!a.uvAtlases.empty()) // u, v; region id + 1 (exact)
-      texels(key, "UV atlas", a.uvAtlases.size() / 4, 3,
-             [&](int w, size_t i, int c) { return m[w]->uvAtlases[i * 4 + size_t(c)] / 65535.0; },
-             {2});
+    // Compared as the GPU samples them: every frame's decoded texels, in a row.
+    std::vector<pack::ImpostorTexels> frames[2];
+    for (uint32_t f = 0; f < a.frames; ++f)
+      frames[0].push_back(pack::decodeTexels(a, f)), frames[1].push_back(pack::decodeTexels(b, f));
+    const size_t per = a.frameTexels();
+    auto at = [&](int w, size_t i) -> const pack::ImpostorTexels & { return frames[w][i / per]; };
+    // The normal's xyz as n * 0.5 + 0.5; the region id + 1 (exact).
+    texels(key, "normal atlas", a.frames * per, 4,
+           [&](int w, size_t i, int c) {
+             const auto &t = at(w, i);
+             return c == 3 ? double(t.regions[i % per]) : t.normal(i % per)[size_t(c)] * 0.5 + 0.5;
+           },
+           {3});
+    if (!a.uvs.empty())
+      texels(key, "UV atlas", a.frames * per, 2, [&](int w, size_t i, int c) {
+        return double(at(w, i).uv[(i % per) * 2 + size_t(c)]);
+      });
   }
 
   void cloth(const std::string &key) {

@@ -7,6 +7,7 @@
 #include "crowd/bake/evaluate.h"
 #include "crowd/bake/parallel.h"
 #include "crowd/bake/raster.h"
+#include "crowd/formats/bc5.h"
 #include "crowd/formats/error.h"
 #include "crowd/formats/limits.h"
 
@@ -18,8 +19,9 @@ constexpr double kPi = 3.14159265358979323846;
 struct Crop {
   uint32_t x0 = 0, y0 = 0, width = 0, height = 0;
   float planeOffset = 0;
-  std::vector<uint8_t> rgba;
-  std::vector<uint16_t> uv; // u, v, region, 0 per texel; empty without UVs
+  std::vector<float> oct;      // the normal, octahedral: 2 per texel
+  std::vector<float> uv;       // u, v wrapped into 0..1: 2 per texel; empty without UVs
+  std::vector<uint8_t> region; // region id + 1 (0: empty)
 };
 
 struct Posed {
@@ -44,30 +46,52 @@ Posed pose(const Character &c, const AnimationClip *clip, double t) {
   return p;
 }
 
-// Empty texels of a crop take the normal and UV of the nearest covered texel (breadth first,
-// 4-neighbours, in scan order: deterministic); their region stays 0. Filtering or mip-mapping
-// the atlas then blends silhouette texels with copies of themselves, not with black.
-void dilate(Crop &cr) {
-  const size_t w = cr.width, h = cr.height;
-  std::vector<size_t> queue;
-  std::vector<uint8_t> done(w * h, 0);
-  for (size_t i = 0; i < w * h; ++i)
-    if (cr.rgba[i * 4 + 3] != 0)
-      queue.push_back(i), done[i] = 1;
-  for (size_t q = 0; q < queue.size(); ++q) {
-    size_t i = queue[q], x = i % w, y = i / w;
-    const size_t next[4] = {x > 0 ? i - 1 : i, x + 1 < w ? i + 1 : i, y > 0 ? i - w : i,
-                            y + 1 < h ? i + w : i};
-    for (size_t j : next) {
-      if (done[j])
-        continue;
-      done[j] = 1;
-      std::copy_n(&cr.rgba[i * 4], 3, &cr.rgba[j * 4]);
-      if (!cr.uv.empty())
-        std::copy_n(&cr.uv[i * 4], 2, &cr.uv[j * 4]);
-      queue.push_back(j);
+// Encodes the frames' normals and UVs into BC5 blocks (frames in parallel: the bytes never depend
+// on the threads) and measures what that costs over the covered texels.
+ImpostorCompression compressAtlases(pack::Impostor &m, const std::vector<float> &oct,
+                                    const std::vector<float> &uv, int threads) {
+  const size_t texels = m.frameTexels(), blocks = pack::bc5Bytes(m.atlasWidth, m.atlasHeight);
+  m.normals.assign(m.frames * blocks, 0);
+  if (!uv.empty())
+    m.uvs.assign(m.normals.size(), 0);
+  std::vector<ImpostorCompression> per(m.frames);
+  parallelFor(m.frames, threads, [&](size_t f) {
+    const uint8_t *used = &m.regions[f * texels];
+    auto n = pack::encodeBc5(&oct[f * texels * 2], used, m.atlasWidth, m.atlasHeight);
+    std::copy(n.begin(), n.end(), m.normals.begin() + long(f * blocks));
+    if (!uv.empty()) {
+      auto u = pack::encodeBc5(&uv[f * texels * 2], used, m.atlasWidth, m.atlasHeight);
+      std::copy(u.begin(), u.end(), m.uvs.begin() + long(f * blocks));
     }
+    const pack::ImpostorTexels t = pack::decodeTexels(m, uint32_t(f));
+    ImpostorCompression &c = per[f];
+    for (size_t i = 0; i < texels; ++i) {
+      if (used[i] == 0)
+        continue;
+      ++c.texels;
+      const auto a = pack::octDecode(oct[(f * texels + i) * 2], oct[(f * texels + i) * 2 + 1]);
+      const auto b = t.normal(i);
+      double angle = glm::degrees(
+          std::acos(std::clamp(double(a[0] * b[0] + a[1] * b[1] + a[2] * b[2]), -1.0, 1.0)));
+      c.normalMeanDeg += angle, c.normalMaxDeg = std::max(c.normalMaxDeg, angle);
+      if (!uv.empty()) {
+        double du = uv[(f * texels + i) * 2] - t.uv[i * 2];
+        double dv = uv[(f * texels + i) * 2 + 1] - t.uv[i * 2 + 1];
+        double d = std::sqrt(du * du + dv * dv);
+        c.uvMean += d, c.uvMax = std::max(c.uvMax, d);
+      }
+    }
+  });
+  ImpostorCompression all;
+  for (const auto &c : per) {
+    all.texels += c.texels;
+    all.normalMeanDeg += c.normalMeanDeg, all.uvMean += c.uvMean;
+    all.normalMaxDeg = std::max(all.normalMaxDeg, c.normalMaxDeg);
+    all.uvMax = std::max(all.uvMax, c.uvMax);
   }
+  if (all.texels)
+    all.normalMeanDeg /= double(all.texels), all.uvMean /= double(all.texels);
+  return all;
 }
 
 } // namespace
@@ -201,9 +225,10 @@ ImpostorBakeResult bakeImpostor(const Character &c, const ImpostorOptions &optio
     // which sits 2 r from the centre.
     double median = 0.5 * radius + (double(depths[depths.size() / 2]) + 1) * 0.5 * 3.0 * radius;
     cr.planeOffset = float(2 * radius - median);
-    cr.rgba.assign(size_t(cr.width) * cr.height * 4, 0);
+    cr.oct.assign(size_t(cr.width) * cr.height * 2, 0.5f);
+    cr.region.assign(size_t(cr.width) * cr.height, 0);
     if (hasUvs)
-      cr.uv.assign(size_t(cr.width) * cr.height * 4, 0);
+      cr.uv.assign(size_t(cr.width) * cr.height * 2, 0);
     for (int y = y0; y <= y1; ++y)
       for (int x = x0; x <= x1; ++x) {
         size_t pi = img.index(x, y);
@@ -212,19 +237,16 @@ ImpostorBakeResult bakeImpostor(const Character &c, const ImpostorOptions &optio
         glm::vec3 nn = raster::interpolate(img, pi, posed[f].normals, c.mesh.indices);
         float len = glm::length(nn);
         nn = len > 0 ? nn / len : glm::vec3(0, 1, 0);
-        uint8_t *out = &cr.rgba[((size_t(y - y0)) * cr.width + size_t(x - x0)) * 4];
-        for (int k = 0; k < 3; ++k)
-          out[k] = uint8_t(std::lround((nn[k] * 0.5f + 0.5f) * 255.0f));
-        out[3] = region[size_t(img.triangle[pi])];
+        const size_t t = size_t(y - y0) * cr.width + size_t(x - x0);
+        const auto oct = pack::octEncode({nn.x, nn.y, nn.z});
+        cr.oct[t * 2] = oct[0], cr.oct[t * 2 + 1] = oct[1];
+        cr.region[t] = region[size_t(img.triangle[pi])];
         if (hasUvs) {
           glm::vec2 uv = raster::interpolate(img, pi, c.mesh.uvs, c.mesh.indices);
-          uint16_t *u = &cr.uv[((size_t(y - y0)) * cr.width + size_t(x - x0)) * 4];
           for (int k = 0; k < 2; ++k) // wrapped into [0, 1): textures repeat
-            u[k] = uint16_t(std::lround((uv[k] - std::floor(uv[k])) * 65535.0f));
-          u[2] = out[3];
+            cr.uv[t * 2 + size_t(k)] = uv[k] - std::floor(uv[k]);
         }
       }
-    dilate(cr);
   });
 
   // Mirroring, measured: a walk's frame t + T/2 is close to frame t mirrored left-right, and the
@@ -236,7 +258,7 @@ ImpostorBakeResult bakeImpostor(const Character &c, const ImpostorOptions &optio
       if (x < int(cr.x0) || y < int(cr.y0) || x >= int(cr.x0 + cr.width) ||
           y >= int(cr.y0 + cr.height))
         return false;
-      return cr.rgba[(size_t(y - int(cr.y0)) * cr.width + size_t(x - int(cr.x0))) * 4 + 3] > 0;
+      return cr.region[size_t(y - int(cr.y0)) * cr.width + size_t(x - int(cr.x0))] > 0;
     };
     std::vector<double> iou(crops.size(), 1.0);
     parallelFor(crops.size(), o.threads, [&](size_t i) {
@@ -286,33 +308,50 @@ ImpostorBakeResult bakeImpostor(const Character &c, const ImpostorOptions &optio
                                      " views show nothing (a flat mesh seen edge-on?): they "
                                      "are stored empty and draw nothing");
   const size_t storedPerFrame = stored.size() / o.frames;
-  uint32_t width = std::max(widest, uint32_t(std::ceil(std::sqrt(double(area) / o.frames * 1.1))));
-  width = (width + 3) / 4 * 4;
-  std::vector<std::array<uint32_t, 2>> place(crops.size());
-  uint32_t height = 1;
+  // Each frame's views shelf-packed, tallest first, into rows `width` wide; the atlas is as tall as
+  // the tallest frame. The width is the one of a range around the square's that wastes least.
+  std::vector<std::vector<size_t>> orders(o.frames);
   for (uint32_t f = 0; f < o.frames; ++f) {
-    std::vector<size_t> order(stored.begin() + long(f * storedPerFrame),
-                              stored.begin() + long((f + 1) * storedPerFrame));
-    std::stable_sort(order.begin(), order.end(),
+    orders[f].assign(stored.begin() + long(f * storedPerFrame),
+                     stored.begin() + long((f + 1) * storedPerFrame));
+    std::stable_sort(orders[f].begin(), orders[f].end(),
                      [&](size_t a, size_t b) { return crops[a].height > crops[b].height; });
-    uint32_t x = 0, y = 0, shelf = 0;
-    for (size_t i : order) {
-      if (x + crops[i].width > width)
-        x = 0, y += shelf, shelf = 0;
-      place[i] = {x, y};
-      x += crops[i].width;
-      shelf = std::max(shelf, crops[i].height);
-    }
-    height = std::max(height, y + shelf);
   }
+  std::vector<std::array<uint32_t, 2>> place(crops.size());
+  auto shelve = [&](uint32_t width) {
+    uint32_t height = 1;
+    for (const auto &order : orders) {
+      uint32_t x = 0, y = 0, shelf = 0;
+      for (size_t i : order) {
+        if (x + crops[i].width > width)
+          x = 0, y += shelf, shelf = 0;
+        place[i] = {x, y};
+        x += crops[i].width;
+        shelf = std::max(shelf, crops[i].height);
+      }
+      height = std::max(height, y + shelf);
+    }
+    return (height + 3) / 4 * 4; // whole blocks
+  };
+  const double side = std::sqrt(double(area) / o.frames);
+  uint32_t width = 0, height = 0;
+  const uint32_t first = (std::max(widest, uint32_t(side * 0.9)) + 3) / 4 * 4;
+  for (uint32_t trial = first; trial <= std::max(first, uint32_t(side * 1.5)); trial += 4) {
+    const uint32_t h = shelve(trial);
+    if (width == 0 || uint64_t(trial) * h < uint64_t(width) * height)
+      width = trial, height = h;
+  }
+  shelve(width);
   if (width > 16384 || height > 16384)
     throw Error("impostor atlas would be " + std::to_string(width) + "x" + std::to_string(height) +
                 ", larger than 16384: lower --texels or --views");
   m.atlasWidth = width;
   m.atlasHeight = height;
-  m.atlases.assign(size_t(o.frames) * width * height * 4, 0);
+  const size_t texels = size_t(width) * height;
+  std::vector<float> oct(size_t(o.frames) * texels * 2, 0.5f), uv;
+  m.regions.assign(size_t(o.frames) * texels, 0);
   if (hasUvs)
-    m.uvAtlases.assign(m.atlases.size(), 0);
+    uv.assign(oct.size(), 0);
   m.views.resize(stored.size());
   for (size_t k = 0; k < stored.size(); ++k) {
     size_t i = stored[k];
@@ -323,15 +362,18 @@ ImpostorBakeResult bakeImpostor(const Character &c, const ImpostorOptions &optio
         uint16_t(cr.height),   float(n) * 0.5f - float(cr.x0), float(n) * 0.5f - float(cr.y0),
         cr.planeOffset};
     for (uint32_t y = 0; y < cr.height; ++y) {
-      size_t to = ((f * height + place[i][1] + y) * width + place[i][0]) * 4;
-      std::copy_n(&cr.rgba[size_t(y) * cr.width * 4], size_t(cr.width) * 4, &m.atlases[to]);
+      size_t to = (f * height + place[i][1] + y) * width + place[i][0], from = size_t(y) * cr.width;
+      std::copy_n(&cr.oct[from * 2], size_t(cr.width) * 2, &oct[to * 2]);
+      std::copy_n(&cr.region[from], cr.width, &m.regions[to]);
       if (hasUvs)
-        std::copy_n(&cr.uv[size_t(y) * cr.width * 4], size_t(cr.width) * 4, &m.uvAtlases[to]);
+        std::copy_n(&cr.uv[from * 2], size_t(cr.width) * 2, &uv[to * 2]);
     }
   }
+  r.compression = compressAtlases(m, oct, uv, o.threads);
+  r.compression.textureWidth = c.diffuse ? uint32_t(c.diffuse->width) : 0;
   r.occupancy = double(area) / (double(o.frames) * width * height);
-  r.bytesPerFrame = uint64_t(width) * height * (hasUvs ? 12 : 4);
-  r.naiveBytesPerFrame = views * o.texels * o.texels * (hasUvs ? 12 : 4);
+  r.bytesPerFrame = m.bytesPerFrame();
+  r.naiveBytesPerFrame = views * o.texels * o.texels * (hasUvs ? 3 : 2);
   r.impostor = std::move(m);
   return r;
 }
@@ -369,6 +411,12 @@ ImpostorAccuracy measureImpostor(const Character &c, const pack::Impostor &m, in
     double iou = 1, angleSum = 0, angleMax = 0, uvSum = 0, uvMax = 0;
     size_t angles = 0;
   };
+  // The frames drawn, decoded as the GPU samples them: frame 0, and the one its mirrored views
+  // come from.
+  std::vector<pack::ImpostorTexels> frames(m.frames);
+  frames[0] = pack::decodeTexels(m, 0);
+  if (m.mirrored)
+    frames[m.frames / 2] = pack::decodeTexels(m, m.frames / 2);
   // Directions: at every sampled view, then halfway to the next azimuth and elevation.
   const size_t views = size_t(m.azimuths) * m.elevations;
   std::vector<Result> results(2 * views);
@@ -399,8 +447,8 @@ ImpostorAccuracy measureImpostor(const Character &c, const pack::Impostor &m, in
     auto [stored, flip] = m.lookup(0, uint32_t(best / m.azimuths), uint32_t(best % m.azimuths));
     const pack::ImpostorView &view = m.views[stored];
     // A mirrored view may come from another frame's atlas.
-    const size_t frameBase =
-        stored / (size_t(m.elevations) * m.storedAzimuths()) * m.atlasWidth * m.atlasHeight;
+    const pack::ImpostorTexels &atlas =
+        frames[stored / (size_t(m.elevations) * m.storedAzimuths())];
     glm::dvec3 planePoint = centre + sv.dir * double(view.planeOffset);
     size_t both = 0, either = 0;
     Result &r = results[i];
@@ -418,21 +466,19 @@ ImpostorAccuracy measureImpostor(const Character &c, const pack::Impostor &m, in
           px = n - 1 - px;
         int cx = px - int(std::lround(n * 0.5 - view.pivotX)),
             cy = py - int(std::lround(n * 0.5 - view.pivotY));
-        const uint8_t *texel = nullptr;
+        bool texel = false;
+        size_t at = 0;
         if (cx >= 0 && cy >= 0 && cx < view.width && cy < view.height) {
-          texel = &m.atlases[(frameBase + (size_t(view.y) + size_t(cy)) * m.atlasWidth + view.x +
-                              size_t(cx)) *
-                             4];
-          if (texel[3] == 0)
-            texel = nullptr;
+          at = (size_t(view.y) + size_t(cy)) * m.atlasWidth + view.x + size_t(cx);
+          texel = atlas.regions[at] != 0;
         }
         size_t ti = reference.index(x, y);
         bool real = reference.triangle[ti] >= 0;
         both += real && texel;
         either += real || texel;
         if (real && texel) {
-          glm::vec3 normal(texel[0], texel[1], texel[2]);
-          normal = glm::normalize(normal / 255.0f * 2.0f - 1.0f);
+          const auto decoded = atlas.normal(at);
+          glm::vec3 normal(decoded[0], decoded[1], decoded[2]);
           if (flip)
             normal.x = -normal.x;
           glm::vec3 actual =
@@ -442,12 +488,12 @@ ImpostorAccuracy measureImpostor(const Character &c, const pack::Impostor &m, in
           r.angleSum += angle;
           r.angleMax = std::max(r.angleMax, angle);
           ++r.angles;
-          if (!m.uvAtlases.empty()) { // both wrapped into [0, 1): compare around the circle
-            const uint16_t *stored = &m.uvAtlases[size_t(texel - m.atlases.data())];
+          if (!atlas.uv.empty()) { // both wrapped into [0, 1): compare around the circle
+            const float *stored = &atlas.uv[at * 2];
             glm::vec2 trueUv = raster::interpolate(reference, ti, c.mesh.uvs, c.mesh.indices);
             double d2 = 0;
             for (int k = 0; k < 2; ++k) {
-              double d = std::abs(stored[k] / 65535.0 - (trueUv[k] - std::floor(trueUv[k])));
+              double d = std::abs(stored[k] - (trueUv[k] - std::floor(trueUv[k])));
               d = std::min(d, 1.0 - d);
               d2 += d * d;
             }

@@ -1,7 +1,7 @@
 // Impostor bake (first slice): for sampled frames of a clip, orthographic views from azimuths x
 // elevations over the upper hemisphere, drawn with the deterministic rasterizer as object-space
-// normals and 16-bit UVs with region ids, cropped to their silhouettes and shelf-packed into one
-// atlas per frame.
+// normals, region ids and UVs, cropped to their silhouettes, shelf-packed into one atlas per frame
+// and stored as the GPU samples them (pack::Impostor: BC5 normals and UVs, exact region bytes).
 #pragma once
 #include <cstdint>
 #include <string>
@@ -36,11 +36,20 @@ struct ImpostorOptions {
   void validate() const;                 // throws crowd::Error naming the first field out of range
 };
 
+// What the block compression of the atlases costs, over every covered texel of every frame:
+// the decoded normal's angle to the rendered one, and the decoded UV's distance (texture widths).
+struct ImpostorCompression {
+  uint64_t texels = 0;
+  double normalMeanDeg = 0, normalMaxDeg = 0, uvMean = 0, uvMax = 0;
+  uint32_t textureWidth = 0; // the diffuse texture's (0: none), for the UV error in its texels
+};
+
 struct ImpostorBakeResult {
   pack::Impostor impostor;
   double occupancy = 0;            // silhouette-crop texels / atlas texels
-  uint64_t bytesPerFrame = 0;      // one frame's packed atlases (normals, and UVs if any)
+  uint64_t bytesPerFrame = 0;      // one frame's planes as the GPU holds them (3 bytes a texel)
   uint64_t naiveBytesPerFrame = 0; // the same for every view uncropped
+  ImpostorCompression compression;
   // Left-right mirroring measured (even frame counts of a clip; -1 otherwise): silhouette IoU of
   // each view against the view from the opposite azimuth half a clip later, flipped.
   double mirrorIouMin = -1, mirrorIouMean = -1;

@@ -1,10 +1,13 @@
 // The impostor chunk: for each sampled frame of a clip, views of the character from azimuths x
 // elevations over the upper hemisphere, each cropped to its silhouette and packed into one atlas
-// per frame. Texels: RGB the object-space normal (n * 0.5 + 0.5), A the region id + 1 (0: empty);
-// and, when the mesh has UVs, a second atlas of the same layout with 16-bit UVs and the region.
+// per frame. Three planes of the same layout, each a texture the GPU samples as stored: the
+// object-space normal, octahedral, in BC5 blocks; the region id + 1 (0: empty), a byte per texel,
+// exact; and, when the mesh has UVs, the UVs (wrapped into 0..1) in BC5 blocks. 3 bytes a texel
+// on the GPU; on disk a block with no covered texel is not stored (it reads zero).
 #pragma once
 #include <array>
 #include <cstdint>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -14,7 +17,7 @@
 namespace crowd::pack {
 
 inline constexpr uint32_t kImpostor = fourcc("IMPO");
-inline constexpr uint32_t kImpostorVersion = 2; // 1: no outfit field
+inline constexpr uint32_t kImpostorVersion = 3; // 1: no outfit; 2: RGBA8 + RGBA16 atlases
 
 struct ImpostorView {
   uint16_t x = 0, y = 0, width = 0, height = 0; // crop rectangle in the frame's atlas (texels)
@@ -36,15 +39,17 @@ struct Impostor {
   // stored view from A - a at frame f + frames/2, flipped left-right (normal x negated).
   bool mirrored = false;
   std::array<float, 4> sphere{};            // the volume every view frames: centre xyz, radius
-  uint32_t atlasWidth = 0, atlasHeight = 0; // every frame's atlas has this size
+  uint32_t atlasWidth = 0, atlasHeight = 0; // every frame's atlas; multiples of 4 (whole blocks)
   // Frame-major, then elevation, then azimuth (stored ones only): see viewIndex.
   // Azimuth a looks from angle 2 pi a / azimuths about +Y (0: from +Z); elevation e from
   // 90 (e + 0.5) / elevations degrees above the horizon.
   std::vector<ImpostorView> views;
-  std::vector<uint8_t> atlases; // frames * atlasWidth * atlasHeight * 4 bytes
-  // Same layout, 4 x u16 per texel: u, v (0..65535 over 0..1, wrapped), region id + 1, 0.
-  // Empty when the mesh has no UVs.
-  std::vector<uint16_t> uvAtlases;
+  // Frame-major planes (see the top): frames * bc5Bytes(atlasWidth, atlasHeight) bytes of
+  // normals, frames * atlasWidth * atlasHeight region bytes, and the UVs as the normals (empty
+  // when the mesh has none).
+  std::vector<uint8_t> normals, regions, uvs;
+  size_t frameTexels() const { return size_t(atlasWidth) * atlasHeight; }
+  uint64_t bytesPerFrame() const; // the three planes of one frame, as the GPU holds them
   uint32_t storedAzimuths() const { return mirrored ? azimuths / 2 + 1 : azimuths; }
   // Index of a stored view (a < storedAzimuths()).
   size_t viewIndex(uint32_t f, uint32_t e, uint32_t a) const {
@@ -57,6 +62,22 @@ struct Impostor {
     return {viewIndex((f + frames / 2) % frames, e, azimuths - a), true};
   }
 };
+
+// A unit normal as two octahedral coordinates in 0..1, and back (normalized).
+std::array<float, 2> octEncode(const std::array<float, 3> &n);
+std::array<float, 3> octDecode(float x, float y);
+
+// One frame's planes decoded as the GPU samples them.
+struct ImpostorTexels {
+  uint32_t width = 0, height = 0;
+  std::vector<float> oct;           // 2 per texel: the normal, octahedral (octDecode)
+  std::vector<float> uv;            // 2 per texel, 0..1; empty without UVs
+  std::span<const uint8_t> regions; // region id + 1 per texel, into the impostor's plane
+  std::array<float, 3> normal(size_t texel) const {
+    return octDecode(oct[texel * 2], oct[texel * 2 + 1]);
+  }
+};
+ImpostorTexels decodeTexels(const Impostor &, uint32_t frame);
 
 std::vector<uint8_t> encode(const Impostor &);
 Impostor decodeImpostor(std::span<const uint8_t>, uint32_t version, const std::string &context);

@@ -13,11 +13,11 @@
 namespace crowd::runtime {
 
 struct ImpostorChoice {
-  uint32_t frame = 0;     // the frame shown (the atlas layer holding the view)
-  uint32_t azimuth = 0;   // the sampled direction nearest to the camera
+  uint32_t frame = 0;   // the frame shown (the atlas layer holding the view)
+  uint32_t azimuth = 0; // the sampled direction nearest to the camera
   uint32_t elevation = 0;
-  size_t view = 0;        // index into Impostor::views
-  bool flip = false;      // mirrored: draw the stored view flipped left-right
+  size_t view = 0;   // index into Impostor::views
+  bool flip = false; // mirrored: draw the stored view flipped left-right
 };
 
 // `toEye`: from the character's sphere centre towards the camera, in the character's frame.
@@ -30,14 +30,16 @@ ImpostorChoice chooseImpostorView(const pack::Impostor &m, glm::vec3 toEye, doub
 // pixels. Farther than this, an impostor shows at least as much detail as the screen can.
 double oneToOneDistance(const pack::Impostor &m, double fovY, int viewportHeight);
 
-// Mip chain of one frame's atlases (level 0 first). A texel of level k+1 covers a 2x2 block of
-// level k (fewer at an odd edge): it is covered when at least half of them are; its region is the most frequent
-// region among them (ties: the lower id) and its normal and UV those of the first texel of
-// that region, so no id and no UV across a seam is ever averaged.
+// Mip chain of one frame's atlases (level 0 first: the stored blocks). A texel of level k+1 covers
+// a 2x2 block of level k (fewer at an odd edge): it is covered when at least half of them are; its
+// region is the most frequent region among them (ties: the lower id) and its normal and UV those
+// of the first texel of that region, so no id and no UV across a seam is ever averaged. Levels
+// past 0 are encoded to BC5 again, as the pack's planes are.
 struct ImpostorMip {
   uint32_t width = 0, height = 0;
-  std::vector<uint8_t> normals; // RGBA8, as in the pack
-  std::vector<uint16_t> uvs;    // 4 x u16, empty without UVs
+  std::vector<uint8_t> normals; // BC5 blocks, octahedral
+  std::vector<uint8_t> regions; // region id + 1 per texel
+  std::vector<uint8_t> uvs;     // BC5 blocks, empty without UVs
 };
 std::vector<ImpostorMip> impostorMips(const pack::Impostor &m, uint32_t frame, uint32_t levels);
 
