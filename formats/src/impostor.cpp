@@ -4,7 +4,6 @@
 #include <cmath>
 
 #include "crowd/formats/bc5.h"
-
 #include "crowd/formats/bytes.h"
 #include "crowd/formats/error.h"
 #include "crowd/formats/registry.h"

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Impostor bake figures for the sample humanoid's walk (16 frames): accuracy and memory against
-# the view count (8x4, 16x8, 32x8 at 128 texels, mirrored) and against texels per view (32..256
-# at 32x8), and bake time at 1 and 2 threads (32x8, 128 texels, unmirrored: the speed target).
+# the view count (8x4, 16x8, 32x8, 64x16 at 128 texels, mirrored) and against texels per view
+# (32..256 at 32x8), charted as accuracy against bytes per frame (issue 15's memory/accuracy
+# chart), and bake time at 1 and 2 threads (32x8, 128 texels, unmirrored: the speed target).
 # Accuracy: frame 0 redrawn from the stored views against the true render, at the views and
 # halfway between them. Writes OUT/impostor_views.csv, OUT/impostor_texels.csv, SVG charts.
 # Usage: tests/bench/impostor_table.sh [OUT]   (after ./run build)
@@ -24,7 +25,7 @@ row() { # REPORT -> CSV fields
 }
 header="views,texels,bytes_per_frame,naive_bytes_per_frame,occupancy,at_iou_mean,at_normal_mean_deg,at_uv_mean,between_iou_mean,between_iou_min,between_normal_mean_deg,between_normal_max_deg,between_uv_mean,worst_az/el_deg,bake_s"
 echo "view_count,$header" > "$out/impostor_views.csv"
-for v in 8x4 16x8 32x8; do
+for v in 8x4 16x8 32x8 64x16; do
   $bin impostor "$glb" -o "$out/impostor/v.crowdpack" --clip walk --views $v --mirror --quiet \
     --report "$out/impostor/v.json"
   echo "$(( ${v%x*} * ${v#*x} )),$(row "$out/impostor/v.json")" >> "$out/impostor_views.csv"
@@ -62,5 +63,21 @@ $c "$out/impostor_memory_vs_texels.svg" "Bytes per frame against texels per view
     for (const r of l.slice(1).map(x => x.split(","))) console.log(`${r[1]},packed,${r[2] / 1e6}`);
     for (const r of l.slice(1).map(x => x.split(","))) console.log(`${r[1]},naive,${r[3] / 1e6}`);' \
     "$(realpath "$out/impostor_texels.csv")") texels mb layout log
+# Accuracy against memory: both sweeps on one chart, x the bytes one frame holds on the GPU.
+sweeps=$(mktemp)
+node -e '
+  const fs = require("fs");
+  const read = p => { const l = fs.readFileSync(p, "utf8").trim().split("\n"); const h = l[0].split(",");
+    return l.slice(1).map(x => { const r = x.split(","); return Object.fromEntries(h.map((k, i) => [k, r[i]])); }); };
+  console.log("bytes_per_frame,sweep,between_iou_mean,between_normal_mean_deg");
+  for (const r of read(process.argv[1])) console.log(`${r.bytes_per_frame},views (128 texels),${r.between_iou_mean},${r.between_normal_mean_deg}`);
+  for (const r of read(process.argv[2])) console.log(`${r.bytes_per_frame},texels (32x8),${r.between_iou_mean},${r.between_normal_mean_deg}`);' \
+  "$(realpath "$out/impostor_views.csv")" "$(realpath "$out/impostor_texels.csv")" > "$sweeps"
+$c "$out/impostor_iou_vs_bytes.svg" "Between-view silhouette IoU against memory (walk, mirrored)" \
+  "bytes per frame" "mean IoU" "$sweeps" bytes_per_frame between_iou_mean sweep log
+$c "$out/impostor_normal_vs_bytes.svg" "Between-view normal error against memory (walk, mirrored)" \
+  "bytes per frame" "degrees" "$sweeps" bytes_per_frame between_normal_mean_deg sweep log
+rm -f "$sweeps"
 for f in impostor_views impostor_texels impostor_speed; do echo "== $f"; column -s, -t "$out/$f.csv"; done
 echo "charts: $out/impostor_iou_vs_views.svg $out/impostor_normal_vs_views.svg $out/impostor_memory_vs_texels.svg"
+echo "        $out/impostor_iou_vs_bytes.svg $out/impostor_normal_vs_bytes.svg"
