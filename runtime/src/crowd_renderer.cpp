@@ -117,14 +117,7 @@ std::array<float, 4> regionColour(const pack::AnimationPack &p, size_t s,
 // as stored, region ids as bytes) with the mode-filtered mip chain, and its view table.
 // `textures`: normals, UVs, regions.
 uint32_t uploadImpostor(const pack::Impostor &m, const unsigned textures[3], unsigned views) {
-  // Mip levels stop where a level would mix whole views: half the smallest crop dimension.
-  uint32_t smallest = UINT32_MAX;
-  for (const auto &v : m.views)
-    if (v.width && v.height)
-      smallest = std::min<uint32_t>(smallest, std::min(v.width, v.height));
-  uint32_t levels = 1;
-  while (levels < 6 && (smallest >> levels) >= 2)
-    ++levels;
+  const uint32_t levels = impostorMipLevels(m);
   const auto w = GLsizei(m.atlasWidth), h = GLsizei(m.atlasHeight), d = GLsizei(m.frames);
   glTextureStorage3D(textures[0], GLsizei(levels), GL_COMPRESSED_RG_RGTC2, w, h, d);
   if (!m.uvs.empty())

@@ -39,6 +39,17 @@ double oneToOneDistance(const pack::Impostor &m, double fovY, int viewportHeight
   return texel * double(viewportHeight) / (2.0 * std::tan(fovY / 2));
 }
 
+uint32_t impostorMipLevels(const pack::Impostor &m) {
+  uint32_t smallest = UINT32_MAX;
+  for (const auto &v : m.views)
+    if (v.width && v.height)
+      smallest = std::min<uint32_t>(smallest, std::min(v.width, v.height));
+  uint32_t levels = 1;
+  while (levels < 6 && (smallest >> levels) >= 2)
+    ++levels;
+  return levels;
+}
+
 std::vector<ImpostorMip> impostorMips(const pack::Impostor &m, uint32_t frame, uint32_t levels) {
   const size_t texels = m.frameTexels(), blocks = pack::bc5Bytes(m.atlasWidth, m.atlasHeight);
   std::vector<ImpostorMip> mips(1);

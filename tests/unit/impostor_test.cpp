@@ -1,10 +1,12 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <set>
 
 #include <gtest/gtest.h>
 
+#include "crowd/bake/bake_figures.h"
 #include "crowd/bake/import.h"
 #include "crowd/bake/impostor_bake.h"
 #include "crowd/formats/bc5.h"
@@ -457,5 +459,89 @@ TEST(ImpostorChunk, AVersion2ChunkIsReadAndEncodedAsVersion3) {
     EXPECT_NEAR(t.uv[i * 2 + 1], 0.25f, 1.0f / 255);
   }
   EXPECT_EQ(std::count(m.regions.begin(), m.regions.end(), 0), 16 - 3);
+}
+} // namespace
+
+namespace {
+// The humanoid in its rest pose with its vertices moved by `move`.
+Character reshaped(const std::function<glm::vec3(glm::vec3)> &move) {
+  Character c = humanoid();
+  c.clips.clear();
+  for (auto &p : c.mesh.positions)
+    p = move(p);
+  return c;
+}
+
+TEST(Impostor, AOneTexelWideCropBakesStoresAndDrawsAtOneLevel) {
+  // Squashed to a vertical needle a few centimetres across: a texel or two (4 cm) wide.
+  Reporter r;
+  r.quiet = true;
+  const Character needle =
+      reshaped([](glm::vec3 p) { return glm::vec3(p.x * 0.1f, p.y, p.z * 0.1f); });
+  auto o = small();
+  o.clip = "";
+  const auto res = bakeImpostor(needle, o, r);
+  const auto &m = res.impostor;
+  uint16_t narrowest = UINT16_MAX;
+  for (const auto &v : m.views)
+    if (v.width)
+      narrowest = std::min(narrowest, v.width);
+  EXPECT_LE(narrowest, 2) << "the needle should be a texel or two wide";
+  EXPECT_GE(narrowest, 1);
+  EXPECT_EQ(m.atlasWidth % 4, 0u);
+  // Stored and read back whole; the mips stop at the narrowest crop: one level.
+  pack::Reader reader(pack::packBytes(pack::ImpostorPack{{}, m}), "mem");
+  EXPECT_EQ(pack::loadImpostorPack(reader).impostor.regions, m.regions);
+  EXPECT_EQ(runtime::impostorMipLevels(m), 1u);
+  EXPECT_EQ(runtime::impostorMips(m, 0, runtime::impostorMipLevels(m)).size(), 1u);
+  ImpostorAccuracy a = measureImpostor(needle, m, 1);
+  EXPECT_GE(a.atViews.iouMean, 0.9);
+}
+
+TEST(Impostor, AMeshThatFillsTheWholeViewCropsToTheWholeView) {
+  // Every vertex pushed out onto the bounding sphere: the silhouette is the sphere's disk, which
+  // touches all four sides of every view.
+  Reporter r;
+  r.quiet = true;
+  const Character h = humanoid();
+  glm::vec3 lo(1e9f), hi(-1e9f);
+  for (const auto &p : h.mesh.positions)
+    lo = glm::min(lo, p), hi = glm::max(hi, p);
+  const glm::vec3 mid = 0.5f * (lo + hi);
+  const Character ball = reshaped([&](glm::vec3 p) {
+    glm::vec3 d = p - mid;
+    return glm::length(d) > 0 ? mid + glm::normalize(d) * 0.5f : p;
+  });
+  auto o = small();
+  o.clip = "";
+  const auto res = bakeImpostor(ball, o, r);
+  const auto &m = res.impostor;
+  for (const auto &v : m.views) {
+    EXPECT_GE(v.width, m.texels - 2);
+    EXPECT_GE(v.height, m.texels - 2);
+  }
+  EXPECT_GT(res.occupancy, 0.9);
+  EXPECT_EQ(runtime::impostorMipLevels(m), 5u); // 48-texel crops: 48, 24, 12, 6, 3
+  ImpostorAccuracy a = measureImpostor(ball, m, 1);
+  EXPECT_GE(a.atViews.iouMin, 0.99);
+}
+
+TEST(Impostor, UvErrorIsReportedInTexelsOfAWideTexture) {
+  // A 1024-texel-wide diffuse texture: BC5 UVs keep 8-bit endpoints, so the report says what
+  // that costs in its texels instead of hiding it in texture widths.
+  Reporter r;
+  r.quiet = true;
+  Character wide = humanoid();
+  ASSERT_TRUE(wide.diffuse.has_value());
+  wide.diffuse->width = 1024;
+  wide.diffuse->height = 1024;
+  wide.diffuse->rgba.assign(size_t(1024) * 1024 * 4, 200);
+  const auto o = small();
+  const auto res = bakeImpostor(wide, o, r);
+  const auto f = impostorFigures(res, o);
+  const auto &c = f.at("compression");
+  EXPECT_DOUBLE_EQ(c.at("uv_error_max_texels").get<double>(), res.compression.uvMax * 1024);
+  EXPECT_GT(c.at("uv_error_mean_texels").get<double>(), 0.0);
+  EXPECT_EQ(c.at("regions").get<std::string>(), "exact, 8 bits");
 }
 } // namespace

@@ -301,8 +301,9 @@ ImpostorBakeResult bakeImpostor(const Character &c, const ImpostorOptions &optio
     empty += crops[i].width == 0;
   }
   if (area == 0)
-    throw Error("the character covers no texel in any view: its mesh is degenerate (every "
-                "triangle has zero area) or empty");
+    throw Error("the character covers no texel in any view: its mesh is empty, degenerate "
+                "(every triangle has zero area) or thinner than a texel everywhere (raise "
+                "--texels)");
   if (empty)
     reporter.warn("empty_views", std::to_string(empty) + " of " + std::to_string(stored.size()) +
                                      " views show nothing (a flat mesh seen edge-on?): they "
