@@ -55,7 +55,7 @@ int main(int argc, char **argv) {
     std::string asset = std::filesystem::path(argv[f]).stem().string();
     const auto &m = c.mesh;
     const size_t T = m.indices.size() / 3;
-    const auto group = crowd::subMeshGroups(m);
+    const auto lt = crowd::lodTriangles(m); // as applyLod collapses them
     const auto poses = crowd::samplePoses(c, crowd::LodOptions{}.poses); // as crowdbake lod does
     const crowd::bench::LodDistanceMeasure distance(c);
     std::vector<glm::vec3> rest;
@@ -63,9 +63,9 @@ int main(int argc, char **argv) {
       rest.push_back(glm::vec3(p));
     using Clock = std::chrono::steady_clock;
     auto t0 = Clock::now();
-    crowd::LodResult ours = crowd::bakeLod(m.positions, m.indices, {}, rep, group, poses);
+    crowd::LodResult ours = crowd::bakeLod(m.positions, lt.indices, {}, rep, lt.group, poses);
     auto t1 = Clock::now();
-    crowd::LodResult agnostic = crowd::bakeLod(m.positions, m.indices, {}, rep, group, {});
+    crowd::LodResult agnostic = crowd::bakeLod(m.positions, lt.indices, {}, rep, lt.group, {});
     auto t2 = Clock::now();
     const double shares[4] = {0.5, 0.25, 0.1, 0.05};
     std::vector<std::vector<uint32_t>> mine, blind, meshopt;

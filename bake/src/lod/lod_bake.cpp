@@ -393,12 +393,28 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
   return r;
 }
 
-std::vector<uint32_t> subMeshGroups(const SkinnedMesh &m) {
-  std::vector<uint32_t> group(m.positions.size(), 0);
-  for (uint32_t p = 0; p < m.parts.size(); ++p)
-    for (uint32_t i = m.parts[p].firstIndex; i < m.parts[p].firstIndex + m.parts[p].indexCount; ++i)
-      group[m.indices[i]] = p;
-  return group;
+LodTriangles lodTriangles(const SkinnedMesh &in) {
+  const std::vector<uint32_t> partOf = triangleParts(in);
+  const uint32_t triangles = uint32_t(in.indices.size() / 3);
+  LodTriangles lt;
+  lt.group.assign(in.positions.size(), 0);
+  std::map<std::array<uint32_t, 3>, uint32_t> first; // a triangle's vertices -> distinct index
+  for (uint32_t t = 0; t < triangles; ++t) {
+    std::array<uint32_t, 3> v = {in.indices[3 * t], in.indices[3 * t + 1], in.indices[3 * t + 2]};
+    std::rotate(v.begin(), std::min_element(v.begin(), v.end()), v.end()); // keeps the winding
+    const auto it = first.find(v);
+    // A repeat within one sub-mesh is a duplicate face: bakeLod drops it and says so.
+    if (it != first.end() && partOf[lt.inputsOf[it->second][0]] != partOf[t]) {
+      lt.inputsOf[it->second].push_back(t);
+      continue;
+    }
+    first.emplace(v, uint32_t(lt.inputsOf.size()));
+    lt.inputsOf.push_back({t});
+    lt.indices.insert(lt.indices.end(), &in.indices[3 * t], &in.indices[3 * t] + 3);
+    for (uint32_t k : v)
+      lt.group[k] = partOf[t];
+  }
+  return lt;
 }
 
 std::vector<uint32_t> triangleParts(const SkinnedMesh &m) {
@@ -435,40 +451,15 @@ void LodOptions::validate() const {
 
 namespace {
 
-// A sub-mesh may repeat triangles of another, on the same vertices: an outfit's copy of a partly
-// covered body part holds the faces of that part it leaves visible. The collapse order is made
-// once, over the distinct triangles (the half-edge mesh would drop a repeat as a duplicate face
-// and leave the copy empty), and each repeat then goes with its first: the same new indices, the
-// same vertex removal deleting it, so a copy simplifies exactly as the part it copies. Returns
-// bakeLod's result with the repeats listed after their first (r.source: input triangles).
-// Without repeats, bakeLod sees the mesh's own indices and subMeshGroups' groups.
-LodResult bakeWithRepeats(const Character &c, const LodOptions &o, Reporter &reporter,
-                          const std::vector<uint32_t> &partOf) {
+// Each repeat goes with its first: the same new indices, the same vertex removal deleting it, so
+// an outfit's copy simplifies exactly as the part it copies (see lodTriangles). Returns bakeLod's
+// result with the repeats listed after their first (r.source: input triangles).
+LodResult bakeWithRepeats(const Character &c, const LodOptions &o, Reporter &reporter) {
   const SkinnedMesh &in = c.mesh;
   const uint32_t triangles = uint32_t(in.indices.size() / 3);
-  std::vector<uint32_t> distinct;              // the distinct triangles' indices
-  std::vector<std::vector<uint32_t>> inputsOf; // per distinct triangle, its input triangles
-  // Sub-meshes weld separately: where two touch (a sleeve on an arm), welding them would make
-  // edges with four faces; apart, each keeps its own border. A vertex's group is the sub-mesh of
-  // its last distinct triangle (subMeshGroups' rule; a repeat does not move it).
-  std::vector<uint32_t> group(in.positions.size(), 0);
-  std::map<std::array<uint32_t, 3>, uint32_t> first; // a triangle's vertices -> distinct index
-  for (uint32_t t = 0; t < triangles; ++t) {
-    std::array<uint32_t, 3> v = {in.indices[3 * t], in.indices[3 * t + 1], in.indices[3 * t + 2]};
-    std::rotate(v.begin(), std::min_element(v.begin(), v.end()), v.end()); // keeps the winding
-    const auto it = first.find(v);
-    // A repeat within one sub-mesh is a duplicate face: bakeLod drops it and says so.
-    if (it != first.end() && partOf[inputsOf[it->second][0]] != partOf[t]) {
-      inputsOf[it->second].push_back(t);
-      continue;
-    }
-    first.emplace(v, uint32_t(inputsOf.size()));
-    inputsOf.push_back({t});
-    distinct.insert(distinct.end(), &in.indices[3 * t], &in.indices[3 * t] + 3);
-    for (uint32_t k : v)
-      group[k] = partOf[t];
-  }
-  LodResult r = bakeLod(in.positions, distinct, o, reporter, group, samplePoses(c, o.poses));
+  const LodTriangles lt = lodTriangles(in);
+  const auto &inputsOf = lt.inputsOf;
+  LodResult r = bakeLod(in.positions, lt.indices, o, reporter, lt.group, samplePoses(c, o.poses));
   const std::vector<uint32_t> source = std::move(r.source), killedBy = std::move(r.killedBy),
                               indices = std::move(r.indices);
   r.source.clear(), r.killedBy.clear(), r.indices.clear();
@@ -493,7 +484,7 @@ pack::Lod applyLod(Character &c, const LodOptions &o, Reporter &reporter, LodRes
   o.validate();
   SkinnedMesh &in = c.mesh;
   const std::vector<uint32_t> partOf = triangleParts(in);
-  LodResult r = bakeWithRepeats(c, o, reporter, partOf);
+  LodResult r = bakeWithRepeats(c, o, reporter);
   SkinnedMesh out;
   out.morphDefaults = in.morphDefaults;
   for (const auto &target : in.morphs)

@@ -18,7 +18,7 @@ namespace crowd {
 struct LodOptions {
   double floorFraction = 0.02; // stop at this share of the triangles (or no legal collapse)
   double maxNormalDeviationDeg = 75;
-  uint32_t poses = 16; // applyLod: poses sampled evenly over all clips (0: the bind pose only)
+  uint32_t poses = 16;   // applyLod: poses sampled evenly over all clips (0: the bind pose only)
   void validate() const; // throws crowd::Error naming the first field out of range
 };
 
@@ -39,8 +39,18 @@ struct LodResult {
 
 struct Character;
 struct SkinnedMesh;
-// Per vertex, the sub-mesh using it (applyLod welds sub-meshes separately).
-std::vector<uint32_t> subMeshGroups(const SkinnedMesh &mesh);
+// The triangles applyLod collapses, and how. A sub-mesh may repeat triangles of another on the
+// same vertices (an outfit's copy of a partly covered body part): each distinct triangle is
+// collapsed once (the half-edge mesh would drop a repeat as a duplicate face and leave the copy
+// empty) and its repeats follow it. Sub-meshes weld separately: where two touch (a sleeve on an
+// arm) welding them would make edges with four faces; apart, each keeps its own border. A vertex's
+// welding group is the sub-mesh of its last distinct triangle (a repeat does not move it).
+struct LodTriangles {
+  std::vector<uint32_t> indices;               // the distinct triangles, in input order
+  std::vector<std::vector<uint32_t>> inputsOf; // per distinct triangle, its input triangles
+  std::vector<uint32_t> group;                 // per vertex, its welding group
+};
+LodTriangles lodTriangles(const SkinnedMesh &mesh);
 // Per triangle, the sub-mesh holding it (0 for a triangle in none).
 std::vector<uint32_t> triangleParts(const SkinnedMesh &mesh);
 // `count` poses of the mesh, round robin over every clip at mid-interval times (none without
