@@ -126,6 +126,9 @@ uint32_t uploadImpostor(const pack::Impostor &m, const unsigned textures[3], uns
   // An integer texture is incomplete, and reads 0, under a linear filter.
   glTextureParameteri(textures[2], GL_TEXTURE_MIN_FILTER, GL_NEAREST_MIPMAP_NEAREST);
   glTextureParameteri(textures[2], GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  // Region rows are one byte a texel and mip widths odd: rows are packed, not 4-byte aligned
+  // (GL's default would read past each level's end).
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   for (uint32_t f = 0; f < m.frames; ++f) {
     auto mips = impostorMips(m, f, levels);
     for (uint32_t l = 0; l < mips.size(); ++l) {
@@ -141,6 +144,7 @@ uint32_t uploadImpostor(const pack::Impostor &m, const unsigned textures[3], uns
                           GL_UNSIGNED_BYTE, mips[l].regions.data());
     }
   }
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
   std::vector<float> table;
   for (const auto &v : m.views)
     table.insert(table.end(), {float(v.x), float(v.y), float(v.width), float(v.height), v.pivotX,
