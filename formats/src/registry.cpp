@@ -10,6 +10,7 @@
 #include "crowd/formats/cloth.h"
 #include "crowd/formats/error.h"
 #include "crowd/formats/impostor.h"
+#include "crowd/formats/terrain.h"
 
 namespace crowd::pack {
 
@@ -214,6 +215,47 @@ Description describeCloth(std::span<const uint8_t> b, uint32_t, const std::strin
   return d;
 }
 
+Description describeTerrain(std::span<const uint8_t> b, uint32_t, const std::string &ctx) {
+  Terrain t = decodeTerrain(b, ctx);
+  size_t counts[3] = {0, 0, 0}, shadowed = 0;
+  for (size_t i = 0; i < t.cells(); ++i) {
+    ++counts[t.ground[i]];
+    shadowed += t.ground[i] == uint8_t(Ground::Walkable) && t.shadowHeights[i] > t.heights[i];
+  }
+  char light[64];
+  std::snprintf(light, sizeof light, "%.4g,%.4g,%.4g", t.light[0], t.light[1], t.light[2]);
+  Description d;
+  d.add("cells", text(size2(t.width, t.depth)))
+      .add("cell", number(t.cell))
+      .add("origin", text(number(t.originX).text + "," + number(t.originZ).text))
+      .add("walkable_cells", number(double(counts[2])))
+      .add("blocked_cells", number(double(counts[1])))
+      .add("empty_cells", number(double(counts[0])))
+      .add("walkable_cells_in_shadow", number(double(shadowed)))
+      .add("light", text(light))
+      .add("step_height", number(t.stepHeight))
+      .add("max_slope_deg", number(t.maxSlopeDeg))
+      .add("mesh_vertices", number(double(t.positions.size() / 3)))
+      .add("mesh_triangles", number(double(t.indices.size() / 3)));
+  return d;
+}
+
+// The maps as images, row 0 at the lowest z: heights and shadow heights as floats, and the
+// ground codes scaled to 0 / 127 / 254 so that a viewer shows them.
+std::vector<Image> imagesTerrain(std::span<const uint8_t> b, uint32_t, const std::string &ctx) {
+  Terrain t = decodeTerrain(b, ctx);
+  auto floats = [&](const char *name, const std::vector<float> &v) {
+    Image image{name, t.width, t.depth, 1, Image::Pixel::F32, {}};
+    image.bytes.resize(v.size() * sizeof(float));
+    std::memcpy(image.bytes.data(), v.data(), image.bytes.size());
+    return image;
+  };
+  Image ground{"walkable", t.width, t.depth, 1, Image::Pixel::U8, t.ground};
+  for (auto &g : ground.bytes)
+    g = uint8_t(g * 127);
+  return {floats("heights", t.heights), ground, floats("shadow_heights", t.shadowHeights)};
+}
+
 Description describeImpostor(std::span<const uint8_t> b, uint32_t version, const std::string &ctx) {
   Impostor m = decodeImpostor(b, version, ctx);
   uint64_t used = 0;
@@ -294,6 +336,7 @@ const std::vector<ChunkCodec> &chunkCodecs() {
       {kMorphs, "morph targets", 1, kChunkVersion, describeMorphs},
       {kImpostor, "impostor", 1, kImpostorVersion, describeImpostor, imagesImpostor},
       {kCloth, "cloth loop", 1, kClothVersion, describeCloth},
+      {kTerrain, "terrain", 1, kTerrainVersion, describeTerrain, imagesTerrain},
   };
   return codecs;
 }
@@ -347,6 +390,10 @@ std::string verifyPack(const Reader &reader) {
     const ClothLoop m = decodeClothLoop(reader.payload(*reader.find(kCloth)), "pack");
     return line + ", cloth loop of garment '" + m.garment + "' over clip '" + m.clip + "', " +
            std::to_string(m.frameCount()) + " frames";
+  }
+  if (!reader.find(kSkeleton) && reader.find(kTerrain)) { // an environment (crowdbake terrain)
+    const Terrain t = decodeTerrain(reader.payload(*reader.find(kTerrain)), "pack");
+    return line + ", terrain of " + size2(t.width, t.depth) + " cells of " + number(t.cell).text;
   }
   const CharacterPack c = loadCharacterPack(reader);
   const AnimationPack &p = c.body;

@@ -15,6 +15,7 @@
 
 #include "crowd/formats/error.h"
 #include "rig.h"
+#include "village.h"
 
 namespace crowd::samples {
 namespace {
@@ -645,6 +646,44 @@ Pose pose(const std::string &clip, double seconds) {
 
 } // namespace rig
 
+// The village as an unskinned glTF: one mesh, a primitive per material, one node at the origin.
+void writeVillage(const std::string &path) {
+  Builder b;
+  tinygltf::Mesh mesh;
+  mesh.name = "village";
+  for (const auto &part : villageParts()) {
+    b.material(part.material, part.colour, -1);
+    std::vector<float> pos, nrm;
+    for (size_t v = 0; v < part.positions.size(); ++v) {
+      pos.insert(pos.end(), {part.positions[v].x, part.positions[v].y, part.positions[v].z});
+      nrm.insert(nrm.end(), {part.normals[v].x, part.normals[v].y, part.normals[v].z});
+    }
+    tinygltf::Primitive prim;
+    prim.mode = TINYGLTF_MODE_TRIANGLES;
+    prim.material = int(b.m.materials.size() - 1);
+    const int ab = TINYGLTF_TARGET_ARRAY_BUFFER;
+    prim.attributes["POSITION"] =
+        b.accessor(pos, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, 3, ab, true);
+    prim.attributes["NORMAL"] =
+        b.accessor(nrm, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, 3, ab, false);
+    prim.indices = b.accessor(part.indices, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT,
+                              TINYGLTF_TYPE_SCALAR, 1, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER, false);
+    mesh.primitives.push_back(prim);
+  }
+  b.m.meshes.push_back(mesh);
+  tinygltf::Node node;
+  node.name = "village";
+  node.mesh = 0;
+  b.m.nodes.push_back(node);
+  tinygltf::Scene scene;
+  scene.name = "village";
+  scene.nodes = {0};
+  b.m.scenes.push_back(scene);
+  b.m.defaultScene = 0;
+  b.m.buffers[0].data.resize((b.m.buffers[0].data.size() + 3) / 4 * 4, 0);
+  b.write(path);
+}
+
 void writeSamples(const std::string &dir) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
@@ -676,6 +715,7 @@ void writeSamples(const std::string &dir) {
     b.scene();
     b.write(dir + "/" + kFiles[size_t(kind) + 1]);
   }
+  writeVillage(dir + "/" + kVillageFile);
 }
 
 } // namespace crowd::samples

@@ -77,6 +77,17 @@ TEST(ReportPage, ABuildReportGivesEachCharacterItsJobsAndCharts) {
   EXPECT_EQ(page.find("<script"), std::string::npos);
 }
 
+TEST(ReportPage, ATerrainBakeReportGivesItsMaps) {
+  const auto report = nlohmann::json::parse(R"({"command": "terrain", "input": "village.glb",
+    "output": "village.crowdpack", "pack_bytes": 1152704, "time_s": 0.2,
+    "terrain": {"cells": [320, 320], "cell": 0.25, "walkable_cells": 94056,
+      "unreachable_cells": 8344, "walkable_cells_in_shadow": 4959}})");
+  const std::string page = reportPage({{"village.json", report}});
+  EXPECT_NE(page.find("<h1>crowdbake terrain of village.glb</h1>"), std::string::npos);
+  EXPECT_NE(page.find("94056 walkable cells of 0.25 model units"), std::string::npos) << page;
+  EXPECT_NE(page.find("4959 in shadow, 8344 flat but unreachable"), std::string::npos);
+}
+
 TEST(ReportPage, WhatIsNotAReportIsAClearError) {
   try {
     reportPage({{"a.json", nlohmann::json::parse(R"({"name": "x"})")}});

@@ -223,6 +223,32 @@ Part clothJob(const Job &job, const std::vector<const Part *> &, int threads) {
   return part;
 }
 
+Part terrainJob(const Job &job, const std::vector<const Part *> &, int threads) {
+  const CharacterManifest &m = *job.character;
+  const auto t0 = Clock::now();
+  Reporter reporter;
+  reporter.quiet = true;
+  const Character environment = importFile(m, m.body, reporter, m.mesh);
+  TerrainOptions options = m.terrain.value();
+  options.threads = threads;
+  const TerrainBakeResult r = bakeTerrain(environment, options, reporter);
+  const pack::Terrain &t = r.terrain;
+  Part part;
+  part.chunks.push_back({pack::kTerrain, pack::kTerrainVersion, pack::encode(t)});
+  part.figures["input_triangles"] = t.indices.size() / 3;
+  part.figures["terrain"] = {{"cells", {t.width, t.depth}},
+                             {"cell", t.cell},
+                             {"walkable_cells", r.walkable},
+                             {"blocked_cells", r.blocked},
+                             {"unreachable_cells", r.unreachable},
+                             {"empty_cells", r.empty},
+                             {"walkable_cells_in_shadow", r.walkableInShadow},
+                             {"max_shadow_depth", r.maxShadowDepth}};
+  part.figures["time_s"] = since(t0);
+  part.figures["warnings"] = warnings(reporter);
+  return part;
+}
+
 Part linkJob(const Job &job, const std::vector<const Part *> &deps, int) {
   const CharacterManifest &m = *job.character;
   const std::string ctx = "character '" + m.name + "'";
@@ -274,6 +300,14 @@ std::vector<Job> planCharacter(std::shared_ptr<const CharacterManifest> characte
   std::vector<std::string> bodyFiles, files;
   append(bodyFiles, m.body);
   files = bodyFiles;
+  if (m.terrain) { // an environment: the terrain bake is its one job
+    Job j;
+    j.kind = "terrain";
+    j.character = character;
+    j.files = bodyFiles;
+    j.settings = {{"mesh", m.mesh}, {"terrain", all["terrain"]}};
+    return {j};
+  }
   for (const auto &[name, file] : m.outfits)
     append(files, file);
 

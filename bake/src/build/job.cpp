@@ -17,6 +17,7 @@ constexpr uint32_t kFigures = pack::fourcc("FIGS"); // a part's figures (JSON), 
 Part meshJob(const Job &, const std::vector<const Part *> &, int threads);
 Part impostorJob(const Job &, const std::vector<const Part *> &, int threads);
 Part clothJob(const Job &, const std::vector<const Part *> &, int threads);
+Part terrainJob(const Job &, const std::vector<const Part *> &, int threads);
 Part linkJob(const Job &, const std::vector<const Part *> &, int threads);
 
 const std::vector<JobKind> &jobKinds() {
@@ -24,6 +25,7 @@ const std::vector<JobKind> &jobKinds() {
       {"mesh", meshJob},
       {"impostor", impostorJob},
       {"cloth", clothJob},
+      {"terrain", terrainJob},
       {"link", linkJob},
   };
   return kinds;

@@ -355,6 +355,13 @@ nlohmann::ordered_json CharacterManifest::canonical() const {
   }
   for (const auto &c : cloth)
     j["cloth"].push_back(c.canonical());
+  if (terrain) {
+    const TerrainOptions &t = *terrain;
+    j["terrain"] = {{"cell", t.cell},
+                    {"light", {t.light.x, t.light.y, t.light.z}},
+                    {"step", t.stepHeight},
+                    {"max_slope", t.maxSlopeDeg}};
+  }
   return j;
 }
 

@@ -13,6 +13,7 @@ int cmdVerify(int argc, char **argv);
 int cmdExport(int argc, char **argv);
 int cmdPose(int argc, char **argv);
 int cmdCloth(int argc, char **argv);
+int cmdTerrain(int argc, char **argv);
 int cmdDiff(int argc, char **argv); // exits with the verdict (0..3), 4 when not compared
 int cmdReport(int argc, char **argv);
 

@@ -37,6 +37,8 @@ commands:
   export    write a pack's textures as images
   pose      write the mesh as the player draws it at given times (PLY, OBJ, PC2)
   cloth     a long cloth cache (PC2, MDD) of one garment into a loop in phase with a body clip
+  terrain   an environment glTF into a height map, a walkable map and a shadow height map
+            for a directional light (seed 003), with its mesh for drawing
   diff      a new pack against a golden one, chunk by chunk within tolerances (exit 0 same,
             1 warn, 2 fail, 3 different contents, 4 unreadable)
   report    build and bake reports as one HTML page: time, bytes and error per character and
@@ -50,7 +52,7 @@ example:
 )";
 
 const char *const kSamplesHelp = R"(Writes humanoid.glb, outfit_dress.glb, outfit_jumper_skirt.glb
-and outfit_shirt_trousers.glb into DIR, and the cloth caches of the dress's garment "dress" (PC2,
+and outfit_shirt_trousers.glb into DIR, the environment village.glb (for crowdbake terrain), and the cloth caches of the dress's garment "dress" (PC2,
 30 fps, every vertex in the glTF's order; simulated, about 5 s): skirt_walk.pc2 and
 skirt_run.pc2 (a loose skirt over 40 walk or run cycles), skirt_stiff.pc2 (a stiff one that
 settles, 8 walk cycles) and noise.pc2 (never repeats). The output is deterministic: the same
@@ -94,6 +96,7 @@ int cmdSamples(int argc, char **argv) {
   crowd::samples::writeSamples(out);
   for (const auto &f : crowd::samples::kFiles)
     std::cout << out << "/" << f << "\n";
+  std::cout << out << "/" << crowd::samples::kVillageFile << "\n";
   if (!noCloth) {
     crowd::samples::writeClothCaches(out);
     for (const auto &f : crowd::samples::kCacheFiles)
@@ -254,6 +257,7 @@ int main(int argc, char **argv) {
         {"export", cmdExport},
         {"pose", cmdPose},
         {"cloth", cmdCloth},
+        {"terrain", cmdTerrain},
         {"diff", cmdDiff},
         {"report", cmdReport},
     };

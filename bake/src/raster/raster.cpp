@@ -97,10 +97,16 @@ Image rasterize(const std::vector<glm::vec3> &positions, const std::vector<uint3
           double w[3];
           bool inside = true;
           for (int k = 0; k < 3 && inside; ++k) {
-            const ScreenVertex *u = edges[k][0];
-            const ScreenVertex *v = edges[k][1];
+            // The edge function from the edge's lower endpoint (x, then y) whichever triangle
+            // asks, so that two triangles sharing the edge get exactly opposite values and the
+            // fill rule, not rounding, decides a pixel on it.
+            const ScreenVertex *u = edges[k][0], *v = edges[k][1];
+            const bool swapped = u->x > v->x || (u->x == v->x && u->y > v->y);
+            if (swapped)
+              std::swap(u, v);
+            const double e = (v->x - u->x) * (py - u->y) - (v->y - u->y) * (px - u->x);
             // Negative inside for our (counter-clockwise on screen) winding: flip the sign.
-            w[k] = -((v->x - u->x) * (py - u->y) - (v->y - u->y) * (px - u->x));
+            w[k] = swapped ? e : -e;
             inside = w[k] > 0 || (w[k] == 0 && owns[k]);
           }
           if (!inside)

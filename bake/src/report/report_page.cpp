@@ -88,6 +88,13 @@ std::pair<std::string, std::string> bytesAndError(const JobView &job) {
     return {bytesText(number(f, "bytes")),
             "seam " + num(number(f, "seam_position_jump_ratio")) + " x the mean motion, " +
                 num(number(field(f, "quantisation"), "max_mm")) + " mm quantised"};
+  if (job.kind == "terrain") {
+    const json &t = field(f, "terrain");
+    return {num(number(t, "walkable_cells"), "%.0f") + " walkable cells of " +
+                num(number(t, "cell")) + " model units",
+            num(number(t, "walkable_cells_in_shadow"), "%.0f") + " in shadow, " +
+                num(number(t, "unreachable_cells"), "%.0f") + " flat but unreachable"};
+  }
   if (job.kind == "link")
     return {bytesText(number(f, "pack_bytes")), ""};
   return {"", ""};
@@ -196,9 +203,8 @@ std::string jobsSection(const std::vector<JobView> &jobs) {
                                 : baked >= 0 ? "cached (" + num(baked, "%.2f") + " s when baked)"
                                              : "cached";
     const std::string accuracy = j.failed ? "<b>failed:</b> " + escapeXml(j.error)
-                                 : j.cached && j.figures.empty()
-                                     ? "(no figures in the cache)"
-                                     : error;
+                                 : j.cached && j.figures.empty() ? "(no figures in the cache)"
+                                                                 : error;
     out += row({escapeXml(j.label), escapeXml(j.kind), seconds, size, accuracy});
   }
   out += "</table>\n";
@@ -243,7 +249,8 @@ std::string buildSection(const ReportSource &src) {
 std::string bakeSection(const ReportSource &src) {
   const json &r = src.json;
   const std::string command = text(r, "command");
-  const std::string kind = command == "impostor" || command == "cloth" ? command : "mesh";
+  const std::string kind =
+      command == "impostor" || command == "cloth" || command == "terrain" ? command : "mesh";
   std::string out = "<h1>crowdbake " + escapeXml(command) + " of " + escapeXml(text(r, "input")) +
                     "</h1>\n<p>" + escapeXml(src.path) + ": " + escapeXml(text(r, "output")) +
                     ", " + bytesText(number(r, "pack_bytes")) + "</p>\n";

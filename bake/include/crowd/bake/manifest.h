@@ -4,6 +4,7 @@
 // bakes' option structs; a manifest only overrides. Errors say "FILE:LINE:COLUMN: /key: what".
 #pragma once
 #include "crowd/bake/input_files.h"
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -15,6 +16,7 @@
 #include "crowd/bake/impostor_bake.h"
 #include "crowd/bake/lod_bake.h"
 #include "crowd/bake/outfit_bake.h"
+#include "crowd/bake/terrain_bake.h"
 
 namespace crowd {
 
@@ -44,6 +46,9 @@ struct CharacterManifest {
   std::vector<std::pair<std::string, std::string>> impostorPairs;
   ImpostorOptions impostor;
   std::vector<ClothEntry> cloth; // each (outfit, garment, clip) at most once
+  // Set for an environment (crowdbake terrain): `body` is the environment's glTF and its one
+  // job is the terrain bake.
+  std::optional<TerrainOptions> terrain;
   // Settings in a fixed order, for provenance and cache keys (no paths: they move).
   nlohmann::ordered_json canonical() const;
 };

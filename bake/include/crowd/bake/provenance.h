@@ -11,8 +11,9 @@ namespace crowd {
 // In every cache key and pack: raise it (with the project's VERSION) whenever a bake's output
 // changes for the same inputs and settings, or a build would take the older baker's parts from
 // its cache. 0.1.1: outfit copies of partly covered body parts survive LOD. 0.2.0: impostor
-// atlases in BC5 blocks and region bytes (IMPO version 3).
-inline constexpr const char *kBakerVersion = "crowdbake 0.2.0";
+// atlases in BC5 blocks and region bytes (IMPO version 3). 0.2.1: the rasterizer gives a pixel on
+// an edge two triangles share to exactly one of them (it could fall between both).
+inline constexpr const char *kBakerVersion = "crowdbake 0.2.1";
 
 // The compiler and C library this crowdbake was built with and runs on: floats may round
 // differently under another, so byte-identical goldens hold only on the same toolchain

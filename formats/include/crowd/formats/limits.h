@@ -37,6 +37,10 @@ inline constexpr uint32_t kCacheFrames = uint32_t(1) << 20;
 // than a pixel at the switch).
 inline constexpr uint32_t kAutoImpostorTexels = 512;
 
+// Terrain bakes: cells of an environment's grid (4096 x 4096: a 1 km square at 0.25 m), checked
+// from the environment's extent and the cell size before any map is allocated.
+inline constexpr uint64_t kTerrainCells = uint64_t(1) << 24;
+
 // Packs: texture sides and element counts a chunk may declare, chunks per container.
 inline constexpr uint32_t kTextureSide = 65536;
 inline constexpr uint64_t kChunkElements = uint64_t(1) << 32;

@@ -11,6 +11,9 @@ namespace crowd::samples {
 inline const std::vector<std::string> kFiles = {
     "humanoid.glb", "outfit_dress.glb", "outfit_jumper_skirt.glb", "outfit_shirt_trousers.glb"};
 
+// The sample environment for the terrain bake (village.h): ground, steps, buildings, a square.
+inline const std::string kVillageFile = "village.glb";
+
 // Writes every sample into `dir` (created if missing); throws crowd::Error on failure.
 void writeSamples(const std::string &dir);
 
