@@ -1,7 +1,7 @@
 # Writes OUT: a header with every shader as a raw string literal (run at build time):
 # shaders/NAME.vert becomes kNameVert, NAME.frag kNameFrag.
 file(WRITE ${OUT}.tmp "// Generated from shaders/ by shaders/embed.cmake: do not edit.\n#pragma once\n")
-foreach(NAME crowd impostor)
+foreach(NAME crowd impostor environment)
   string(SUBSTRING ${NAME} 0 1 FIRST)
   string(TOUPPER ${FIRST} FIRST)
   string(SUBSTRING ${NAME} 1 -1 REST)

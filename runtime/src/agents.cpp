@@ -225,12 +225,14 @@ void Crowd::spawn(const std::vector<SpawnArea> &areas) {
       p.y = std::clamp(p.y, terrain_.originZ + eps,
                        terrain_.originZ + float(occupancyDepth_) * occupancySide_ - eps);
       size_t o = occupancyCell(p);
-      if (o == kNowhere || !free[o]) { // the nearest free cell, ring by ring
+      if (o == kNowhere || !free[o] || !standable(terrainCell(p))) { // the nearest free cell's
+        // centre, ring by ring (its own first: a cell's centre may stand where a corner of it
+        // cannot, at a roof's edge)
         const long ox = long(o % occupancyWidth_), oz = long(o / occupancyWidth_);
         size_t best = kNowhere;
         float bestDistance = INFINITY;
         const long rings = long(std::max(occupancyWidth_, occupancyDepth_));
-        for (long r = 1; r <= rings && best == kNowhere; ++r)
+        for (long r = 0; r <= rings && best == kNowhere; ++r)
           for (long z = oz - r; z <= oz + r; ++z)
             for (long x = ox - r; x <= ox + r; ++x) {
               if ((std::abs(z - oz) != r && std::abs(x - ox) != r) || x < 0 || z < 0 ||
@@ -241,9 +243,9 @@ void Crowd::spawn(const std::vector<SpawnArea> &areas) {
               if (free[c] && distance < bestDistance)
                 best = c, bestDistance = distance;
             }
+        figures_.spawnedMoved += best != o;
         o = best;
         p = centreOf(o);
-        ++figures_.spawnedMoved;
       }
       free[o] = 0;
       occupancy_[o] = uint32_t(i + 1);

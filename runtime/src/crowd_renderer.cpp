@@ -10,6 +10,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "crowd/formats/error.h"
+#include "crowd/runtime/environment_renderer.h"
 #include "crowd/runtime/impostor_runtime.h"
 #include "crowd/runtime/render_queues.h"
 #include "crowd/runtime/texture_skinning.h"
@@ -291,7 +292,8 @@ CrowdRenderer::CrowdRenderer(const std::vector<const pack::AnimationPack *> &pac
     if (c->instanceData.empty())
       c->instanceData.assign(kInstanceFloats, 0.0f);
     glNamedBufferStorage(c->buffers[4], GLsizeiptr(c->instanceData.size() * sizeof(float)),
-                         c->instanceData.data(), schedule_.dynamic() ? GL_DYNAMIC_STORAGE_BIT : 0);
+                         c->instanceData.data(),
+                         schedule_.dynamic() || scene.world.enabled() ? GL_DYNAMIC_STORAGE_BIT : 0);
     upload(c->buffers[5], colours);
     upload(c->buffers[16], jointTexelWords(p.animation));
     upload(c->buffers[11], morphSlotWords(p.morphs ? &*p.morphs : nullptr));
@@ -395,11 +397,58 @@ void CrowdRenderer::updateClips(Character &c, size_t ci, double seconds) {
   }
 }
 
+void CrowdRenderer::attachWorld(SceneWorld &world) {
+  if (!scene_.world.enabled())
+    throw Error(scene_.path + ": a world needs the scene's \"world\"");
+  world_ = &world;
+  environment_ = std::make_unique<EnvironmentRenderer>(world.terrain());
+  // The terrain's shadows were baked for its light: the scene is lit by the same.
+  const auto &l = world.terrain().light;
+  light_ = glm::normalize(glm::vec3(l[0], l[1], l[2]));
+}
+
+void CrowdRenderer::moveInstances(Character &c, size_t ci, double seconds) {
+  auto &chosen = selection_.characters[ci];
+  for (uint32_t i = 0; i < c.instanceCount; ++i) {
+    const InstanceMotion &m = world_->motions()[c.sceneIndex[i]];
+    const ClipState &s = m.clip;
+    const float cy = std::cos(m.yaw), sy = std::sin(m.yaw);
+    const glm::vec3 t = m.position;
+    const float rows[12] = {cy, 0, sy, t.x, 0, 1, 0, t.y, -sy, 0, cy, t.z};
+    float *d = &c.instanceData[i * kInstanceFloats];
+    std::copy(rows, rows + 12, d);
+    const float params[8] = {float(c.clipOf[s.clip]),
+                             float(s.offset),
+                             m.speed,
+                             float(scene_.instances[c.sceneIndex[i]].palette),
+                             s.from < 0 ? -1.0f : float(c.clipOf[size_t(s.from)]),
+                             float(s.fromOffset),
+                             float(s.fadeStart),
+                             float(s.fadeSeconds)};
+    std::copy(params, params + 8, d + 12);
+    selection_.moveInstance(ci, i, t, m.yaw);
+    chosen.eligible[i] =
+        c.impostor && c.clipFits[s.clip] && c.outfitFits[i] && s.weightAt(seconds) >= 1.0f;
+  }
+}
+
 DrawStats CrowdRenderer::draw(const FrameView &view, float seconds, const DrawOptions &options) {
   DrawStats stats;
   const bool naive = options.path == DrawPath::Naive;
   double clipsMs = 0;
-  if (schedule_.dynamic())
+  if (world_) { // the agents move the instances; the environment is drawn first
+    const auto t0 = std::chrono::steady_clock::now();
+    world_->advanceTo(seconds);
+    for (size_t ci = 0; ci < characters_.size(); ++ci) {
+      Character &c = *characters_[ci];
+      moveInstances(c, ci, seconds);
+      glNamedBufferSubData(c.buffers[4], 0, GLsizeiptr(c.instanceData.size() * sizeof(float)),
+                           c.instanceData.data());
+    }
+    stats.agentsMs =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    environment_->draw(view.viewProjection, light_);
+  } else if (schedule_.dynamic())
     for (size_t ci = 0; ci < characters_.size(); ++ci) {
       Character &c = *characters_[ci];
       const auto t0 = std::chrono::steady_clock::now();

@@ -165,14 +165,21 @@ void CrowdSelection::addCharacter(const pack::AnimationPack &pack, const pack::I
 
 void CrowdSelection::addInstance(const glm::vec3 &position, float yaw, bool eligible) {
   Character &c = characters.back();
+  c.bounds.emplace_back();
+  c.centres.emplace_back();
+  c.eligible.push_back(eligible && c.impostor);
+  c.far.push_back(0);
+  moveInstance(characters.size() - 1, c.bounds.size() - 1, position, yaw);
+}
+
+void CrowdSelection::moveInstance(size_t ci, size_t i, const glm::vec3 &position, float yaw) {
+  Character &c = characters[ci];
   const float cy = std::cos(yaw), sy = std::sin(yaw);
   auto place = [&](const glm::vec3 &p) {
     return position + glm::vec3(cy * p.x + sy * p.z, p.y, -sy * p.x + cy * p.z);
   };
-  c.bounds.push_back(place(c.boundLocal));
-  c.centres.push_back(place(c.impostorLocal));
-  c.eligible.push_back(eligible && c.impostor);
-  c.far.push_back(0);
+  c.bounds[i] = place(c.boundLocal);
+  c.centres[i] = place(c.impostorLocal);
 }
 
 CrowdSelection::Result CrowdSelection::select(const FrameView &view, const DrawOptions &options) {

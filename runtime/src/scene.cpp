@@ -103,13 +103,104 @@ void Camera::at(double t, glm::dvec3 &eye, glm::dvec3 &look) const {
   eye = path.back().position, look = path.back().target;
 }
 
+namespace {
+
+uint64_t worldAgents(const WorldSettings &w) {
+  uint64_t n = 0;
+  for (const auto &a : w.spawn)
+    n += a.count;
+  return std::max<uint64_t>(n, 1);
+}
+
+// "world": {"terrain", "behaviour", "callbacks": {"image", "bus_stops": [{"colour", "every"}]},
+// "attractors": [[x, z]...], "spawn": [{"min": [x, z], "max": [x, z], "count"}...],
+// "clips": {"idle", "walk", "run"}, "fade", "seed", "walk_speed", "run_speed", "runners"}.
+// The clips' names become the scene's clip names.
+void parseWorld(const Checker &c, const json &w, const std::filesystem::path &dir, Scene &s) {
+  WorldSettings &out = s.world;
+  const std::vector<std::string> at = {"world"};
+  c.onlyKeys(w, at,
+             {"terrain", "behaviour", "callbacks", "attractors", "spawn", "clips", "fade", "seed",
+              "walk_speed", "run_speed", "runners"});
+  auto file = [&](const char *key) {
+    if (!w.contains(key))
+      return std::string();
+    if (!w[key].is_string())
+      c.fail({"world", key}, "expected a file path");
+    return (dir / w[key].get<std::string>()).lexically_normal().string();
+  };
+  out.terrainPath = file("terrain");
+  if (out.terrainPath.empty())
+    c.fail(at, "expected \"terrain\": a pack from crowdbake terrain");
+  out.behaviourPath = file("behaviour");
+  auto xz = [&](const json &p, const std::vector<std::string> &keys) {
+    if (!p.is_array() || p.size() != 2)
+      c.fail(keys, "expected [x, z]");
+    return glm::vec2(float(c.number(p[0], keys, -1e6, 1e6)),
+                     float(c.number(p[1], keys, -1e6, 1e6)));
+  };
+  if (w.contains("callbacks")) {
+    const json &cb = w["callbacks"];
+    c.onlyKeys(cb, {"world", "callbacks"}, {"image", "bus_stops"});
+    if (!cb.contains("image") || !cb["image"].is_string())
+      c.fail({"world", "callbacks", "image"}, "expected the callback image's path");
+    out.callbackPath = (dir / cb["image"].get<std::string>()).lexically_normal().string();
+    for (const auto &stop : cb.value("bus_stops", json::array())) {
+      const std::vector<std::string> keys = {"world", "callbacks", "bus_stops"};
+      c.onlyKeys(stop, keys, {"colour", "every"});
+      WorldSettings::BusStop b;
+      const glm::dvec3 colour = c.vec3(stop.value("colour", json::array({0, 0, 255})), keys);
+      for (int k = 0; k < 3; ++k) {
+        if (colour[k] < 0 || colour[k] > 255 || colour[k] != std::floor(colour[k]))
+          c.fail(keys, "colour components are whole numbers 0 to 255");
+        b.colour[k] = uint8_t(colour[k]);
+      }
+      b.every = c.number(stop.value("every", json(20)), keys, 0.01, 1e6);
+      out.busStops.push_back(b);
+    }
+  }
+  for (const auto &p : w.value("attractors", json::array()))
+    out.attractors.push_back(xz(p, {"world", "attractors"}));
+  if (!w.contains("spawn") || !w["spawn"].is_array() || w["spawn"].empty())
+    c.fail({"world", "spawn"}, "expected [{\"min\": [x, z], \"max\": [x, z], \"count\": n}]");
+  for (const auto &a : w["spawn"]) {
+    const std::vector<std::string> keys = {"world", "spawn"};
+    c.onlyKeys(a, keys, {"min", "max", "count"});
+    SpawnArea area;
+    area.min = xz(a.value("min", json::array({0, 0})), keys);
+    area.max = xz(a.value("max", json::array({0, 0})), keys);
+    area.count = uint32_t(c.number(a.value("count", json(1)), keys, 0, double(limits::kInstances)));
+    out.spawn.push_back(area);
+  }
+  const json clips = w.value("clips", json{{"idle", "idle"}, {"walk", "walk"}, {"run", "run"}});
+  c.onlyKeys(clips, {"world", "clips"}, {"idle", "walk", "run"});
+  s.clipNames.clear();
+  for (const char *pace : {"idle", "walk", "run"}) {
+    if (!clips.contains(pace) || !clips[pace].is_string())
+      c.fail({"world", "clips", pace}, "expected the name of the clip played");
+    s.clipNames.push_back(clips[pace].get<std::string>());
+  }
+  out.fade = c.number(w.value("fade", json(0.3)), {"world", "fade"}, 0, 10);
+  out.agents.seed = uint64_t(c.number(w.value("seed", json(1)), {"world", "seed"}, 0, 1e15));
+  out.agents.walkSpeed =
+      float(c.number(w.value("walk_speed", json(1.3)), {"world", "walk_speed"}, 0.01, 19.9));
+  out.agents.runSpeed =
+      float(c.number(w.value("run_speed", json(3.2)), {"world", "run_speed"}, 0.01, 19.9));
+  out.agents.runners = float(c.number(w.value("runners", json(0.1)), {"world", "runners"}, 0, 1));
+}
+
+} // namespace
+
 Scene parseScene(const std::string &text, const std::string &path, size_t instanceOverride) {
   Checker c(text, path);
   json j = c.parse();
   Scene s;
   s.path = path;
-  c.onlyKeys(j, {}, {"packs", "instances", "palettes", "camera", "light", "budget", "comment"});
+  c.onlyKeys(j, {},
+             {"packs", "instances", "palettes", "camera", "light", "budget", "world", "comment"});
   auto dir = std::filesystem::path(path).parent_path();
+  if (j.contains("world"))
+    parseWorld(c, j["world"], dir, s);
 
   if (!j.contains("packs") || !j["packs"].is_array() || j["packs"].empty())
     c.fail({"packs"}, "expected a non-empty list of {\"name\", \"path\"}");
@@ -138,7 +229,27 @@ Scene parseScene(const std::string &text, const std::string &path, size_t instan
   std::mt19937_64 rng(seed);
   size_t count = size_t(
       c.number(in.value("count", json(1)), {"instances", "count"}, 1, double(limits::kInstances)));
-  if (instanceOverride)
+  if (s.world.enabled()) { // one instance per agent: the spawn areas' counts
+    if (in.contains("count") || in.contains("placement") || in.contains("clip") ||
+        in.contains("switch"))
+      c.fail({"instances"}, "with a world, the agents give the count (world.spawn), the place and "
+                            "the clip (world.clips); leave out count, placement, clip and switch");
+    count = 0;
+    const uint64_t total = worldAgents(s.world);
+    for (size_t k = 0; k < s.world.spawn.size(); ++k) {
+      auto &area = s.world.spawn[k];
+      if (instanceOverride) // the same share of the asked count in each area, the rest last
+        area.count =
+            k + 1 < s.world.spawn.size()
+                ? uint32_t(std::llround(double(instanceOverride) * area.count / double(total)))
+                : uint32_t(instanceOverride - std::min(count, instanceOverride));
+      count += area.count;
+    }
+    if (count > limits::kInstances)
+      c.fail({"world", "spawn"},
+             std::to_string(count) + " agents; at most " + std::to_string(limits::kInstances));
+  }
+  if (instanceOverride && !s.world.enabled())
     count = instanceOverride;
   uint32_t pack = 0;
   if (in.contains("pack")) {
@@ -157,6 +268,8 @@ Scene parseScene(const std::string &text, const std::string &path, size_t instan
   const json order = in.value("outfit_order", json("random"));
   if (order != "random" && order != "cycle")
     c.fail({"instances", "outfit_order"}, "expected \"random\" or \"cycle\"");
+  if (s.world.enabled())
+    clips = s.clipNames;
   s.clipNames = clips;
   if (in.contains("switch")) {
     const json &sw = in["switch"];

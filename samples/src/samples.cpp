@@ -684,6 +684,18 @@ void writeVillage(const std::string &path) {
   b.write(path);
 }
 
+// An RGBA8 image as PNG (OpenImageIO), atomically.
+void writeRgbaPng(const std::string &path, uint32_t width, uint32_t height,
+                  const std::vector<uint8_t> &rgba) {
+  const std::string tmp = path + ".tmp";
+  auto out = OIIO::ImageOutput::create("png");
+  OIIO::ImageSpec spec(int(width), int(height), 4, OIIO::TypeDesc::UINT8);
+  if (!out || !out->open(tmp, spec) || !out->write_image(OIIO::TypeDesc::UINT8, rgba.data()) ||
+      !out->close())
+    throw Error(path + ": cannot write image");
+  std::filesystem::rename(tmp, path);
+}
+
 void writeSamples(const std::string &dir) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
@@ -716,6 +728,8 @@ void writeSamples(const std::string &dir) {
     b.write(dir + "/" + kFiles[size_t(kind) + 1]);
   }
   writeVillage(dir + "/" + kVillageFile);
+  writeRgbaPng(dir + "/village_behaviour.png", kVillageCells, kVillageCells, villageBehaviours());
+  writeRgbaPng(dir + "/village_callbacks.png", kVillageCells, kVillageCells, villageCallbacks());
 }
 
 } // namespace crowd::samples

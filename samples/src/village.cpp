@@ -1,6 +1,7 @@
 #include "village.h"
 
 #include <algorithm>
+#include <array>
 
 namespace crowd::samples {
 
@@ -66,6 +67,38 @@ std::vector<VillagePart> villageParts() {
   box(furniture, {-3, 0, 9.8f}, {1, 2.2f, 9.9f});
   box(furniture, {1.5f, 0, 9.3f}, {1.6f, 2.6f, 9.4f});
   return {ground, paving, walls, roofs, furniture};
+}
+
+namespace {
+
+// Paints `rgba` over the cells whose centres lie in [x0, x1) x [z0, z1) (metres).
+void paint(std::vector<uint8_t> &image, float x0, float z0, float x1, float z1,
+           std::array<uint8_t, 4> rgba) {
+  const float cell = 2 * kHalf / float(kVillageCells);
+  for (uint32_t z = 0; z < kVillageCells; ++z)
+    for (uint32_t x = 0; x < kVillageCells; ++x) {
+      const float cx = -kHalf + (float(x) + 0.5f) * cell, cz = -kHalf + (float(z) + 0.5f) * cell;
+      if (cx >= x0 && cx < x1 && cz >= z0 && cz < z1)
+        std::copy(rgba.begin(), rgba.end(), &image[4 * (size_t(z) * kVillageCells + x)]);
+    }
+}
+
+} // namespace
+
+std::vector<uint8_t> villageBehaviours() {
+  std::vector<uint8_t> image(size_t(kVillageCells) * kVillageCells * 4);
+  paint(image, -kHalf, -kHalf, kHalf, kHalf, {0, 255, 0, 255}); // wander
+  paint(image, -12, 2, 12, 8, {0, 0, 255, 255});                // to the bus stop
+  paint(image, -6, -36, 6, -30, {255, 0, 0, 255});              // the market: wait
+  paint(image, 36, -kHalf, kHalf, kHalf, {255, 255, 0, 255});   // the east edge: turn
+  return image;
+}
+
+std::vector<uint8_t> villageCallbacks() {
+  std::vector<uint8_t> image(size_t(kVillageCells) * kVillageCells * 4, 0);
+  const uint8_t *c = kVillageBusStopColour;
+  paint(image, -3, 8, 1, 8.9f, {c[0], c[1], c[2], 255}); // the queue in front of the bench
+  return image;
 }
 
 } // namespace crowd::samples

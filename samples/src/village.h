@@ -21,4 +21,16 @@ struct VillagePart {
 
 std::vector<VillagePart> villageParts();
 
+// The village's behaviour and callback images for the agents (runtime/agents.h), one RGBA pixel
+// per cell of its terrain baked at the default 0.25 m (320 x 320), row 0 at z = -40: behaviours
+// wander (green) everywhere but a band of the square that draws agents to the bus stop (blue,
+// with the attractor kVillageBusStop), a market on the terrace where they stop a while (red)
+// and the east edge where they turn back (yellow); the callbacks mark the bus stop's queue
+// (kVillageBusStopColour).
+inline constexpr uint32_t kVillageCells = 320;
+inline constexpr float kVillageBusStop[2] = {-1.0f, 8.4f}; // x, z
+inline constexpr uint8_t kVillageBusStopColour[3] = {0, 0, 255};
+std::vector<uint8_t> villageBehaviours();
+std::vector<uint8_t> villageCallbacks();
+
 } // namespace crowd::samples

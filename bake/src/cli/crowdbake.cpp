@@ -52,7 +52,7 @@ example:
 )";
 
 const char *const kSamplesHelp = R"(Writes humanoid.glb, outfit_dress.glb, outfit_jumper_skirt.glb
-and outfit_shirt_trousers.glb into DIR, the environment village.glb (for crowdbake terrain), and the cloth caches of the dress's garment "dress" (PC2,
+and outfit_shirt_trousers.glb into DIR, the environment village.glb (for crowdbake terrain) with its agents' images village_behaviour.png and village_callbacks.png, and the cloth caches of the dress's garment "dress" (PC2,
 30 fps, every vertex in the glTF's order; simulated, about 5 s): skirt_walk.pc2 and
 skirt_run.pc2 (a loose skirt over 40 walk or run cycles), skirt_stiff.pc2 (a stiff one that
 settles, 8 walk cycles) and noise.pc2 (never repeats). The output is deterministic: the same

@@ -23,6 +23,8 @@
 #include "crowd/formats/error.h"
 #include "crowd/formats/impostor.h"
 #include "crowd/formats/limits.h"
+#include "crowd/formats/registry.h"
+#include "crowd/formats/terrain.h"
 #include "crowd/runtime/character_types.h"
 #include "crowd/runtime/crowd_renderer.h"
 #include "crowd/runtime/preview_scene.h"
@@ -328,12 +330,60 @@ struct Crowd {
   std::vector<crowd::pack::ImpostorPack> impostorPacks;
   std::vector<const crowd::pack::Impostor *> impostors; // per pack, null for none
 
+  std::unique_ptr<crowd::runtime::SceneWorld> world; // the scene's "world", if any
+
   std::unique_ptr<crowd::runtime::CrowdRenderer> renderer(crowd::runtime::Scene scene) const {
     auto types = crowd::runtime::characterTypes(scene, packs, impostors);
-    return std::make_unique<crowd::runtime::CrowdRenderer>(types.packs, types.impostors, scene,
-                                                           types.cloths);
+    auto r = std::make_unique<crowd::runtime::CrowdRenderer>(types.packs, types.impostors, scene,
+                                                             types.cloths);
+    if (world)
+      r->attachWorld(*world);
+    return r;
   }
 };
+
+// An image of a scene's world as RGBA8 rows (the first row at the terrain's lowest z); none
+// for an empty path.
+crowd::runtime::RgbaImage readRgba(const std::string &path) {
+  crowd::runtime::RgbaImage image;
+  if (path.empty())
+    return image;
+  auto in = OIIO::ImageInput::open(path);
+  if (!in)
+    throw crowd::Error(path + ": cannot read the image (" + OIIO::geterror() + ")");
+  const OIIO::ImageSpec &spec = in->spec();
+  if (spec.width <= 0 || spec.height <= 0 || spec.width > crowd::limits::kScreenSide ||
+      spec.height > crowd::limits::kScreenSide || spec.nchannels < 3)
+    throw crowd::Error(path + ": expected an RGB or RGBA image of at most " +
+                       std::to_string(crowd::limits::kScreenSide) + " pixels a side");
+  std::vector<uint8_t> pixels(size_t(spec.width) * size_t(spec.height) * size_t(spec.nchannels));
+  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::UINT8, pixels.data()))
+    throw crowd::Error(path + ": cannot read the image (" + in->geterror() + ")");
+  image.width = uint32_t(spec.width), image.height = uint32_t(spec.height);
+  for (size_t i = 0; i < size_t(spec.width) * size_t(spec.height); ++i)
+    for (int k = 0; k < 4; ++k)
+      image.rgba.push_back(k < spec.nchannels ? pixels[i * size_t(spec.nchannels) + size_t(k)]
+                                              : uint8_t(255));
+  return image;
+}
+
+// The scene's world: its terrain pack and images, and the agents over them.
+std::unique_ptr<crowd::runtime::SceneWorld> loadWorld(const crowd::runtime::Scene &scene) {
+  const auto &w = scene.world;
+  if (!std::filesystem::exists(w.terrainPath))
+    throw crowd::Error(scene.path + ": terrain pack '" + w.terrainPath +
+                       "' does not exist (bake it: crowdbake terrain)");
+  const auto reader = crowd::pack::Reader::open(w.terrainPath);
+  const auto *chunk = reader.find(crowd::pack::kTerrain);
+  if (!chunk)
+    throw crowd::Error(w.terrainPath + ": holds no terrain (bake it with crowdbake terrain)");
+  return std::make_unique<crowd::runtime::SceneWorld>(
+      scene,
+      crowd::pack::decodeTerrain(
+          reader.payload(*chunk),
+          crowd::pack::chunkContext(reader, size_t(chunk - reader.chunks().data()))),
+      readRgba(w.behaviourPath), readRgba(w.callbackPath));
+}
 
 // A pack preview's clip or outfit by name (-1 for ""); an error lists the names there are.
 int pick(const std::vector<std::string> &names, const std::string &name, const char *what) {
@@ -546,6 +596,8 @@ int main(int argc, char **argv) {
         crowd.impostors[k] = &crowd.impostorPacks[k].impostor;
       }
     }
+    if (scene.world.enabled())
+      crowd.world = loadWorld(scene);
     o.draw.budget = o.budget >= 0 ? uint64_t(o.budget) : scene.budget;
     Glfw glfw;
     GLFWwindow *win =

@@ -9,7 +9,8 @@
 // (crowdbake outfits) draw their outfit's sub-meshes only, through per-sub-mesh render queues of
 // the visible instances (render_queues.h). Instances changing clip (clip_switch.h) crossfade on
 // the GPU. Garments with cloth loops (crowdbake cloth) play them in phase with the body clip
-// (cloth_playback.h). Needs a current GL 4.5 context.
+// (cloth_playback.h). A scene's world (world.h) moves the instances as agents over its
+// environment, drawn first. Needs a current GL 4.5 context.
 #pragma once
 #include <cstdint>
 #include <memory>
@@ -24,8 +25,11 @@
 #include "crowd/runtime/cloth_playback.h"
 #include "crowd/runtime/lod_select.h"
 #include "crowd/runtime/scene.h"
+#include "crowd/runtime/world.h"
 
 namespace crowd::runtime {
+
+class EnvironmentRenderer;
 
 struct DrawStats {
   uint32_t drawCalls = 0;  // a multi-draw counts one
@@ -35,6 +39,7 @@ struct DrawStats {
   uint64_t triangles = 0;  // two per impostor
   double cullSelectMs = 0; // CPU time of the clip schedule, culling, the impostor split, LOD
                            // selection and queues
+  double agentsMs = 0;     // CPU time of a world's agents up to the frame and their placing
 };
 
 class CrowdRenderer {
@@ -54,8 +59,16 @@ public:
   // Hybrid falls back to instanced geometry for characters without an impostor.
   DrawStats draw(const FrameView &view, float seconds, const DrawOptions &options);
 
+  // A scene with a "world": its agents place the instances and choose their clips from then
+  // on, and its environment is drawn before them. The world must outlive the renderer.
+  void attachWorld(SceneWorld &world);
+
 private:
   struct Character;
+  // Writes character ci's instances where the world's agents stand, with their clips.
+  void moveInstances(Character &c, size_t ci, double seconds);
+  SceneWorld *world_ = nullptr;
+  std::unique_ptr<EnvironmentRenderer> environment_;
   // Writes the instances' clips and fades at `seconds` (the schedule's) into character ci's
   // instance data, and which of them may draw as impostors.
   void updateClips(Character &c, size_t ci, double seconds);

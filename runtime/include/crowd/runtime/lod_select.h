@@ -126,6 +126,8 @@ public:
                     const std::array<float, 4> *sphere = nullptr);
   // World transform: rotation `yaw` about +Y, then `position`.
   void addInstance(const glm::vec3 &position, float yaw, bool eligible);
+  // Moves instance i of character ci (an agent walking).
+  void moveInstance(size_t ci, size_t i, const glm::vec3 &position, float yaw);
 
   struct Result {
     uint32_t visible = 0, impostors = 0;

@@ -9,6 +9,8 @@
 
 #include <glm/glm.hpp>
 
+#include "crowd/runtime/agents.h"
+
 namespace crowd::runtime {
 
 struct CameraKey {
@@ -54,6 +56,25 @@ struct Instance {
   ClipFade fade;
 };
 
+// The scene's "world" (seed 003): the instances are agents walking a baked environment
+// (world.h). Paths resolve against the scene file's folder.
+struct WorldSettings {
+  std::string terrainPath;   // a crowdbake terrain pack; empty: no world
+  std::string behaviourPath; // RGBA image of the terrain's grid: a behaviour per colour
+  std::string callbackPath;  // RGBA image of the terrain's grid: a callback per colour
+  struct BusStop {           // the "bus_stop" callback: holds agents, releasing them on a timer
+    uint8_t colour[3] = {0, 0, 0};
+    double every = 20; // seconds
+  };
+  std::vector<BusStop> busStops;
+  std::vector<glm::vec2> attractors; // world x, z
+  std::vector<SpawnArea> spawn;      // the instances, area by area
+  uint32_t clips[3] = {0, 1, 2};     // scene clips played standing, walking, running
+  double fade = 0.3;                 // seconds a clip change crossfades
+  AgentSettings agents;
+  bool enabled() const { return !terrainPath.empty(); }
+};
+
 struct Scene {
   std::string path;
   std::vector<std::string> packPaths; // resolved against the scene file's folder
@@ -72,6 +93,7 @@ struct Scene {
   std::vector<std::vector<std::pair<std::string, glm::vec3>>> palettes;
   Camera camera;
   glm::vec3 lightDirection = glm::normalize(glm::vec3(0.4f, 1.0f, 0.6f));
+  WorldSettings world;
   // Triangles the player may draw a frame (LOD chooses each instance's detail to fit); 0: none.
   uint64_t budget = 0;
 };

@@ -11,7 +11,8 @@ namespace crowd::samples {
 inline const std::vector<std::string> kFiles = {
     "humanoid.glb", "outfit_dress.glb", "outfit_jumper_skirt.glb", "outfit_shirt_trousers.glb"};
 
-// The sample environment for the terrain bake (village.h): ground, steps, buildings, a square.
+// The sample environment for the terrain bake (village.h): ground, steps, buildings, a square;
+// writeSamples also writes its agents' images, village_behaviour.png and village_callbacks.png.
 inline const std::string kVillageFile = "village.glb";
 
 // Writes every sample into `dir` (created if missing); throws crowd::Error on failure.
