@@ -58,6 +58,9 @@ uniform mat4 u_rootBind; // the top joint's bind matrix
 uniform bool u_naive;
 uniform vec4 u_rows[3];
 uniform vec4 u_params[2]; // an Instance's params and fade
+// A world's shadow pass: xyz towards the light, w = 1: every vertex goes along the light onto
+// the ground the instance stands on (its translation's height), 2 cm up.
+uniform vec4 u_shadow;
 
 out vec3 v_normal;
 out vec4 v_colour; // A: how much the diffuse texture applies
@@ -290,6 +293,8 @@ void main() {
   vec3 world = vec3(dot(rows[0], vec4(skinned, 1)), dot(rows[1], vec4(skinned, 1)),
                     dot(rows[2], vec4(skinned, 1)));
   v_normal = vec3(dot(rows[0].xyz, normal), dot(rows[1].xyz, normal), dot(rows[2].xyz, normal));
+  if (u_shadow.w > 0.5)
+    world -= u_shadow.xyz * ((world.y - rows[1].w - 0.02) / max(u_shadow.y, 0.05));
   v_world = world;
   v_uv = a_uv;
   v_colour = colours[int(params.w) * u_subMeshCount + u_subMesh];

@@ -23,12 +23,15 @@ uniform float u_frameStep;     // seconds between frames
 uniform float u_texelSize;     // model units per texel: 2 radius / texels
 uniform float u_oneToOne;      // distance where a texel covers a pixel
 uniform int u_maxLevel;
+// A world's shadow pass (crowd.vert's): the view from the light, flat on the ground.
+uniform vec4 u_shadow;
 
 out vec2 v_texel;              // texels from the crop's corner, as drawn (before flipping)
 flat out vec4 v_rect;
 flat out int v_layer, v_level, v_flip;
 flat out vec3 v_rows0, v_rows1, v_rows2;
 flat out float v_palette;
+out vec3 v_world;
 
 const float PI = 3.14159265358979;
 
@@ -38,7 +41,7 @@ void main() {
   vec4 params = instances[id].params;
   mat3 toLocal = mat3(rows[0].xyz, rows[1].xyz, rows[2].xyz); // the inverse rotation
   vec3 centre = transpose(toLocal) * u_sphere.xyz + vec3(rows[0].w, rows[1].w, rows[2].w);
-  vec3 toEye = toLocal * (u_eye - centre);
+  vec3 toEye = toLocal * (u_shadow.w > 0.5 ? u_shadow.xyz : u_eye - centre);
 
   int A = u_layout.x, E = u_layout.y, stored = u_layout.z, F = u_layout.w;
   vec4 clip = clips[int(params.x)];
@@ -73,6 +76,9 @@ void main() {
                up * ((pivot.y - texel.y) * u_texelSize);
   vec3 world = vec3(dot(rows[0], vec4(local, 1)), dot(rows[1], vec4(local, 1)),
                     dot(rows[2], vec4(local, 1)));
+  if (u_shadow.w > 0.5)
+    world -= u_shadow.xyz * ((world.y - rows[1].w - 0.02) / max(u_shadow.y, 0.05));
+  v_world = world;
   gl_Position = u_viewProjection * vec4(world, 1.0);
 
   v_texel = texel;

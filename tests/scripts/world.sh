@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # crowdplay with a world (issue 16): samples/scenes/village.json's agents walk the sample
-# village's terrain and draw (headless, Mesa under Xvfb); a behaviour image of another size than
-# the terrain's grid and a missing terrain pack are one-line errors.
+# village's terrain and draw (headless, Mesa under Xvfb); a walker casts its shadow on the ground;
+# a behaviour image of another size than the terrain's grid and a missing terrain pack are
+# one-line errors.
 set -euo pipefail
 bin=$1 work=$2 src=$3
 rm -rf "$work" && mkdir -p "$work/samples/scenes" "$work/out" && cd "$work"
@@ -28,6 +29,44 @@ import json
 s = json.load(open('v.json'))['summary']
 assert s['instances'] == 400 and s['visible'] > 0, s
 print('ok: village, 400 agents:', {k: s[k] for k in ('instances', 'visible', 'impostors')})
+PY
+# One walker on the square at its spawn, seen from the side its shadow falls to (the light is
+# the terrain's, 0.4,1,0.3): the paving under its shadow is darkened (x 0.55), and nothing else
+# in view is.
+python3 - <<'PY'
+import json
+s = json.load(open('samples/scenes/village.json'))
+s['world'].update({'spawn': [{'min': [0.1, 0.1], 'max': [0.1, 0.1], 'count': 1}], 'runners': 0})
+del s['world']['behaviour'], s['world']['callbacks']
+s['camera'] = {'position': [-2.5, 2.5, -2.5], 'target': [0, 0.3, 0], 'fov': 50}
+json.dump(s, open('samples/scenes/one.json', 'w'))
+PY
+rc=$(play samples/scenes/one.json --frames 1 --time 0 --screenshot one.png)
+[ "$rc" = 0 ] || fail "one walker (exit $rc): $(cat err.txt)"
+python3 - <<'PY'
+import struct, zlib
+data = open('one.png', 'rb').read()
+w, h, depth, kind = struct.unpack('>IIBB', data[16:26])
+chunks, at = b'', 8
+while at < len(data):
+    n, tag = struct.unpack('>I4s', data[at:at + 8])
+    if tag == b'IDAT': chunks += data[at + 8:at + 8 + n]
+    at += 12 + n
+raw, bpp = zlib.decompress(chunks), {2: 3, 6: 4}[kind]
+rows, prev, i = [], bytearray(w * bpp), 0
+for y in range(h):
+    f, line = raw[i], bytearray(raw[i + 1:i + 1 + w * bpp]); i += 1 + w * bpp
+    for x in range(len(line)):
+        a = line[x - bpp] if x >= bpp else 0; b = prev[x]; c = prev[x - bpp] if x >= bpp else 0
+        p = a + b - c; pr = a if abs(p - a) <= abs(p - b) and abs(p - a) <= abs(p - c) else b if abs(p - b) <= abs(p - c) else c
+        line[x] = (line[x] + [0, a, b, (a + b) // 2, pr][f]) & 255
+    rows.append(line); prev = line
+def count(lo, hi):
+    return sum(1 for r in rows for x in range(w) if all(lo[k] <= r[x * bpp + k] <= hi[k] for k in range(3)))
+lit = count((136, 132, 122), (156, 152, 142))    # the paving lit: 0.926 x its colour
+shade = count((70, 68, 63), (90, 88, 83))        # x 0.55: under a shadow
+assert lit > 10000 and shade > 100, (lit, shade)
+print(f'ok: one walker\'s shadow: {shade} darkened paving pixels against {lit} lit')
 PY
 cb export out/humanoid.crowdpack --images tex >/dev/null
 sed 's|../../out/samples/village_behaviour.png|../../tex/diffuse.png|' \

@@ -239,9 +239,9 @@ int headless(const Options &o, crowd::runtime::CrowdRenderer &renderer,
   glCreateRenderbuffers(1, &colour);
   glCreateRenderbuffers(1, &depth);
   glNamedRenderbufferStorage(colour, GL_RGBA8, o.width, o.height);
-  glNamedRenderbufferStorage(depth, GL_DEPTH_COMPONENT24, o.width, o.height);
+  glNamedRenderbufferStorage(depth, GL_DEPTH24_STENCIL8, o.width, o.height); // stencil: shadows
   glNamedFramebufferRenderbuffer(fbo, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, colour);
-  glNamedFramebufferRenderbuffer(fbo, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
+  glNamedFramebufferRenderbuffer(fbo, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, depth);
   if (glCheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
     throw crowd::Error("cannot create a " + std::to_string(o.width) + "x" +
                        std::to_string(o.height) + " offscreen target");

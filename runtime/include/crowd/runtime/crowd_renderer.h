@@ -67,6 +67,8 @@ private:
   struct Character;
   // Writes character ci's instances where the world's agents stand, with their clips.
   void moveInstances(Character &c, size_t ci, double seconds);
+  // With a world: the shadow pass's state and uniforms (on) or the normal pass's (off).
+  void setShadowPass(bool on);
   SceneWorld *world_ = nullptr;
   std::unique_ptr<EnvironmentRenderer> environment_;
   // Writes the instances' clips and fades at `seconds` (the schedule's) into character ci's

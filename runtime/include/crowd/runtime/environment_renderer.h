@@ -15,6 +15,10 @@ public:
   EnvironmentRenderer(const EnvironmentRenderer &) = delete;
   EnvironmentRenderer &operator=(const EnvironmentRenderer &) = delete;
   void draw(const glm::mat4 &viewProjection, const glm::vec3 &lightDirection) const;
+  // The shadow height map (R32F, a texel a cell) and its grid (origin x, z, 1 / cell, 1), for
+  // the characters' shaders to darken what stands in a building's shadow.
+  unsigned shadowHeights() const { return shadowTexture_; }
+  glm::vec4 grid() const { return {grid_.x, grid_.y, grid_.z, 1.0f}; }
 
 private:
   unsigned program_ = 0, vao_ = 0, buffers_[4] = {}, shadowTexture_ = 0;
