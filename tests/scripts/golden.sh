@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Golden packs, one per bake (anim, lod, outfits, impostor, cloth and a character pack built from a
-# manifest holding all of them), in tests/golden. Each fresh bake is compared with its golden by
+# Golden packs, one per bake (anim, lod, outfits, impostor, cloth, terrain and a character pack
+# built from a manifest holding all of them), in tests/golden. Each fresh bake is compared with its golden by
 # `crowdbake diff` under its default tolerances (exit 0 needed), and must also be byte-identical
 # where this crowdbake was built with the toolchain the goldens were (tests/golden/toolchain.txt):
 # on another compiler or C library, floats may round differently and the tolerance check decides.
@@ -36,6 +36,7 @@ bake humanoid_walk.impostor impostor s/humanoid.glb --clip walk --frames 2 --vie
 bake skirt_stiff.cloth cloth s/skirt_stiff.pc2 --body s/humanoid.glb --outfit s/outfit_dress.glb \
   --garment dress --clip walk --fps 30
 bake villager.character build villager.json
+bake village.terrain terrain s/village.glb --cell 1
 
 toolchain=$(cb --version | sed -n 's/^built with //p')
 if [ "${CROWD_UPDATE_GOLDEN:-0}" = 1 ]; then

@@ -28,6 +28,14 @@ for f in heights.exr walkable.png shadow_heights.exr; do
   [ -s "maps/$f" ] || fail "export wrote no maps/$f"
 done
 
+# crowdbake diff compares terrains map by map: another light moves the shadow heights only.
+cb diff one.crowdpack two.crowdpack > /dev/null || fail "diff of two equal bakes"
+cb terrain s/village.glb -o low_sun.crowdpack --light 1,0.5,0 -q
+rc=0; cb diff one.crowdpack low_sun.crowdpack > diff.txt || rc=$?
+[ $rc = 2 ] && grep -q "fail .*TERR .*shadow heights: .* mm, cell (" diff.txt &&
+  grep -q "pass .*TERR .*heights: 0 mm" diff.txt || fail "diff of another light (exit $rc): $(cat diff.txt)"
+echo "ok: diff: $(grep 'shadow heights' diff.txt)"
+
 expect() { # expect CODE PATTERN crowdbake-arguments...
   local code=$1 pattern=$2 rc=0; shift 2
   cb "$@" > out.txt 2> err.txt || rc=$?

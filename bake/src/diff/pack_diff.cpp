@@ -14,6 +14,7 @@
 #include "crowd/formats/cloth.h"
 #include "crowd/formats/error.h"
 #include "crowd/formats/impostor.h"
+#include "crowd/formats/terrain.h"
 #include "crowd/runtime/texture_skinning.h"
 
 namespace crowd {
@@ -202,6 +203,8 @@ private:
       impostor(key);
     else if (type == "CLTH")
       cloth(key);
+    else if (type == "TERR")
+      terrain(key);
     else // outfits, vertex sources: exact, or they fail
       add({key, "content", 1, "", "differs (compared exactly)", DiffVerdict::Fail});
   }
@@ -482,6 +485,41 @@ private:
     item.worst += " (RMS " + format("%.4g", n ? std::sqrt(squares / double(n)) : 0.0) + " mm)";
     item.verdict = grade(item.value, tol_.clothMm);
     add(item);
+  }
+
+  // A terrain: the same grid and walkable map exactly; heights, shadow heights and the
+  // environment's mesh within the position tolerance (model units are metres: 1000 mm each).
+  void terrain(const std::string &key) {
+    const auto a = pack::decodeTerrain(golden_.payload(key), golden_.context(key));
+    const auto b = pack::decodeTerrain(fresh_.payload(key), fresh_.context(key));
+    if (a.width != b.width || a.depth != b.depth || a.cell != b.cell || a.originX != b.originX ||
+        a.originZ != b.originZ || a.positions.size() != b.positions.size() ||
+        a.indices != b.indices)
+      return incomparable(key, "another grid (" + std::to_string(b.width) + "x" +
+                                   std::to_string(b.depth) + " cells) or another mesh");
+    size_t ground = 0, first = 0;
+    for (size_t i = 0; i < a.cells(); ++i)
+      if (a.ground[i] != b.ground[i] && !ground++)
+        first = i;
+    add({key, "walkable map", double(ground), "cells",
+         ground ? "first at cell (" + std::to_string(first % a.width) + ", " +
+                      std::to_string(first / a.width) + ")"
+                : "",
+         ground ? DiffVerdict::Fail : DiffVerdict::Pass});
+    auto compare = [&](const char *what, const std::vector<float> &x, const std::vector<float> &y,
+                       bool cells) {
+      DiffItem item{key, what, 0, "mm", "", DiffVerdict::Pass};
+      for (size_t i = 0; i < x.size(); ++i)
+        worse(item, 1000.0 * std::abs(double(x[i]) - y[i]),
+              cells ? "cell (" + std::to_string(i % a.width) + ", " + std::to_string(i / a.width) +
+                          ")"
+                    : "vertex " + std::to_string(i / 3));
+      item.verdict = grade(item.value, tol_.positionMm);
+      add(item);
+    };
+    compare("heights", a.heights, b.heights, true);
+    compare("shadow heights", a.shadowHeights, b.shadowHeights, true);
+    compare("environment positions", a.positions, b.positions, false);
   }
 
   Side golden_, fresh_;
