@@ -453,6 +453,96 @@ void CrowdRenderer::moveInstances(Character &c, size_t ci, double seconds) {
   }
 }
 
+void CrowdRenderer::drawCharacter(const Character &c, const CrowdSelection::Character &chosen,
+                                  const RenderQueues &queues, const FrameView &view, float seconds,
+                                  bool naive, bool shadow, DrawStats &stats) {
+  auto loc = [&](const char *name) { return glGetUniformLocation(program_, name); };
+  const int subMeshLoc = loc("u_subMesh"), rowsLoc = loc("u_rows"), paramsLoc = loc("u_params");
+  static_assert(kInstanceFloats == 20); // u_params[2]: an instance's params and fade
+  const auto &p = *c.pack;
+  const size_t subMeshes = p.mesh.subMeshes.size(), levels = chosen.runEnds.size();
+  glUseProgram(program_);
+  glUniform1i(loc("u_frameTexels"), int(p.animation.frameTexels()));
+  glUniform1i(loc("u_framesPerRow"), int(p.animation.framesPerRow));
+  glUniform1i(loc("u_skinWidth"), int(p.skin.width));
+  glUniform1i(loc("u_subMeshCount"), int(subMeshes));
+  glBindVertexArray(c.vao);
+  glBindTextureUnit(0, c.textures[0]);
+  glBindTextureUnit(1, c.textures[1]);
+  glBindTextureUnit(2, c.textures[2]);
+  glUniform1i(loc("u_hasTexture"), p.diffuse ? 1 : 0);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, c.buffers[3]);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, c.buffers[4]);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, c.buffers[5]);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, c.buffers[11]);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, c.buffers[12]);
+  glUniform1i(loc("u_morphs"), p.morphs ? 1 : 0);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, c.buffers[13]);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, c.buffers[14]);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, c.buffers[15]);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, c.buffers[16]);
+  glUniform1i(loc("u_cloth"), c.cloth.empty() ? 0 : 1);
+  glUniform1i(loc("u_clothClips"), int(c.cloth.clips));
+  glUniform1i(loc("u_rootJoint"), int(c.cloth.rootJoint));
+  glUniformMatrix4fv(loc("u_rootBind"), 1, GL_FALSE, glm::value_ptr(c.cloth.rootBind));
+  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, c.buffers[10]);
+  size_t command = 0;
+  for (size_t s = 0; s < subMeshes; ++s) {
+    glUniform1i(subMeshLoc, int(s));
+    if (naive) { // full detail: the last level
+      const uint32_t *starts = &c.levelStarts[(levels - 1) * (subMeshes + 1)];
+      const void *offset = reinterpret_cast<const void *>(uintptr_t(starts[s]) * 4);
+      const auto count = GLsizei(starts[s + 1] - starts[s]);
+      for (uint32_t i = 0; i < c.instanceCount; ++i) {
+        const auto &draws = queues.draws(c.outfitOf[i]);
+        if (!std::binary_search(draws.begin(), draws.end(), uint32_t(s)))
+          continue;
+        glUniform4fv(rowsLoc, 3, &c.instanceData[i * kInstanceFloats]);
+        glUniform4fv(paramsLoc, 2, &c.instanceData[i * kInstanceFloats + 12]);
+        glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT, offset);
+        ++stats.drawCalls;
+        stats.triangles += uint64_t(count / 3);
+      }
+      continue;
+    }
+    if (c.perSubMesh[s]) {
+      glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT,
+                                  reinterpret_cast<const void *>(command * 20), c.perSubMesh[s], 0);
+      ++stats.drawCalls;
+    }
+    command += size_t(c.perSubMesh[s]);
+  }
+  if (!chosen.impostorIds.empty()) {
+    const pack::Impostor &m = *c.impostor;
+    glUseProgram(impostorProgram_);
+    auto iloc = [&](const char *name) { return glGetUniformLocation(impostorProgram_, name); };
+    glUniformMatrix4fv(iloc("u_viewProjection"), 1, GL_FALSE, glm::value_ptr(view.viewProjection));
+    glUniform1f(iloc("u_time"), seconds);
+    glUniform3fv(iloc("u_eye"), 1, glm::value_ptr(view.eye));
+    glUniform4fv(iloc("u_sphere"), 1, m.sphere.data());
+    glUniform4i(iloc("u_layout"), int(m.azimuths), int(m.elevations), int(m.storedAzimuths()),
+                int(m.frames));
+    glUniform1i(iloc("u_mirrored"), m.mirrored);
+    glUniform1f(iloc("u_frameStep"), m.frameStep > 0 ? m.frameStep : 1.0f);
+    glUniform1f(iloc("u_texelSize"), 2.0f * m.sphere[3] / float(m.texels));
+    glUniform1f(iloc("u_oneToOne"), float(oneToOneDistance(m, view.fovY, view.viewportHeight)));
+    glUniform1i(iloc("u_maxLevel"), int(c.mipLevels) - 1);
+    glUniform1i(iloc("u_hasTexture"), p.diffuse ? 1 : 0);
+    glUniform1i(iloc("u_hasUvs"), !m.uvs.empty());
+    glUniform1i(iloc("u_subMeshCount"), int(p.mesh.subMeshes.size()));
+    glUniform3fv(iloc("u_lightDirection"), 1, glm::value_ptr(light_));
+    glBindTextureUnit(0, c.textures[3]);
+    glBindTextureUnit(1, c.textures[4]);
+    glBindTextureUnit(3, c.textures[5]);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, c.buffers[8]);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, c.buffers[9]);
+    glDrawArraysInstanced(GL_TRIANGLES, 0, 6, GLsizei(chosen.impostorIds.size()));
+    ++stats.drawCalls;
+    if (!shadow)
+      stats.triangles += 2 * uint64_t(chosen.impostorIds.size());
+  }
+}
+
 DrawStats CrowdRenderer::draw(const FrameView &view, float seconds, const DrawOptions &options) {
   DrawStats stats;
   const bool naive = options.path == DrawPath::Naive;
@@ -497,8 +587,6 @@ DrawStats CrowdRenderer::draw(const FrameView &view, float seconds, const DrawOp
   glUniform1f(loc("u_time"), seconds);
   glUniform3fv(loc("u_lightDirection"), 1, glm::value_ptr(light_));
   glUniform1i(loc("u_naive"), naive);
-  const int subMeshLoc = loc("u_subMesh"), rowsLoc = loc("u_rows"), paramsLoc = loc("u_params");
-  static_assert(kInstanceFloats == 20); // u_params[2]: an instance's params and fade
   for (size_t ci = 0; ci < characters_.size(); ++ci) {
     Character *c = characters_[ci].get();
     const auto &chosen = selection_.characters[ci];
@@ -506,7 +594,7 @@ DrawStats CrowdRenderer::draw(const FrameView &view, float seconds, const DrawOp
     if (c->instanceCount == 0)
       continue;
     const auto &p = *c->pack;
-    const size_t subMeshes = p.mesh.subMeshes.size(), levels = chosen.runEnds.size();
+    const size_t subMeshes = p.mesh.subMeshes.size();
     RenderQueues &queues = c->queues[options.wholeBody];
     const auto t0 = std::chrono::steady_clock::now();
     queues.build(chosen.ids, chosen.runEnds, c->outfitOf);
@@ -532,90 +620,8 @@ DrawStats CrowdRenderer::draw(const FrameView &view, float seconds, const DrawOp
     // With a world, a shadow pass first (seed 003 §4.5): every character flat on its ground
     // along the light, each pixel darkened once (stencil), behind what is nearer (depth).
     for (int pass = world_ && !naive ? 0 : 1; pass < 2; ++pass) {
-      const bool shadow = pass == 0;
-      setShadowPass(shadow);
-      glUseProgram(program_);
-      glUniform1i(loc("u_frameTexels"), int(p.animation.frameTexels()));
-      glUniform1i(loc("u_framesPerRow"), int(p.animation.framesPerRow));
-      glUniform1i(loc("u_skinWidth"), int(p.skin.width));
-      glUniform1i(loc("u_subMeshCount"), int(subMeshes));
-      glBindVertexArray(c->vao);
-      glBindTextureUnit(0, c->textures[0]);
-      glBindTextureUnit(1, c->textures[1]);
-      glBindTextureUnit(2, c->textures[2]);
-      glUniform1i(loc("u_hasTexture"), p.diffuse ? 1 : 0);
-      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, c->buffers[3]);
-      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, c->buffers[4]);
-      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, c->buffers[5]);
-      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, c->buffers[11]);
-      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, c->buffers[12]);
-      glUniform1i(loc("u_morphs"), p.morphs ? 1 : 0);
-      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, c->buffers[13]);
-      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, c->buffers[14]);
-      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, c->buffers[15]);
-      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, c->buffers[16]);
-      glUniform1i(loc("u_cloth"), c->cloth.empty() ? 0 : 1);
-      glUniform1i(loc("u_clothClips"), int(c->cloth.clips));
-      glUniform1i(loc("u_rootJoint"), int(c->cloth.rootJoint));
-      glUniformMatrix4fv(loc("u_rootBind"), 1, GL_FALSE, glm::value_ptr(c->cloth.rootBind));
-      glBindBuffer(GL_DRAW_INDIRECT_BUFFER, c->buffers[10]);
-      size_t command = 0;
-      for (size_t s = 0; s < subMeshes; ++s) {
-        glUniform1i(subMeshLoc, int(s));
-        if (naive) { // full detail: the last level
-          const uint32_t *starts = &c->levelStarts[(levels - 1) * (subMeshes + 1)];
-          const void *offset = reinterpret_cast<const void *>(uintptr_t(starts[s]) * 4);
-          const auto count = GLsizei(starts[s + 1] - starts[s]);
-          for (uint32_t i = 0; i < c->instanceCount; ++i) {
-            const auto &draws = queues.draws(c->outfitOf[i]);
-            if (!std::binary_search(draws.begin(), draws.end(), uint32_t(s)))
-              continue;
-            glUniform4fv(rowsLoc, 3, &c->instanceData[i * kInstanceFloats]);
-            glUniform4fv(paramsLoc, 2, &c->instanceData[i * kInstanceFloats + 12]);
-            glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT, offset);
-            ++stats.drawCalls;
-            stats.triangles += uint64_t(count / 3);
-          }
-          continue;
-        }
-        if (c->perSubMesh[s]) {
-          glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT,
-                                      reinterpret_cast<const void *>(command * 20),
-                                      c->perSubMesh[s], 0);
-          ++stats.drawCalls;
-        }
-        command += size_t(c->perSubMesh[s]);
-      }
-      if (!chosen.impostorIds.empty()) {
-        const pack::Impostor &m = *c->impostor;
-        glUseProgram(impostorProgram_);
-        auto iloc = [&](const char *name) { return glGetUniformLocation(impostorProgram_, name); };
-        glUniformMatrix4fv(iloc("u_viewProjection"), 1, GL_FALSE,
-                           glm::value_ptr(view.viewProjection));
-        glUniform1f(iloc("u_time"), seconds);
-        glUniform3fv(iloc("u_eye"), 1, glm::value_ptr(view.eye));
-        glUniform4fv(iloc("u_sphere"), 1, m.sphere.data());
-        glUniform4i(iloc("u_layout"), int(m.azimuths), int(m.elevations), int(m.storedAzimuths()),
-                    int(m.frames));
-        glUniform1i(iloc("u_mirrored"), m.mirrored);
-        glUniform1f(iloc("u_frameStep"), m.frameStep > 0 ? m.frameStep : 1.0f);
-        glUniform1f(iloc("u_texelSize"), 2.0f * m.sphere[3] / float(m.texels));
-        glUniform1f(iloc("u_oneToOne"), float(oneToOneDistance(m, view.fovY, view.viewportHeight)));
-        glUniform1i(iloc("u_maxLevel"), int(c->mipLevels) - 1);
-        glUniform1i(iloc("u_hasTexture"), p.diffuse ? 1 : 0);
-        glUniform1i(iloc("u_hasUvs"), !m.uvs.empty());
-        glUniform1i(iloc("u_subMeshCount"), int(p.mesh.subMeshes.size()));
-        glUniform3fv(iloc("u_lightDirection"), 1, glm::value_ptr(light_));
-        glBindTextureUnit(0, c->textures[3]);
-        glBindTextureUnit(1, c->textures[4]);
-        glBindTextureUnit(3, c->textures[5]);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, c->buffers[8]);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, c->buffers[9]);
-        glDrawArraysInstanced(GL_TRIANGLES, 0, 6, GLsizei(chosen.impostorIds.size()));
-        ++stats.drawCalls;
-        if (!shadow)
-          stats.triangles += 2 * uint64_t(chosen.impostorIds.size());
-      }
+      setShadowPass(pass == 0);
+      drawCharacter(*c, chosen, queues, view, seconds, naive, pass == 0, stats);
     }
   }
   setShadowPass(false);

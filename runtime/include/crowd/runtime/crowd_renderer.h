@@ -30,6 +30,7 @@
 namespace crowd::runtime {
 
 class EnvironmentRenderer;
+struct RenderQueues;
 
 struct DrawStats {
   uint32_t drawCalls = 0;  // a multi-draw counts one
@@ -69,6 +70,11 @@ private:
   void moveInstances(Character &c, size_t ci, double seconds);
   // With a world: the shadow pass's state and uniforms (on) or the normal pass's (off).
   void setShadowPass(bool on);
+  // One pass of character c: its geometry instances through their queues (or one by one on the
+  // naive path) and its impostors; in the shadow pass, flat on the ground.
+  void drawCharacter(const Character &c, const CrowdSelection::Character &chosen,
+                     const RenderQueues &queues, const FrameView &view, float seconds, bool naive,
+                     bool shadow, DrawStats &stats);
   SceneWorld *world_ = nullptr;
   std::unique_ptr<EnvironmentRenderer> environment_;
   // Writes the instances' clips and fades at `seconds` (the schedule's) into character ci's
