@@ -27,8 +27,8 @@ rc=$(play samples/scenes/village.json --instances 400 --frames 2 --time 25 --scr
 python3 - <<'PY'
 import json
 s = json.load(open('v.json'))['summary']
-assert s['instances'] == 400 and s['visible'] > 0, s
-print('ok: village, 400 agents:', {k: s[k] for k in ('instances', 'visible', 'impostors')})
+assert s['instances'] == 400 and s['visible'] > 0 and s['agents_ms'] > 0, s
+print('ok: village, 400 agents:', {k: s[k] for k in ('instances', 'visible', 'impostors', 'agents_ms')})
 PY
 # One walker on the square at its spawn, seen from the side its shadow falls to (the light is
 # the terrain's, 0.4,1,0.3): the paving under its shadow is darkened (x 0.55), and nothing else

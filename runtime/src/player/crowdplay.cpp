@@ -257,7 +257,7 @@ int headless(const Options &o, crowd::runtime::CrowdRenderer &renderer,
   const char *keys[9] = {"frame_ms", "gpu_ms",    "cull_select_ms", "draw_calls", "instances",
                          "visible",  "impostors", "triangles",      "vertices"};
   const int columns = vertexQuery ? 9 : 8;
-  double sums[9] = {};
+  double sums[9] = {}, agentsMs = 0;
   for (int f = 0; f < o.frames; ++f) {
     double t = o.startTime + f * o.step;
     auto t0 = std::chrono::steady_clock::now();
@@ -291,6 +291,7 @@ int headless(const Options &o, crowd::runtime::CrowdRenderer &renderer,
       row[keys[k]] = k < 3 ? nlohmann::ordered_json(v[k]) : nlohmann::ordered_json(uint64_t(v[k]));
       sums[k] += v[k];
     }
+    agentsMs += stats.agentsMs;
     frames.push_back(row);
   }
   if (!o.screenshot.empty()) {
@@ -300,6 +301,8 @@ int headless(const Options &o, crowd::runtime::CrowdRenderer &renderer,
   }
   nlohmann::ordered_json summary;
   summary["frames"] = o.frames;
+  if (scene.world.enabled()) // the agents' steps up to each frame and their placing, CPU
+    summary["agents_ms"] = agentsMs / o.frames;
   for (int k = 0; k < columns; ++k)
     summary[keys[k]] = sums[k] / o.frames;
   summary["whole_body"] = o.draw.wholeBody;
@@ -377,12 +380,18 @@ std::unique_ptr<crowd::runtime::SceneWorld> loadWorld(const crowd::runtime::Scen
   const auto *chunk = reader.find(crowd::pack::kTerrain);
   if (!chunk)
     throw crowd::Error(w.terrainPath + ": holds no terrain (bake it with crowdbake terrain)");
-  return std::make_unique<crowd::runtime::SceneWorld>(
+  auto world = std::make_unique<crowd::runtime::SceneWorld>(
       scene,
       crowd::pack::decodeTerrain(
           reader.payload(*chunk),
           crowd::pack::chunkContext(reader, size_t(chunk - reader.chunks().data()))),
       readRgba(w.behaviourPath), readRgba(w.callbackPath));
+  if (const uint32_t moved = world->crowd().figures().spawnedMoved)
+    std::fprintf(stderr,
+                 "crowdplay: %u agents spawned where they cannot stand (a building, a taken "
+                 "cell) were moved to the nearest free walkable cell\n",
+                 moved);
+  return world;
 }
 
 // A pack preview's clip or outfit by name (-1 for ""); an error lists the names there are.
