@@ -176,6 +176,13 @@ void checkTexturesFit(const pack::AnimationPack &p, const pack::Impostor *m,
     fit("impostor", m->atlasWidth, m->atlasHeight, m->frames);
 }
 
+// An instance's world transform, 3 rows of 3x4: rotation `yaw` about +Y, then `position`.
+void writeRows(float *d, const glm::vec3 &position, float yaw) {
+  const float cy = std::cos(yaw), sy = std::sin(yaw);
+  const float rows[12] = {cy, 0, sy, position.x, 0, 1, 0, position.y, -sy, 0, cy, position.z};
+  std::copy(rows, rows + 12, d);
+}
+
 } // namespace
 
 CrowdRenderer::CrowdRenderer(const std::vector<const pack::AnimationPack *> &packs,
@@ -241,11 +248,9 @@ CrowdRenderer::CrowdRenderer(const std::vector<const pack::AnimationPack *> &pac
       const Instance &inst = scene.instances[i];
       if (inst.pack != pi)
         continue;
-      float cy = float(std::cos(inst.yaw)), sy = float(std::sin(inst.yaw));
-      glm::vec3 t(inst.position);
-      const float d[12] = {cy, 0, sy, t.x, 0, 1, 0, t.y, -sy, 0, cy, t.z};
-      c->instanceData.insert(c->instanceData.end(), d, d + 12);
-      c->instanceData.resize(c->instanceData.size() + 8);
+      c->instanceData.resize(c->instanceData.size() + kInstanceFloats);
+      writeRows(&c->instanceData[c->instanceData.size() - kInstanceFloats],
+                glm::vec3(inst.position), float(inst.yaw));
       c->sceneIndex.push_back(i);
       c->outfitOf.push_back(outfitOf[inst.outfit]);
       // An outfit's impostor shows only that outfit; a bare-body impostor any.
@@ -377,24 +382,26 @@ CrowdRenderer::~CrowdRenderer() {
   glDeleteProgram(impostorProgram_);
 }
 
+void CrowdRenderer::writeClip(Character &c, size_t ci, uint32_t i, const ClipState &s, float speed,
+                              double seconds) {
+  const float params[8] = {float(c.clipOf[s.clip]),
+                           float(s.offset),
+                           speed,
+                           float(scene_.instances[c.sceneIndex[i]].palette),
+                           s.from < 0 ? -1.0f : float(c.clipOf[size_t(s.from)]),
+                           float(s.fromOffset),
+                           float(s.fadeStart),
+                           float(s.fadeSeconds)};
+  std::copy(params, params + 8, &c.instanceData[i * kInstanceFloats + 12]);
+  // Mid-fade, an instance draws as geometry: the impostor shows one clip.
+  selection_.characters[ci].eligible[i] =
+      c.clipFits[s.clip] && c.outfitFits[i] && s.weightAt(seconds) >= 1.0f;
+}
+
 void CrowdRenderer::updateClips(Character &c, size_t ci, double seconds) {
-  auto &eligible = selection_.characters[ci].eligible;
-  for (uint32_t i = 0; i < c.instanceCount; ++i) {
-    const ClipState &s = schedule_.at(c.sceneIndex[i], seconds);
-    float *d = &c.instanceData[i * kInstanceFloats + 12];
-    const Instance &inst = scene_.instances[c.sceneIndex[i]];
-    const float params[8] = {float(c.clipOf[s.clip]),
-                             float(s.offset),
-                             float(inst.speed),
-                             float(inst.palette),
-                             s.from < 0 ? -1.0f : float(c.clipOf[size_t(s.from)]),
-                             float(s.fromOffset),
-                             float(s.fadeStart),
-                             float(s.fadeSeconds)};
-    std::copy(params, params + 8, d);
-    // Mid-fade, an instance draws as geometry: the impostor shows one clip.
-    eligible[i] = c.clipFits[s.clip] && c.outfitFits[i] && s.weightAt(seconds) >= 1.0f;
-  }
+  for (uint32_t i = 0; i < c.instanceCount; ++i)
+    writeClip(c, ci, i, schedule_.at(c.sceneIndex[i], seconds),
+              float(scene_.instances[c.sceneIndex[i]].speed), seconds);
 }
 
 void CrowdRenderer::attachWorld(SceneWorld &world) {
@@ -429,27 +436,11 @@ void CrowdRenderer::setShadowPass(bool on) {
 }
 
 void CrowdRenderer::moveInstances(Character &c, size_t ci, double seconds) {
-  auto &chosen = selection_.characters[ci];
   for (uint32_t i = 0; i < c.instanceCount; ++i) {
     const InstanceMotion &m = world_->motions()[c.sceneIndex[i]];
-    const ClipState &s = m.clip;
-    const float cy = std::cos(m.yaw), sy = std::sin(m.yaw);
-    const glm::vec3 t = m.position;
-    const float rows[12] = {cy, 0, sy, t.x, 0, 1, 0, t.y, -sy, 0, cy, t.z};
-    float *d = &c.instanceData[i * kInstanceFloats];
-    std::copy(rows, rows + 12, d);
-    const float params[8] = {float(c.clipOf[s.clip]),
-                             float(s.offset),
-                             m.speed,
-                             float(scene_.instances[c.sceneIndex[i]].palette),
-                             s.from < 0 ? -1.0f : float(c.clipOf[size_t(s.from)]),
-                             float(s.fromOffset),
-                             float(s.fadeStart),
-                             float(s.fadeSeconds)};
-    std::copy(params, params + 8, d + 12);
-    selection_.moveInstance(ci, i, t, m.yaw);
-    chosen.eligible[i] =
-        c.impostor && c.clipFits[s.clip] && c.outfitFits[i] && s.weightAt(seconds) >= 1.0f;
+    writeRows(&c.instanceData[i * kInstanceFloats], m.position, m.yaw);
+    selection_.moveInstance(ci, i, m.position, m.yaw);
+    writeClip(c, ci, i, m.clip, m.speed, seconds);
   }
 }
 

@@ -8,24 +8,14 @@
 
 #include "crowd/formats/error.h"
 #include "crowd/runtime/agents.h"
+#include "flat_terrain.h"
 
 using namespace crowd;
 using namespace crowd::runtime;
 
 namespace {
 
-// A flat walkable grid of `width` x `depth` cells of 0.25 m from (0, 0).
-pack::Terrain flat(uint32_t width, uint32_t depth) {
-  pack::Terrain t;
-  t.cell = 0.25f;
-  t.width = width, t.depth = depth;
-  t.light = {0, 1, 0};
-  t.stepHeight = 0.3f, t.maxSlopeDeg = 35;
-  t.heights.assign(t.cells(), 0);
-  t.shadowHeights.assign(t.cells(), 0);
-  t.ground.assign(t.cells(), uint8_t(pack::Ground::Walkable));
-  return t;
-}
+pack::Terrain flat(uint32_t width, uint32_t depth) { return test::flatTerrain(width, depth); }
 
 // Cells [x0, x1) x [z0, z1) set to `ground` at `height`.
 void block(pack::Terrain &t, uint32_t x0, uint32_t z0, uint32_t x1, uint32_t z1,
@@ -81,7 +71,7 @@ TEST(Agents, NeverWhereTheyMayNotStandNorTwoInACell) {
 }
 
 TEST(Agents, LookingAheadTheyTurnBeforeTheWall) {
-  pack::Terrain t = flat(320, 80); // 80 x 20 m
+  pack::Terrain t = flat(320, 80);                    // 80 x 20 m
   block(t, 0, 60, 320, 80, pack::Ground::Blocked, 3); // a wall across z = 15 m
   auto blockedSteps = [&](uint32_t lookAhead) {
     AgentSettings s;

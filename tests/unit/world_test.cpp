@@ -5,6 +5,7 @@
 #include "crowd/formats/error.h"
 #include "crowd/runtime/scene.h"
 #include "crowd/runtime/world.h"
+#include "flat_terrain.h"
 
 using namespace crowd;
 using namespace crowd::runtime;
@@ -29,18 +30,8 @@ std::string errorOf(const std::string &text) {
   return "no error";
 }
 
-// A flat walkable 10 x 10 m terrain of 0.25 m cells from (0, 0).
-pack::Terrain flat() {
-  pack::Terrain t;
-  t.cell = 0.25f;
-  t.width = t.depth = 40;
-  t.light = {0, 1, 0};
-  t.stepHeight = 0.3f;
-  t.heights.assign(t.cells(), 0);
-  t.shadowHeights.assign(t.cells(), 0);
-  t.ground.assign(t.cells(), uint8_t(pack::Ground::Walkable));
-  return t;
-}
+// A flat walkable 10 x 10 m terrain.
+pack::Terrain flat() { return test::flatTerrain(40, 40); }
 
 } // namespace
 

@@ -80,6 +80,10 @@ private:
   // Writes the instances' clips and fades at `seconds` (the schedule's) into character ci's
   // instance data, and which of them may draw as impostors.
   void updateClips(Character &c, size_t ci, double seconds);
+  // Instance i of character ci plays `s` at `speed`: its params and fade, and whether it may
+  // draw as an impostor.
+  void writeClip(Character &c, size_t ci, uint32_t i, const ClipState &s, float speed,
+                 double seconds);
   Scene scene_;
   ClipSchedule schedule_;
   std::vector<std::unique_ptr<Character>> characters_;
