@@ -3,49 +3,113 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <initializer_list>
 #include <map>
 #include <queue>
 #include <set>
 
-#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
-#include <OpenMesh/Core/System/omstream.hh>
-
 #include "crowd/bake/character.h"
 #include "crowd/bake/evaluate.h"
 #include "crowd/formats/error.h"
+#include "cost_queue.h"
+#include "fan_mesh.h"
 
+// Why by hand, not OpenMesh's half-edge collapse: on flat arrays the whole collapse order runs
+// several times faster (issue 17: OpenMesh's took 2.7 us a triangle before any pose was costed),
+// and meshoptimizer, the fast peer, returns index buffers at given counts, not the order of
+// every collapse with its cost that the pack stores.
 namespace crowd {
 namespace {
 
-using Mesh = OpenMesh::TriMesh_ArrayKernelT<>;
-using Quadric = std::array<double, 10>; // symmetric 4x4: xx xy xz xw yy yz yw zz zw ww
+// Every vertex's quadric (symmetric 4x4: xx xy xz xw yy yz yw zz zw ww) in every pose, pose-
+// minor: coefficient k of vertex v in pose p at (v * 10 + k) * stride + p, the poses padded with
+// zeros to an even count, so the compiler evaluates two poses at once. A collapse of a into b
+// costs, summed over the poses, (Qa + Qb) at b's position: Qa at b, plus Qb at b, which changes
+// only when b does and is kept per vertex (self).
+class PoseQuadrics {
+public:
+  PoseQuadrics(size_t vertices, size_t poses, const std::vector<glm::dvec3> &posed)
+      : poses_(poses), stride_(poses + poses % 2), build_(vertices * poses * 10, 0.0),
+        q_(vertices * 10 * stride_, 0.0),
+        at_(vertices * 3 * stride_, 0.0), self_(vertices, 0.0), term_(stride_, 0.0) {
+    for (size_t v = 0; v < vertices; ++v)
+      for (size_t p = 0; p < poses; ++p)
+        for (size_t k = 0; k < 3; ++k)
+          at_[(v * 3 + k) * stride_ + p] = posed[v * poses + p][int(k)];
+  }
+  // Adds w times the plane n.x + d = 0 to the quadrics of `vertices` in `pose`.
+  void addPlane(std::initializer_list<uint32_t> vertices, size_t pose, glm::dvec3 n, double d,
+                double w) {
+    const double e[4] = {n.x, n.y, n.z, d};
+    double plane[10];
+    for (int i = 0, k = 0; i < 4; ++i)
+      for (int j = i; j < 4; ++j)
+        plane[k++] = w * e[i] * e[j];
+    for (uint32_t v : vertices) {
+      double *q = &build_[(v * poses_ + pose) * 10]; // gathered pose-major, turned at finish
+      for (int k = 0; k < 10; ++k)
+        q[k] += plane[k];
+    }
+  }
+  void finish() { // after the last addPlane
+    for (size_t v = 0; v < self_.size(); ++v)
+      for (size_t p = 0; p < poses_; ++p)
+        for (size_t k = 0; k < 10; ++k)
+          q_[(v * 10 + k) * stride_ + p] = build_[(v * poses_ + p) * 10 + k];
+    build_ = {};
+    for (uint32_t v = 0; v < self_.size(); ++v)
+      self_[v] = at(v, v);
+  }
+  void merge(uint32_t into, uint32_t from) {
+    double *a = &q_[into * 10 * stride_];
+    const double *b = &q_[from * 10 * stride_];
+    for (size_t i = 0; i < 10 * stride_; ++i)
+      a[i] += b[i];
+    self_[into] = at(into, into);
+  }
+  // The mean over poses of the surface moved when a goes to b.
+  double cost(uint32_t a, uint32_t b) const {
+    return std::max(at(a, b) + self_[b], 0.0) / double(poses_);
+  }
 
-void addPlane(Quadric &q, glm::dvec3 n, double d, double w) {
-  const double p[4] = {n.x, n.y, n.z, d};
-  int k = 0;
-  for (int i = 0; i < 4; ++i)
-    for (int j = i; j < 4; ++j)
-      q[size_t(k++)] += w * p[i] * p[j];
-}
-
-double evaluate(const Quadric &a, const Quadric &b, glm::dvec3 v) {
-  const double p[4] = {v.x, v.y, v.z, 1};
-  double s = 0;
-  int k = 0;
-  for (int i = 0; i < 4; ++i)
-    for (int j = i; j < 4; ++j, ++k)
-      s += (i == j ? 1 : 2) * (a[size_t(k)] + b[size_t(k)]) * p[i] * p[j];
-  return std::max(s, 0.0);
-}
-
-glm::dvec3 toGlm(const Mesh::Point &p) { return {p[0], p[1], p[2]}; }
+private:
+  // Sum over the poses of v's quadric at w's position.
+  double at(uint32_t v, uint32_t w) const {
+    const size_t S = stride_;
+    const double *q = &q_[v * 10 * S], *x = &at_[w * 3 * S], *y = x + S, *z = y + S;
+    double *t = term_.data();
+    for (size_t p = 0; p < S; ++p) // one pose a lane: vectorized
+      t[p] = x[p] * (q[p] * x[p] + 2 * (q[S + p] * y[p] + q[2 * S + p] * z[p] + q[3 * S + p])) +
+             y[p] * (q[4 * S + p] * y[p] + 2 * (q[5 * S + p] * z[p] + q[6 * S + p])) +
+             z[p] * (q[7 * S + p] * z[p] + 2 * q[8 * S + p]) + q[9 * S + p];
+    double s = 0;
+    for (size_t p = 0; p < S; ++p)
+      s += t[p];
+    return s;
+  }
+  size_t poses_, stride_;
+  std::vector<double> build_, q_, at_, self_;
+  mutable std::vector<double> term_;
+};
 
 struct Candidate {
   double cost;
-  int halfedge;
-  uint32_t fromStamp, toStamp;
+  uint32_t from, to, fromStamp, toStamp;
   bool operator<(const Candidate &o) const { // the priority queue pops the cheapest, then the
-    return cost != o.cost ? cost > o.cost : halfedge > o.halfedge; // lowest halfedge: no ties
+    return cost != o.cost ? cost > o.cost      // lowest vertex pair: no ties
+                          : from != o.from ? from > o.from : to > o.to;
+  }
+};
+
+// A vertex's neighbours, each with the number of live faces it shares with the vertex (1: an
+// open edge between them).
+struct Ring {
+  std::vector<std::pair<uint32_t, uint32_t>> around;
+  uint32_t count(uint32_t w) const {
+    for (const auto &[v, n] : around)
+      if (v == w)
+        return n;
+    return 0;
   }
 };
 
@@ -62,208 +126,197 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
   for (uint32_t i : indices)
     if (i >= positions.size())
       throw Error("lod: an index points past the vertices");
-  omerr().disable(); // complex edges are expected: they are split and reported below
   LodResult r;
   r.inputTriangles = uint32_t(indices.size() / 3);
-
-  // Weld by position (within a group): the copies of a seam vertex become one topological vertex.
-  std::map<std::array<float, 4>, uint32_t> weldOf;
-  std::vector<uint32_t> welded(positions.size());
-  std::vector<glm::vec3> weldedPos;
-  for (size_t v = 0; v < positions.size(); ++v) {
-    float g = group.empty() ? 0.0f : float(group[v]);
-    auto [it, fresh] =
-        weldOf.try_emplace({g, positions[v].x, positions[v].y, positions[v].z}, weldOf.size());
-    welded[v] = it->second;
-    if (fresh)
-      weldedPos.push_back(positions[v]);
-  }
-
-  // Render vertices: input vertices, plus copies where a non-manifold face is split off.
-  std::vector<uint32_t> source(positions.size());
-  for (uint32_t v = 0; v < source.size(); ++v)
-    source[v] = v;
-  Mesh mesh;
-  std::vector<Mesh::VertexHandle> handle(weldedPos.size());
-  for (size_t w = 0; w < weldedPos.size(); ++w)
-    handle[w] = mesh.add_vertex({weldedPos[w].x, weldedPos[w].y, weldedPos[w].z});
-  // Per OpenMesh face: its corners as (OpenMesh vertex, render vertex).
-  std::vector<std::array<std::pair<int, uint32_t>, 3>> corner;
-  std::vector<uint32_t> inputTriangle;
-  std::set<std::array<uint32_t, 3>> seen;
-  size_t degenerate = 0, duplicate = 0, split = 0;
-  for (uint32_t t = 0; t < r.inputTriangles; ++t) {
-    std::array<uint32_t, 3> rv = {indices[3 * t], indices[3 * t + 1], indices[3 * t + 2]};
-    std::array<uint32_t, 3> w = {welded[rv[0]], welded[rv[1]], welded[rv[2]]};
-    glm::dvec3 a = weldedPos[w[0]], b = weldedPos[w[1]], c = weldedPos[w[2]];
-    if (w[0] == w[1] || w[1] == w[2] || w[0] == w[2] ||
-        glm::length(glm::cross(b - a, c - a)) == 0) {
-      ++degenerate;
-      continue;
-    }
-    std::array<uint32_t, 3> key = w;
-    std::sort(key.begin(), key.end());
-    if (!seen.insert(key).second) {
-      ++duplicate;
-      continue;
-    }
-    std::array<Mesh::VertexHandle, 3> vh = {handle[w[0]], handle[w[1]], handle[w[2]]};
-    auto f = mesh.add_face(vh[0], vh[1], vh[2]);
-    if (!f.is_valid()) { // a complex edge or vertex: the face gets vertices of its own
-      ++split;
-      for (size_t k = 0; k < 3; ++k) {
-        const Mesh::Point at = mesh.point(vh[k]); // a copy: add_vertex may move the points
-        vh[k] = mesh.add_vertex(at);
-        source.push_back(source[rv[k]]);
-        rv[k] = uint32_t(source.size() - 1);
-      }
-      f = mesh.add_face(vh[0], vh[1], vh[2]);
-    }
-    if (size_t(f.idx()) != corner.size())
-      throw Error("lod: OpenMesh numbered faces out of order");
-    corner.push_back({{{vh[0].idx(), rv[0]}, {vh[1].idx(), rv[1]}, {vh[2].idx(), rv[2]}}});
-    inputTriangle.push_back(t);
-  }
-  if (degenerate)
+  lod::FanMesh m = lod::buildFanMesh(positions, indices, group);
+  if (m.degenerate)
     reporter.warn("degenerate_triangles",
-                  std::to_string(degenerate) + " zero-area triangles dropped from the LOD mesh");
-  if (duplicate)
+                  std::to_string(m.degenerate) + " zero-area triangles dropped from the LOD mesh");
+  if (m.duplicate)
     reporter.warn("duplicate_triangles",
-                  std::to_string(duplicate) + " duplicate triangles dropped from the LOD mesh");
-  if (split)
-    reporter.warn("non_manifold", std::to_string(split) +
-                                      " triangles on non-manifold edges or vertices split off "
-                                      "(their vertices duplicated)");
-  if (corner.empty())
+                  std::to_string(m.duplicate) + " duplicate triangles dropped from the LOD mesh");
+  if (m.splitVertices || m.cutEdges)
+    reporter.warn("non_manifold",
+                  std::to_string(m.cutEdges) + " edges with more than two faces (or wound both "
+                  "ways) cut open; " + std::to_string(m.splitVertices) + " vertices where " +
+                  "several fans meet split into one per fan (" + std::to_string(m.extraFans) +
+                  " added), each fan simplifying on its own");
+  if (m.vertex.empty())
     throw Error("lod: the mesh has no triangle with an area");
 
-  std::vector<std::array<uint32_t, 3>> initialCorner;
-  for (const auto &c : corner)
-    initialCorner.push_back({c[0].second, c[1].second, c[2].second});
-  mesh.request_vertex_status();
-  mesh.request_edge_status();
-  mesh.request_halfedge_status();
-  mesh.request_face_status();
-
-  const size_t V = source.size(), F = corner.size();
-  std::vector<glm::dvec3> originalNormal(F);
-  // One quadric per vertex per pose (the bind pose first): a collapse costs what it moves the
-  // surface in every pose, each measured where the vertex is in that pose.
+  const size_t V = m.source.size(), F = m.vertex.size(), N = m.position.size();
+  const std::vector<std::array<uint32_t, 3>> initialCorner = m.render;
+  // Each topological vertex in the bind pose and every pose, and one quadric per vertex per pose:
+  // a collapse costs what it moves the surface in every pose, each measured where the vertex is
+  // in that pose.
   const size_t P = 1 + poses.size();
-  std::vector<uint32_t> inputOf(mesh.n_vertices()); // an input vertex at each OpenMesh vertex
-  for (const auto &c : corner)
-    for (const auto &[vh, rv] : c)
-      inputOf[size_t(vh)] = source[rv];
-  auto posed = [&](Mesh::VertexHandle v, size_t p) {
-    return p == 0 ? toGlm(mesh.point(v)) : glm::dvec3(poses[p - 1][inputOf[size_t(v.idx())]]);
+  std::vector<glm::dvec3> posed(N * P);
+  for (size_t v = 0; v < N; ++v) {
+    posed[v * P] = m.position[v];
+    for (size_t p = 1; p < P; ++p)
+      posed[v * P + p] = glm::dvec3(poses[p - 1][m.inputOf[v]]);
+  }
+  PoseQuadrics quadric(N, P, posed);
+  std::vector<std::vector<uint32_t>> facesOf(N);
+  std::vector<glm::dvec3> originalNormal(F);
+  auto normalOf = [&](const std::array<uint32_t, 3> &f, size_t p) {
+    const glm::dvec3 &a = posed[f[0] * P + p];
+    return glm::cross(posed[f[1] * P + p] - a, posed[f[2] * P + p] - a);
   };
-  std::vector<Quadric> quadric(mesh.n_vertices() * P, Quadric{});
-  auto Q = [&](Mesh::VertexHandle v, size_t p) -> Quadric & {
-    return quadric[size_t(v.idx()) * P + p];
-  };
-  auto faceNormal = [&](Mesh::FaceHandle f, Mesh::VertexHandle moved, glm::dvec3 to) {
-    glm::dvec3 p[3];
-    int k = 0;
-    for (auto v : mesh.fv_range(f))
-      p[k++] = v == moved ? to : toGlm(mesh.point(v));
-    return glm::cross(p[1] - p[0], p[2] - p[0]);
-  };
-  for (auto f : mesh.faces()) {
-    originalNormal[size_t(f.idx())] = glm::normalize(faceNormal(f, Mesh::VertexHandle(), {}));
+  for (uint32_t f = 0; f < F; ++f) {
+    const auto &fv = m.vertex[f];
+    originalNormal[f] = glm::normalize(normalOf(fv, 0));
+    for (uint32_t v : fv)
+      facesOf[v].push_back(f);
     for (size_t p = 0; p < P; ++p) {
-      glm::dvec3 c[3];
-      int k = 0;
-      for (auto v : mesh.fv_range(f))
-        c[k++] = posed(v, p);
-      glm::dvec3 n = glm::cross(c[1] - c[0], c[2] - c[0]);
-      double area = glm::length(n) * 0.5;
+      glm::dvec3 n = normalOf(fv, p);
+      const double area = glm::length(n) * 0.5;
       if (area == 0)
         continue;
       n /= 2 * area;
-      for (auto v : mesh.fv_range(f))
-        addPlane(Q(v, p), n, -glm::dot(n, c[0]), area);
+      const double d = -glm::dot(n, posed[fv[0] * P + p]);
+      quadric.addPlane({fv[0], fv[1], fv[2]}, p, n, d, area);
     }
   }
-  auto renderOf = [&](Mesh::FaceHandle f, Mesh::VertexHandle v) -> uint32_t & {
-    for (auto &c : corner[size_t(f.idx())])
-      if (c.first == v.idx())
-        return c.second;
-    throw Error("lod: internal error, a face lost its corner");
+  std::vector<uint8_t> alive(F, 1);
+  auto corner = [&](uint32_t f, uint32_t v) -> uint32_t {
+    const auto &fv = m.vertex[f];
+    return fv[0] == v ? 0 : fv[1] == v ? 1 : 2;
   };
-  // An edge is special when it is on the boundary or a seam (the faces on its two sides use
-  // different render vertices for an end).
-  auto special = [&](Mesh::EdgeHandle e) {
-    if (mesh.is_boundary(e))
+  auto has = [&](uint32_t f, uint32_t v) {
+    const auto &fv = m.vertex[f];
+    return fv[0] == v || fv[1] == v || fv[2] == v;
+  };
+  // The live faces holding both a and b (at most two: the mesh stays manifold).
+  auto edgeFaces = [&](uint32_t a, uint32_t b, uint32_t out[2]) {
+    uint32_t n = 0;
+    for (uint32_t f : facesOf[a])
+      if (alive[f] && has(f, b) && n < 2)
+        out[n++] = f;
+    return n;
+  };
+  // An edge is special when it is open or a seam (the faces on its two sides use different
+  // render vertices for an end).
+  auto special = [&](uint32_t a, uint32_t b) {
+    uint32_t f[2];
+    if (edgeFaces(a, b, f) != 2)
       return true;
-    auto h = mesh.halfedge_handle(e, 0);
-    auto f0 = mesh.face_handle(h), f1 = mesh.face_handle(mesh.opposite_halfedge_handle(h));
-    auto a = mesh.from_vertex_handle(h), b = mesh.to_vertex_handle(h);
-    return renderOf(f0, a) != renderOf(f1, a) || renderOf(f0, b) != renderOf(f1, b);
+    return m.render[f[0]][corner(f[0], a)] != m.render[f[1]][corner(f[1], a)] ||
+           m.render[f[0]][corner(f[0], b)] != m.render[f[1]][corner(f[1], b)];
+  };
+  auto ringOf = [&](uint32_t v, Ring &ring) {
+    ring.around.clear();
+    for (uint32_t f : facesOf[v]) {
+      if (!alive[f])
+        continue;
+      for (uint32_t w : m.vertex[f]) {
+        if (w == v)
+          continue;
+        auto it = std::find_if(ring.around.begin(), ring.around.end(),
+                               [&](const auto &e) { return e.first == w; });
+        if (it == ring.around.end())
+          ring.around.push_back({w, 1});
+        else
+          ++it->second;
+      }
+    }
   };
   // Boundaries and seams also hold their shape: each special edge adds, to both ends, a heavily
   // weighted plane through it, perpendicular to its face, so moving a corner or cutting across
   // the line costs what moving off the surface would.
-  for (auto e : mesh.edges()) {
-    if (!special(e))
-      continue;
-    auto h = mesh.halfedge_handle(e, 0);
-    if (!mesh.face_handle(h).is_valid())
-      h = mesh.opposite_halfedge_handle(h);
-    auto a = mesh.from_vertex_handle(h), b = mesh.to_vertex_handle(h);
-    auto third = mesh.to_vertex_handle(mesh.next_halfedge_handle(h));
-    for (size_t p = 0; p < P; ++p) {
-      glm::dvec3 pa = posed(a, p), pb = posed(b, p);
-      glm::dvec3 m = glm::cross(pb - pa, glm::cross(pb - pa, posed(third, p) - pa));
-      if (glm::length(m) == 0)
-        continue;
-      m = glm::normalize(m);
-      double w = 100.0 * glm::dot(pb - pa, pb - pa);
-      for (auto v : {a, b})
-        addPlane(Q(v, p), m, -glm::dot(m, pa), w);
+  for (uint32_t f = 0; f < F; ++f)
+    for (uint32_t e = 0; e < 3; ++e) {
+      const uint32_t a = m.vertex[f][e], b = m.vertex[f][(e + 1) % 3], c = m.vertex[f][(e + 2) % 3];
+      uint32_t sides[2];
+      const uint32_t n = edgeFaces(a, b, sides);
+      if ((n == 2 && sides[0] != f) || !special(a, b))
+        continue; // each special edge once, from its first face
+      for (size_t p = 0; p < P; ++p) {
+        const glm::dvec3 pa = posed[a * P + p], pb = posed[b * P + p];
+        glm::dvec3 d = glm::cross(pb - pa, glm::cross(pb - pa, posed[c * P + p] - pa));
+        if (glm::length(d) == 0)
+          continue;
+        d = glm::normalize(d);
+        const double w = 100.0 * glm::dot(pb - pa, pb - pa);
+        quadric.addPlane({a, b}, p, d, -glm::dot(d, pa), w);
+      }
     }
-  }
+
+  quadric.finish();
   const double cosLimit = std::cos(o.maxNormalDeviationDeg * 3.14159265358979323846 / 180);
-  auto legal = [&](Mesh::HalfedgeHandle h) {
-    if (!mesh.is_collapse_ok(h))
-      return false;
-    auto from = mesh.from_vertex_handle(h), to = mesh.to_vertex_handle(h);
+  Ring ringA, ringB;
+  auto legal = [&](uint32_t a, uint32_t b) {
+    uint32_t ab[2];
+    const uint32_t sides = edgeFaces(a, b, ab);
+    if (sides == 0)
+      return false; // no longer an edge
+    ringOf(a, ringA);
+    ringOf(b, ringB);
     // A seam or boundary vertex slides only along its line: exactly two special edges, and
     // this one of them.
     int specials = 0;
     bool along = false;
-    for (auto oh : mesh.voh_range(from))
-      if (special(mesh.edge_handle(oh))) {
+    for (const auto &[w, n] : ringA.around)
+      if (special(a, w)) {
         ++specials;
-        along |= oh == h;
+        along |= w == b;
       }
     if (specials != 0 && !(specials == 2 && along))
       return false;
-    const glm::dvec3 target = toGlm(mesh.point(to));
-    for (auto f : mesh.vf_range(from)) {
-      bool hasTo = false;
-      for (auto v : mesh.fv_range(f))
-        hasTo |= v == to;
-      if (hasTo)
+    // The link condition: the vertices next to both ends are exactly the faces' apexes, so the
+    // mesh stays manifold; an inner edge joining two boundary vertices would pinch it.
+    uint32_t apex[2] = {UINT32_MAX, UINT32_MAX};
+    for (uint32_t s = 0; s < sides; ++s)
+      for (uint32_t w : m.vertex[ab[s]])
+        if (w != a && w != b)
+          apex[s] = w;
+    uint32_t common = 0;
+    for (const auto &[w, n] : ringA.around)
+      if (ringB.count(w)) {
+        if (w != apex[0] && w != apex[1])
+          return false;
+        ++common;
+      }
+    if (common != sides)
+      return false;
+    auto onBoundary = [](const Ring &ring) {
+      for (const auto &[w, n] : ring.around)
+        if (n == 1)
+          return true;
+      return false;
+    };
+    if (sides == 2 && onBoundary(ringA) && onBoundary(ringB))
+      return false;
+    for (uint32_t s = 0; s < sides; ++s) // a face with two open edges would leave a dangling one
+      if (ringA.count(apex[s]) == 1 && ringB.count(apex[s]) == 1)
+        return false;
+    const glm::dvec3 target = posed[b * P];
+    for (uint32_t f : facesOf[a]) {
+      if (!alive[f] || has(f, b))
         continue; // this face disappears
-      glm::dvec3 n = faceNormal(f, from, target);
-      double len = glm::length(n);
+      if (sides == 2 && has(f, apex[0]) && has(f, apex[1]))
+        return false; // a tetrahedron: the faces left would be one triangle twice
+      std::array<uint32_t, 3> fv = m.vertex[f];
+      const glm::dvec3 before = normalOf(fv, 0);
+      glm::dvec3 p[3];
+      for (int k = 0; k < 3; ++k)
+        p[k] = fv[size_t(k)] == a ? target : posed[fv[size_t(k)] * P];
+      const glm::dvec3 n = glm::cross(p[1] - p[0], p[2] - p[0]);
+      const double len = glm::length(n);
       if (len <= 1e-12 * glm::dot(target, target) + 1e-30)
         return false;
-      if (glm::dot(n / len, originalNormal[size_t(f.idx())]) < cosLimit ||
-          glm::dot(n, faceNormal(f, Mesh::VertexHandle(), {})) <= 0)
+      if (glm::dot(n / len, originalNormal[f]) < cosLimit || glm::dot(n, before) <= 0)
         return false;
     }
     return true;
   };
 
-  std::vector<uint32_t> stamp(mesh.n_vertices(), 0);
-  std::priority_queue<Candidate> queue;
-  auto push = [&](Mesh::HalfedgeHandle h) {
-    auto from = mesh.from_vertex_handle(h), to = mesh.to_vertex_handle(h);
-    double cost = 0;
-    for (size_t p = 0; p < P; ++p)
-      cost += evaluate(Q(from, p), Q(to, p), posed(to, p));
-    queue.push({cost / double(P), h.idx(), stamp[size_t(from.idx())], stamp[size_t(to.idx())]});
+  std::vector<uint32_t> stamp(N, 0);
+  std::vector<uint8_t> gone(N, 0);
+  lod::CostQueue<Candidate> queue;
+  auto push = [&](uint32_t from, uint32_t to) {
+    const double cost = quadric.cost(from, to);
+    queue.push(cost, {cost, from, to, stamp[from], stamp[to]});
   };
 
   // Removal record, in render vertices: who goes, into whom, at what cost; and for each face,
@@ -271,89 +324,98 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
   std::vector<uint32_t> removed, target(V, UINT32_MAX);
   std::vector<float> cost(V, 0.0f);
   std::vector<int64_t> killer(F, -1);
-  size_t alive = F;
+  size_t aliveFaces = F;
   const size_t floorFaces = size_t(std::ceil(o.floorFraction * double(F)));
   bool progress = true;
-  while (alive > floorFaces && progress) {
+  while (aliveFaces > floorFaces && progress) {
     // Costs change only around a collapse, but legality can change one ring further out: when
-    // the queue runs dry, every remaining edge gets another chance until none is legal.
+    // the queue runs dry, every remaining edge gets another chance until none is legal. Each
+    // face pushes its edges as wound; an open edge is pushed both ways.
     progress = false;
-    for (auto h : mesh.halfedges())
-      if (!mesh.status(h).deleted())
-        push(h);
-    while (!queue.empty() && alive > floorFaces) {
-      Candidate c = queue.top();
-      queue.pop();
-      Mesh::HalfedgeHandle h(c.halfedge);
-      if (mesh.status(h).deleted())
+    for (uint32_t f = 0; f < F; ++f) {
+      if (!alive[f])
         continue;
-      auto from = mesh.from_vertex_handle(h), to = mesh.to_vertex_handle(h);
-      if (mesh.status(from).deleted() || stamp[size_t(from.idx())] != c.fromStamp ||
-          stamp[size_t(to.idx())] != c.toStamp || !legal(h))
-        continue;
-      // Pair each render vertex of `from` with the render vertex of `to` on the same side.
-      std::vector<std::pair<uint32_t, uint32_t>> pairs;
-      for (auto side : {h, mesh.opposite_halfedge_handle(h)}) {
-        auto f = mesh.face_handle(side);
-        if (!f.is_valid())
-          continue;
-        uint32_t a = renderOf(f, from), b = renderOf(f, to);
-        if (std::find_if(pairs.begin(), pairs.end(), [&](auto &p) { return p.first == a; }) ==
-            pairs.end())
-          pairs.push_back({a, b});
-        killer[size_t(f.idx())] = a;
-        --alive;
-      }
-      std::vector<Mesh::FaceHandle> around(mesh.vf_begin(from), mesh.vf_end(from));
-      for (auto f : around) {
-        uint32_t &rv = renderOf(f, from);
-        auto p = std::find_if(pairs.begin(), pairs.end(), [&](auto &q) { return q.first == rv; });
-        if (p == pairs.end()) // cannot happen: legal() keeps seams to their lines
-          throw Error("lod: internal error, a render vertex has no partner");
-        if (killer[size_t(f.idx())] < 0)
-          for (auto &cn : corner[size_t(f.idx())])
-            if (cn.first == from.idx())
-              cn = {to.idx(), p->second};
-      }
-      for (auto [a, b] : pairs) {
-        removed.push_back(a);
-        target[a] = b;
-        cost[a] = float(c.cost);
-      }
-      for (size_t p = 0; p < P; ++p)
-        for (size_t k = 0; k < 10; ++k)
-          Q(to, p)[k] += Q(from, p)[k];
-      mesh.collapse(h);
-      progress = true;
-      ++stamp[size_t(to.idx())];
-      for (auto oh : mesh.voh_range(to)) {
-        push(oh);
-        push(mesh.opposite_halfedge_handle(oh));
+      for (uint32_t e = 0; e < 3; ++e) {
+        const uint32_t a = m.vertex[f][e], b = m.vertex[f][(e + 1) % 3];
+        uint32_t sides[2];
+        push(a, b);
+        if (edgeFaces(a, b, sides) == 1)
+          push(b, a);
       }
     }
-    queue = {};
+    while (!queue.empty() && aliveFaces > floorFaces) {
+      const Candidate c = queue.pop();
+      const uint32_t a = c.from, b = c.to;
+      if (gone[a] || gone[b] || stamp[a] != c.fromStamp || stamp[b] != c.toStamp || !legal(a, b))
+        continue;
+      // Pair each render vertex of `a` with the render vertex of `b` on the same side.
+      std::array<std::pair<uint32_t, uint32_t>, 2> pairs;
+      size_t pairCount = 0;
+      uint32_t ab[2];
+      const uint32_t sides = edgeFaces(a, b, ab);
+      for (uint32_t s = 0; s < sides; ++s) {
+        const uint32_t f = ab[s], ra = m.render[f][corner(f, a)], rb = m.render[f][corner(f, b)];
+        if (pairCount == 0 || pairs[0].first != ra)
+          pairs[pairCount++] = {ra, rb};
+        killer[f] = ra;
+        alive[f] = 0;
+        --aliveFaces;
+      }
+      for (uint32_t f : facesOf[a]) {
+        if (!alive[f])
+          continue;
+        const uint32_t k = corner(f, a), rv = m.render[f][k];
+        size_t q = 0;
+        while (q < pairCount && pairs[q].first != rv)
+          ++q;
+        if (q == pairCount) // cannot happen: legal() keeps seams to their lines
+          throw Error("lod: internal error, a render vertex has no partner");
+        m.vertex[f][k] = b;
+        m.render[f][k] = pairs[q].second;
+        facesOf[b].push_back(f);
+      }
+      for (size_t q = 0; q < pairCount; ++q) {
+        removed.push_back(pairs[q].first);
+        target[pairs[q].first] = pairs[q].second;
+        cost[pairs[q].first] = float(c.cost);
+      }
+      quadric.merge(b, a);
+      facesOf[a].clear();
+      gone[a] = 1;
+      ++stamp[b];
+      progress = true;
+      auto &fb = facesOf[b];
+      fb.erase(std::remove_if(fb.begin(), fb.end(), [&](uint32_t f) { return !alive[f]; }),
+               fb.end());
+      ringOf(b, ringB);
+      for (const auto &[w, n] : ringB.around) {
+        push(b, w);
+        push(w, b);
+      }
+    }
+    queue.clear();
   }
 
   // Numbering: vertices never removed first (input order), then the removed ones, last removed
   // first; render vertices no face uses (isolated) go last, into vertex 0.
   std::vector<uint8_t> used(V, 0);
-  for (const auto &c : corner)
-    for (const auto &cn : c)
-      used[cn.second] = 1;
+  for (const auto &c : m.render)
+    for (uint32_t rv : c)
+      used[rv] = 1;
   for (uint32_t t = 0; t < r.inputTriangles; ++t)
     for (int k = 0; k < 3; ++k)
       used[indices[3 * t + size_t(k)]] |= 2; // referenced by the input at all
   std::vector<uint32_t> newIndex(V, UINT32_MAX);
   for (uint32_t v = 0; v < V; ++v)
     if (used[v] & 1 && target[v] == UINT32_MAX)
-      newIndex[v] = uint32_t(r.order.size()), r.order.push_back(source[v]);
+      newIndex[v] = uint32_t(r.order.size()), r.order.push_back(m.source[v]);
   r.floorVertices = uint32_t(r.order.size());
   for (auto it = removed.rbegin(); it != removed.rend(); ++it)
-    newIndex[*it] = uint32_t(r.order.size()), r.order.push_back(source[*it]);
+    newIndex[*it] = uint32_t(r.order.size()), r.order.push_back(m.source[*it]);
   size_t isolated = 0;
   for (uint32_t v = 0; v < V; ++v)
     if (newIndex[v] == UINT32_MAX) {
-      newIndex[v] = uint32_t(r.order.size()), r.order.push_back(source[v]);
+      newIndex[v] = uint32_t(r.order.size()), r.order.push_back(m.source[v]);
       isolated += !(used[v] & 2);
     }
   if (isolated)
@@ -385,7 +447,7 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
       r.indices.push_back(newIndex[initialCorner[f][size_t(k)]]);
     uint32_t d = death(f);
     ++r.triangleCount[d == UINT32_MAX ? 0 : d + 1];
-    r.source.push_back(inputTriangle[f]);
+    r.source.push_back(m.inputTriangle[f]);
     r.killedBy.push_back(d);
   }
   for (size_t v = 1; v < r.triangleCount.size(); ++v)

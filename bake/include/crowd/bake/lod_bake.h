@@ -1,9 +1,10 @@
 // Continuous LOD (first slice): the full edge-collapse sequence of a mesh, from all its
 // triangles down to a floor, as arrays a renderer can cut at any vertex count. Collapses run on
-// a welded half-edge mesh (OpenMesh) with bind-pose quadric costs; a UV or normal seam vertex
-// only collapses along its seam, a boundary vertex only along its boundary, and no collapse
-// leaves a triangle degenerate or turned more than `maxNormalDeviationDeg` from its full-detail
-// normal. No new vertices: every LOD vertex is an original one.
+// a welded mesh of flat arrays (lod/fan_mesh.h), cheapest quadric cost first (summed over the
+// bind pose and any poses given, lod/cost_queue.h); a UV or normal seam vertex only collapses
+// along its seam, a boundary vertex only along its boundary, and no collapse leaves a triangle
+// degenerate or turned more than `maxNormalDeviationDeg` from its full-detail normal, or the
+// mesh non-manifold. No new vertices: every LOD vertex is an original one.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -41,7 +42,7 @@ struct Character;
 struct SkinnedMesh;
 // The triangles applyLod collapses, and how. A sub-mesh may repeat triangles of another on the
 // same vertices (an outfit's copy of a partly covered body part): each distinct triangle is
-// collapsed once (the half-edge mesh would drop a repeat as a duplicate face and leave the copy
+// collapsed once (the LOD mesh would drop a repeat as a duplicate face and leave the copy
 // empty) and its repeats follow it. Sub-meshes weld separately: where two touch (a sleeve on an
 // arm) welding them would make edges with four faces; apart, each keeps its own border. A vertex's
 // welding group is the sub-mesh of its last distinct triangle (a repeat does not move it).

@@ -1,0 +1,168 @@
+#include "fan_mesh.h"
+
+#include <algorithm>
+#include <cstring>
+#include <map>
+#include <numeric>
+#include <unordered_map>
+
+namespace crowd::lod {
+namespace {
+
+struct WeldKey {
+  uint32_t bits[4]; // group, then x, y, z as bit patterns (-0 made +0 first)
+  bool operator==(const WeldKey &o) const { return std::memcmp(bits, o.bits, sizeof bits) == 0; }
+};
+struct WeldHash {
+  size_t operator()(const WeldKey &k) const {
+    uint64_t h = 1469598103934665603ull;
+    for (uint32_t b : k.bits)
+      h = (h ^ b) * 1099511628211ull;
+    return size_t(h ^ (h >> 29));
+  }
+};
+
+uint32_t bitsOf(float f) {
+  f += 0.0f; // -0 -> +0: both weld together, as they compare equal
+  uint32_t b;
+  std::memcpy(&b, &f, sizeof b);
+  return b;
+}
+
+uint32_t findRoot(std::vector<uint32_t> &parent, uint32_t x) {
+  while (parent[x] != x)
+    x = parent[x] = parent[parent[x]];
+  return x;
+}
+
+} // namespace
+
+FanMesh buildFanMesh(const std::vector<glm::vec3> &positions, const std::vector<uint32_t> &indices,
+                     const std::vector<uint32_t> &group) {
+  FanMesh m;
+  // Weld by position within a group, numbered in input order.
+  std::unordered_map<WeldKey, uint32_t, WeldHash> weldOf;
+  weldOf.reserve(positions.size());
+  std::vector<uint32_t> welded(positions.size());
+  std::vector<glm::dvec3> weldedPos;
+  for (size_t v = 0; v < positions.size(); ++v) {
+    const glm::vec3 &p = positions[v];
+    WeldKey key{{group.empty() ? 0u : group[v], bitsOf(p.x), bitsOf(p.y), bitsOf(p.z)}};
+    auto [it, fresh] = weldOf.try_emplace(key, uint32_t(weldedPos.size()));
+    welded[v] = it->second;
+    if (fresh)
+      weldedPos.push_back(glm::dvec3(p));
+  }
+
+  // Triangles with an area, the first of each set of welded vertices kept.
+  const uint32_t T = uint32_t(indices.size() / 3);
+  std::vector<std::pair<std::array<uint32_t, 3>, uint32_t>> keyed; // sorted welded ids, triangle
+  keyed.reserve(T);
+  for (uint32_t t = 0; t < T; ++t) {
+    std::array<uint32_t, 3> w = {welded[indices[3 * t]], welded[indices[3 * t + 1]],
+                                 welded[indices[3 * t + 2]]};
+    const glm::dvec3 a = weldedPos[w[0]], b = weldedPos[w[1]], c = weldedPos[w[2]];
+    if (w[0] == w[1] || w[1] == w[2] || w[0] == w[2] ||
+        glm::length(glm::cross(b - a, c - a)) == 0) {
+      ++m.degenerate;
+      continue;
+    }
+    std::sort(w.begin(), w.end());
+    keyed.push_back({w, t});
+  }
+  std::sort(keyed.begin(), keyed.end());
+  std::vector<uint8_t> keep(T, 0);
+  for (size_t k = 0; k < keyed.size(); ++k) {
+    if (k > 0 && keyed[k].first == keyed[k - 1].first)
+      ++m.duplicate;
+    else
+      keep[keyed[k].second] = 1;
+  }
+  std::vector<std::array<uint32_t, 3>> weldedFace;
+  for (uint32_t t = 0; t < T; ++t)
+    if (keep[t]) {
+      m.inputTriangle.push_back(t);
+      weldedFace.push_back(
+          {welded[indices[3 * t]], welded[indices[3 * t + 1]], welded[indices[3 * t + 2]]});
+    }
+  const uint32_t F = uint32_t(weldedFace.size());
+
+  // Pair each edge's two sides: exactly two faces, wound opposite ways. Others stay open.
+  struct EdgeEntry {
+    uint32_t lo, hi, corner; // corner f*3+e: the edge from corner e to corner e+1 of face f
+    bool operator<(const EdgeEntry &o) const {
+      return lo != o.lo ? lo < o.lo : hi != o.hi ? hi < o.hi : corner < o.corner;
+    }
+  };
+  std::vector<EdgeEntry> edges;
+  edges.reserve(size_t(F) * 3);
+  for (uint32_t f = 0; f < F; ++f)
+    for (uint32_t e = 0; e < 3; ++e) {
+      uint32_t a = weldedFace[f][e], b = weldedFace[f][(e + 1) % 3];
+      edges.push_back({std::min(a, b), std::max(a, b), 3 * f + e});
+    }
+  std::sort(edges.begin(), edges.end());
+  std::vector<uint32_t> parent(size_t(F) * 3);
+  std::iota(parent.begin(), parent.end(), 0u);
+  auto unite = [&](uint32_t x, uint32_t y) {
+    x = findRoot(parent, x), y = findRoot(parent, y);
+    if (x != y)
+      parent[std::max(x, y)] = std::min(x, y);
+  };
+  auto next = [](uint32_t corner) { return corner - corner % 3 + (corner % 3 + 1) % 3; };
+  auto from = [&](uint32_t corner) { return weldedFace[corner / 3][corner % 3]; };
+  for (size_t i = 0; i < edges.size();) {
+    size_t j = i;
+    while (j < edges.size() && edges[j].lo == edges[i].lo && edges[j].hi == edges[i].hi)
+      ++j;
+    if (j - i == 2 && from(edges[i].corner) == from(next(edges[i + 1].corner))) {
+      // Side one runs A -> B (corners c, next(c)); side two B -> A (corners d, next(d)).
+      const uint32_t c = edges[i].corner, d = edges[i + 1].corner;
+      unite(c, next(d));
+      unite(next(c), d);
+    } else if (j - i > 1) {
+      ++m.cutEdges;
+    }
+    i = j;
+  }
+
+  // One topological vertex per fan: the corners joined across paired edges.
+  std::vector<uint32_t> fanOf(size_t(F) * 3, UINT32_MAX), fansAt(weldedPos.size(), 0);
+  m.vertex.resize(F);
+  for (uint32_t c = 0; c < 3 * F; ++c) {
+    const uint32_t root = findRoot(parent, c);
+    if (fanOf[root] == UINT32_MAX) {
+      fanOf[root] = uint32_t(m.position.size());
+      m.position.push_back(weldedPos[from(c)]);
+      m.inputOf.push_back(indices[3 * m.inputTriangle[c / 3] + c % 3]);
+      if (++fansAt[from(c)] == 2)
+        ++m.splitVertices;
+    }
+    m.vertex[c / 3][c % 3] = fanOf[root];
+  }
+  for (uint32_t n : fansAt)
+    m.extraFans += n > 1 ? n - 1 : 0;
+
+  // Render vertices: the input vertices, copied where a second fan uses one.
+  m.source.resize(positions.size());
+  std::iota(m.source.begin(), m.source.end(), 0u);
+  std::vector<uint32_t> claimedBy(positions.size(), UINT32_MAX);
+  std::map<std::pair<uint32_t, uint32_t>, uint32_t> copyOf; // (input vertex, fan) -> copy
+  m.render.resize(F);
+  for (uint32_t c = 0; c < 3 * F; ++c) {
+    const uint32_t in = indices[3 * m.inputTriangle[c / 3] + c % 3], fan = m.vertex[c / 3][c % 3];
+    uint32_t r = in;
+    if (claimedBy[in] == UINT32_MAX) {
+      claimedBy[in] = fan;
+    } else if (claimedBy[in] != fan) {
+      auto [it, fresh] = copyOf.try_emplace({in, fan}, uint32_t(m.source.size()));
+      if (fresh)
+        m.source.push_back(in);
+      r = it->second;
+    }
+    m.render[c / 3][c % 3] = r;
+  }
+  return m;
+}
+
+} // namespace crowd::lod
