@@ -5,7 +5,7 @@ in vec3 v_normal;
 in vec4 v_colour; // A: how much the diffuse texture applies
 in vec2 v_uv;
 in vec3 v_world;
-in float v_facet; // 1: a cloth loop's vertex, its normal the face's (screen-space derivatives)
+in float v_facet; // 1: a cloth loop's or flat-shaded vertex: its face's normal (derivatives)
 layout(binding = 2) uniform sampler2D u_diffuse;
 uniform bool u_hasTexture;
 uniform vec3 u_lightDirection; // towards the light, normalised

@@ -66,7 +66,7 @@ out vec3 v_normal;
 out vec4 v_colour; // A: how much the diffuse texture applies
 out vec2 v_uv;
 out vec3 v_world;
-out float v_facet; // 1: a cloth vertex, shaded by its face's normal
+out float v_facet; // 1: a cloth or flat-shaded vertex, shaded by its face's normal
 
 // A joint's first texel in a frame and its texels: 3 (matrix rows) or 2 (quaternion, then
 // translation and scale); jointTexelWords in runtime/src/texture_skinning.cpp.
@@ -273,7 +273,8 @@ void main() {
   vec4 p = vec4(bindPosition, 1.0);
   vec3 skinned = vec3(0), normal = vec3(0);
   ivec2 cloth = u_cloth ? clothVertices[gl_VertexID] : ivec2(-1);
-  v_facet = cloth.x >= 0 ? 1.0 : 0.0;
+  // A zero normal marks a flat-shaded vertex (the LOD bake's weld): shaded by its face too.
+  v_facet = cloth.x >= 0 || dot(a_normal, a_normal) == 0.0 ? 1.0 : 0.0;
   if (cloth.x >= 0) { // a garment that may have a loop over the clip: mixed by position in a fade
     skinned = clothOrSkinned(now, params.x, params.y, params.z, cloth, ids, weights);
     if (weight < 1.0)

@@ -88,20 +88,22 @@ void poseAt(const pack::AnimationPack &pack, const PoseMesh &mesh, float seconds
     joints = sampleJoints(pack.animation, *mesh.clip, frame, alpha);
   }
   const auto clip = mesh.clip ? uint32_t(mesh.clip - pack.clips.data()) : 0;
-  std::vector<uint8_t> looped(mesh.vertices.size(), 0);
+  // Cloth loop vertices and flat-shaded ones (a zero normal) get the normal of their faces.
+  std::vector<uint8_t> faceted(mesh.vertices.size(), 0);
   for (size_t k = 0; k < mesh.vertices.size(); ++k) {
     const uint32_t v = mesh.vertices[k];
     const glm::vec3 position(p[3 * v], p[3 * v + 1], p[3 * v + 2]);
     const glm::vec3 normal = nr.size() == p.size()
                                  ? glm::vec3(nr[3 * v], nr[3 * v + 1], nr[3 * v + 2])
                                  : glm::vec3(0.0f);
+    faceted[k] = normal == glm::vec3(0.0f);
     if (!mesh.clip) {
       positions[k] = position;
       normals[k] = normal;
       continue;
     }
     if (clothVertexAt(pack, mesh.cloth, clip, seconds, v, positions[k])) {
-      looped[k] = 1;
+      faceted[k] = 1;
       continue;
     }
     SkinnedVertex bind{position, normal};
@@ -111,16 +113,16 @@ void poseAt(const pack::AnimationPack &pack, const PoseMesh &mesh, float seconds
     positions[k] = s.position;
     normals[k] = s.normal;
   }
-  if (std::find(looped.begin(), looped.end(), 1) == looped.end())
+  if (std::find(faceted.begin(), faceted.end(), 1) == faceted.end())
     return;
-  for (size_t k = 0; k < looped.size(); ++k)
-    if (looped[k])
+  for (size_t k = 0; k < faceted.size(); ++k)
+    if (faceted[k])
       normals[k] = glm::vec3(0.0f);
   for (size_t i = 0; i + 2 < mesh.indices.size(); i += 3) {
     const uint32_t a = mesh.indices[i], b = mesh.indices[i + 1], c = mesh.indices[i + 2];
     const glm::vec3 face = glm::cross(positions[b] - positions[a], positions[c] - positions[a]);
     for (uint32_t k : {a, b, c})
-      if (looped[k])
+      if (faceted[k])
         normals[k] += face;
   }
 }

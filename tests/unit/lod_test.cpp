@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "crowd/bake/anim_bake.h"
+#include "crowd/bake/character.h"
 #include "crowd/bake/import.h"
 #include "crowd/bake/lod_bake.h"
 #include "crowd/formats/error.h"
@@ -145,6 +146,63 @@ TEST(Lod, FailureModesAreRepairedAndReported) {
     auto at = std::find(r.order.begin(), r.order.end(), corner) - r.order.begin();
     EXPECT_LT(at, r.floorVertices + 4) << "corner " << corner << " went early";
   }
+}
+
+// A low-poly export, flat-shaded: every triangle corner its own vertex, its normal the face's,
+// the UVs continuous. Unwelded, every edge is a normal seam and nothing collapses; welded, the
+// copies are one vertex each (normal zero: drawn with the face's) and the grid simplifies.
+TEST(Lod, FlatShadedCopiesWeldAndSimplify) {
+  std::vector<glm::vec3> p;
+  std::vector<uint32_t> idx;
+  grid(12, 12, p, idx);
+  SkinnedMesh m;
+  for (uint32_t i = 0; i < idx.size(); ++i) {
+    const uint32_t *t = &idx[i - i % 3];
+    const glm::vec3 n = glm::normalize(glm::cross(p[t[1]] - p[t[0]], p[t[2]] - p[t[0]]));
+    m.positions.push_back(p[idx[i]]);
+    m.normals.push_back(n);
+    m.uvs.push_back({p[idx[i]].x / 12, p[idx[i]].z / 12});
+    m.joints.push_back({0, 0, 0, 0});
+    m.weights.push_back({1, 0, 0, 0});
+    m.indices.push_back(i);
+  }
+  m.parts.push_back({"flat", 0, uint32_t(idx.size())});
+  const SkinnedMesh before = m;
+  const size_t T = idx.size() / 3;
+  Reporter rep;
+  rep.quiet = true;
+  LodResult unwelded = bakeLod(before.positions, before.indices, {}, rep);
+  EXPECT_GT(unwelded.triangleCount[unwelded.floorVertices], T * 9 / 10) << "every edge a seam";
+
+  const std::vector<uint32_t> was = weldFlatShading(m, rep);
+  EXPECT_TRUE(codes(rep).count("flat_shaded"));
+  ASSERT_EQ(m.positions.size(), p.size()) << "one vertex per position";
+  ASSERT_EQ(was.size(), m.positions.size());
+  for (size_t k = 0; k < m.positions.size(); ++k) {
+    EXPECT_EQ(m.normals[k], glm::vec3(0.0f));
+    EXPECT_EQ(m.positions[k], before.positions[was[k]]);
+  }
+  for (size_t i = 0; i < m.indices.size(); ++i) // the same triangles, corner for corner
+    EXPECT_EQ(m.uvs[m.indices[i]], before.uvs[before.indices[i]]);
+  LodResult welded = bakeLod(m.positions, m.indices, {}, rep);
+  EXPECT_LE(walk(welded, m.positions, LodOptions{}.maxNormalDeviationDeg), T / 10);
+
+  // A smooth mesh (shared vertices), and faceted copies whose UVs all differ (nothing to weld),
+  // are left as they are.
+  SkinnedMesh smooth = before;
+  smooth.positions = p, smooth.indices = idx;
+  smooth.normals.assign(p.size(), {0, 1, 0});
+  smooth.uvs.resize(p.size()), smooth.joints.resize(p.size()), smooth.weights.resize(p.size());
+  Reporter quiet;
+  quiet.quiet = true;
+  EXPECT_EQ(weldFlatShading(smooth, quiet).size(), p.size());
+  EXPECT_TRUE(quiet.warnings().empty());
+  SkinnedMesh seams = before;
+  for (size_t i = 0; i < seams.uvs.size(); ++i)
+    seams.uvs[i] = {float(i), 0}; // every corner its own UV: a seam everywhere, kept
+  EXPECT_EQ(weldFlatShading(seams, quiet).size(), before.positions.size());
+  EXPECT_EQ(seams.normals, before.normals);
+  EXPECT_TRUE(quiet.warnings().empty());
 }
 
 TEST(Lod, TinyAndHugeMeshes) {

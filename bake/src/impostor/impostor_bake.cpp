@@ -43,6 +43,20 @@ Posed pose(const Character &c, const AnimationClip *clip, double t) {
            glm::dvec3(joints[c.mesh.joints[v][size_t(k)]] * glm::dvec4(bind, 0));
     p.normals.push_back(glm::vec3(glm::length(n) > 0 ? glm::normalize(n) : n));
   }
+  // A flat-shaded vertex (its normal stored as zero by the LOD bake's weld) takes its posed
+  // faces' normal, area-weighted, as the CPU mirror gives it.
+  std::vector<glm::vec3> faces(p.normals.size(), glm::vec3(0.0f));
+  const auto &idx = c.mesh.indices;
+  for (size_t i = 0; i + 2 < idx.size(); i += 3) {
+    const glm::vec3 &a = p.positions[idx[i]], &b = p.positions[idx[i + 1]];
+    const glm::vec3 face = glm::cross(b - a, p.positions[idx[i + 2]] - a);
+    for (size_t k = 0; k < 3; ++k)
+      if (c.mesh.normals[idx[i + k]] == glm::vec3(0.0f))
+        faces[idx[i + k]] += face;
+  }
+  for (size_t v = 0; v < faces.size(); ++v)
+    if (c.mesh.normals[v] == glm::vec3(0.0f) && glm::length(faces[v]) > 0)
+      p.normals[v] = glm::normalize(faces[v]);
   return p;
 }
 

@@ -8,10 +8,10 @@
 #include <queue>
 #include <set>
 
+#include "cost_queue.h"
 #include "crowd/bake/character.h"
 #include "crowd/bake/evaluate.h"
 #include "crowd/formats/error.h"
-#include "cost_queue.h"
 #include "fan_mesh.h"
 
 // Why by hand, not OpenMesh's half-edge collapse: on flat arrays the whole collapse order runs
@@ -30,8 +30,8 @@ class PoseQuadrics {
 public:
   PoseQuadrics(size_t vertices, size_t poses, const std::vector<glm::dvec3> &posed)
       : poses_(poses), stride_(poses + poses % 2), build_(vertices * poses * 10, 0.0),
-        q_(vertices * 10 * stride_, 0.0),
-        at_(vertices * 3 * stride_, 0.0), self_(vertices, 0.0), term_(stride_, 0.0) {
+        q_(vertices * 10 * stride_, 0.0), at_(vertices * 3 * stride_, 0.0), self_(vertices, 0.0),
+        term_(stride_, 0.0) {
     for (size_t v = 0; v < vertices; ++v)
       for (size_t p = 0; p < poses; ++p)
         for (size_t k = 0; k < 3; ++k)
@@ -92,14 +92,14 @@ private:
   mutable std::vector<double> term_;
 };
 
+// A collapse of `from` into `to`, valid while neither vertex has changed since (their stamps).
 struct Candidate {
   double cost;
   uint32_t from, to, fromStamp, toStamp;
-  bool operator<(const Candidate &o) const { // the priority queue pops the cheapest, then the
-    return cost != o.cost ? cost > o.cost      // lowest vertex pair: no ties
-                          : from != o.from ? from > o.from : to > o.to;
-  }
 };
+
+// Why a collapse is not allowed (kNone: it is).
+enum class Block { kNone, kNoEdge, kSeam, kManifold, kNormal };
 
 // A vertex's neighbours, each with the number of live faces it shares with the vertex (1: an
 // open edge between them).
@@ -136,11 +136,13 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
     reporter.warn("duplicate_triangles",
                   std::to_string(m.duplicate) + " duplicate triangles dropped from the LOD mesh");
   if (m.splitVertices || m.cutEdges)
-    reporter.warn("non_manifold",
-                  std::to_string(m.cutEdges) + " edges with more than two faces (or wound both "
-                  "ways) cut open; " + std::to_string(m.splitVertices) + " vertices where " +
-                  "several fans meet split into one per fan (" + std::to_string(m.extraFans) +
-                  " added), each fan simplifying on its own");
+    reporter.warn("non_manifold", std::to_string(m.cutEdges) +
+                                      " edges with more than two faces (or wound both "
+                                      "ways) cut open; " +
+                                      std::to_string(m.splitVertices) + " vertices where " +
+                                      "several fans meet split into one per fan (" +
+                                      std::to_string(m.extraFans) +
+                                      " added), each fan simplifying on its own");
   if (m.vertex.empty())
     throw Error("lod: the mesh has no triangle with an area");
 
@@ -245,11 +247,11 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
   quadric.finish();
   const double cosLimit = std::cos(o.maxNormalDeviationDeg * 3.14159265358979323846 / 180);
   Ring ringA, ringB;
-  auto legal = [&](uint32_t a, uint32_t b) {
+  auto legal = [&](uint32_t a, uint32_t b) -> Block {
     uint32_t ab[2];
     const uint32_t sides = edgeFaces(a, b, ab);
     if (sides == 0)
-      return false; // no longer an edge
+      return Block::kNoEdge; // no longer an edge
     ringOf(a, ringA);
     ringOf(b, ringB);
     // A seam or boundary vertex slides only along its line: exactly two special edges, and
@@ -262,7 +264,7 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
         along |= w == b;
       }
     if (specials != 0 && !(specials == 2 && along))
-      return false;
+      return Block::kSeam;
     // The link condition: the vertices next to both ends are exactly the faces' apexes, so the
     // mesh stays manifold; an inner edge joining two boundary vertices would pinch it.
     uint32_t apex[2] = {UINT32_MAX, UINT32_MAX};
@@ -274,11 +276,11 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
     for (const auto &[w, n] : ringA.around)
       if (ringB.count(w)) {
         if (w != apex[0] && w != apex[1])
-          return false;
+          return Block::kManifold;
         ++common;
       }
     if (common != sides)
-      return false;
+      return Block::kManifold;
     auto onBoundary = [](const Ring &ring) {
       for (const auto &[w, n] : ring.around)
         if (n == 1)
@@ -286,16 +288,16 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
       return false;
     };
     if (sides == 2 && onBoundary(ringA) && onBoundary(ringB))
-      return false;
+      return Block::kManifold;
     for (uint32_t s = 0; s < sides; ++s) // a face with two open edges would leave a dangling one
       if (ringA.count(apex[s]) == 1 && ringB.count(apex[s]) == 1)
-        return false;
+        return Block::kManifold;
     const glm::dvec3 target = posed[b * P];
     for (uint32_t f : facesOf[a]) {
       if (!alive[f] || has(f, b))
         continue; // this face disappears
       if (sides == 2 && has(f, apex[0]) && has(f, apex[1]))
-        return false; // a tetrahedron: the faces left would be one triangle twice
+        return Block::kManifold; // a tetrahedron: the faces left would be one triangle twice
       std::array<uint32_t, 3> fv = m.vertex[f];
       const glm::dvec3 before = normalOf(fv, 0);
       glm::dvec3 p[3];
@@ -304,11 +306,11 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
       const glm::dvec3 n = glm::cross(p[1] - p[0], p[2] - p[0]);
       const double len = glm::length(n);
       if (len <= 1e-12 * glm::dot(target, target) + 1e-30)
-        return false;
+        return Block::kNormal;
       if (glm::dot(n / len, originalNormal[f]) < cosLimit || glm::dot(n, before) <= 0)
-        return false;
+        return Block::kNormal;
     }
-    return true;
+    return Block::kNone;
   };
 
   std::vector<uint32_t> stamp(N, 0);
@@ -346,7 +348,8 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
     while (!queue.empty() && aliveFaces > floorFaces) {
       const Candidate c = queue.pop();
       const uint32_t a = c.from, b = c.to;
-      if (gone[a] || gone[b] || stamp[a] != c.fromStamp || stamp[b] != c.toStamp || !legal(a, b))
+      if (gone[a] || gone[b] || stamp[a] != c.fromStamp || stamp[b] != c.toStamp ||
+          legal(a, b) != Block::kNone)
         continue;
       // Pair each render vertex of `a` with the render vertex of `b` on the same side.
       std::array<std::pair<uint32_t, uint32_t>, 2> pairs;
@@ -394,6 +397,35 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
       }
     }
     queue.clear();
+  }
+
+  if (aliveFaces > floorFaces) { // say why: what stops each edge that is left, both ways
+    size_t seam = 0, manifold = 0, normal = 0, edges = 0;
+    for (uint32_t f = 0; f < F; ++f)
+      for (uint32_t e = 0; alive[f] && e < 3; ++e) {
+        const uint32_t a = m.vertex[f][e], b = m.vertex[f][(e + 1) % 3];
+        uint32_t sides[2];
+        if (edgeFaces(a, b, sides) == 2 && sides[0] != f)
+          continue; // each edge once
+        ++edges;
+        const Block ab = legal(a, b), ba = legal(b, a);
+        seam += ab == Block::kSeam && ba == Block::kSeam;
+        normal += (ab == Block::kNormal || ba == Block::kNormal) && ab != Block::kManifold &&
+                  ba != Block::kManifold;
+        manifold += ab == Block::kManifold || ba == Block::kManifold;
+      }
+    auto pct = [](double x) { return std::to_string(int(std::lround(100 * x))) + "%"; };
+    reporter.warn("lod_floor_not_reached",
+                  "the LOD stops at " + std::to_string(aliveFaces) + " of " + std::to_string(F) +
+                      " triangles (" + pct(double(aliveFaces) / double(F)) + ", the floor is " +
+                      pct(o.floorFraction) + "): no legal collapse is left. Of its " +
+                      std::to_string(edges) + " edges, " + std::to_string(seam) +
+                      " join two seam or boundary corners (UV seams, hard edges, open borders: "
+                      "each moves only along its line), " +
+                      std::to_string(manifold) +
+                      " would make the mesh non-manifold (a piece down to its last faces), " +
+                      std::to_string(normal) + " would turn a face more than " +
+                      std::to_string(int(o.maxNormalDeviationDeg)) + " degrees");
   }
 
   // Numbering: vertices never removed first (input order), then the removed ones, last removed
@@ -544,6 +576,7 @@ LodResult bakeWithRepeats(const Character &c, const LodOptions &o, Reporter &rep
 
 pack::Lod applyLod(Character &c, const LodOptions &o, Reporter &reporter, LodResult *details) {
   o.validate();
+  const std::vector<uint32_t> was = weldFlatShading(c.mesh, reporter);
   SkinnedMesh &in = c.mesh;
   const std::vector<uint32_t> partOf = triangleParts(in);
   LodResult r = bakeWithRepeats(c, o, reporter);
@@ -588,8 +621,11 @@ pack::Lod applyLod(Character &c, const LodOptions &o, Reporter &reporter, LodRes
     out.parts.push_back(part);
   }
   c.mesh = std::move(out);
-  if (details)
+  if (details) {
+    for (uint32_t &v : r.order) // the caller's vertices, before the flat-shading weld
+      v = was[v];
     *details = std::move(r);
+  }
   return lod;
 }
 

@@ -58,8 +58,18 @@ std::vector<uint32_t> triangleParts(const SkinnedMesh &mesh);
 // clips): the poses applyLod's collapse costs sum over.
 std::vector<std::vector<glm::vec3>> samplePoses(const Character &character, uint32_t count);
 
-// The same arrays, applied to a character: its mesh reordered (vertices, and triangles within
-// each sub-mesh) and the pack's LOD chunk for it.
+// Flat shading: a low-poly model exported flat-shaded gives each triangle corner its own vertex,
+// its normal the face's, so every edge is a normal seam and nothing collapses. Faceted vertices
+// (the normal their face's within `maxAngleDeg` in every triangle using them) that differ only by
+// their normal weld into one; in a sub-mesh where any do, every faceted vertex's normal (and its
+// morph normals) is stored as zero: the player, the CPU mirror and the impostor bake shade it
+// with its face's normal, the same at full detail. Returns, per vertex of the new mesh, the
+// vertex it was (the identity when nothing is flat-shaded); reported.
+std::vector<uint32_t> weldFlatShading(SkinnedMesh &mesh, Reporter &reporter,
+                                      double maxAngleDeg = 1);
+
+// The same arrays, applied to a character (flat shading welded first): its mesh reordered
+// (vertices, and triangles within each sub-mesh) and the pack's LOD chunk for it.
 pack::Lod applyLod(Character &character, const LodOptions &options, Reporter &reporter,
                    LodResult *details = nullptr);
 

@@ -35,7 +35,8 @@ PoseMesh poseMesh(const pack::AnimationPack &pack, const PoseOptions &options,
 
 // Positions and (unnormalized, as the shader passes them on) normals of mesh.vertices at
 // `seconds` into the clip: looping clips wrap, others clamp, as the player does. A looped
-// garment's normals are its posed faces' (area-weighted), as the player shades it.
+// garment's normals, and a flat-shaded vertex's (stored as zero), are their posed faces'
+// (area-weighted: the player shades each face with its own).
 void poseAt(const pack::AnimationPack &pack, const PoseMesh &mesh, float seconds,
             std::vector<glm::vec3> &positions, std::vector<glm::vec3> &normals);
 

@@ -1,0 +1,115 @@
+#include <cmath>
+#include <cstring>
+#include <map>
+
+#include "crowd/bake/character.h"
+#include "crowd/bake/lod_bake.h"
+
+namespace crowd {
+namespace {
+
+void putBits(std::vector<uint32_t> &key, float f) {
+  f += 0.0f; // -0 -> +0
+  uint32_t b;
+  std::memcpy(&b, &f, sizeof b);
+  key.push_back(b);
+}
+
+} // namespace
+
+std::vector<uint32_t> weldFlatShading(SkinnedMesh &m, Reporter &reporter, double maxAngleDeg) {
+  const size_t V = m.positions.size(), T = m.indices.size() / 3;
+  std::vector<uint32_t> kept(V);
+  for (uint32_t v = 0; v < V; ++v)
+    kept[v] = v;
+  // A vertex is faceted when, in every triangle using it, its normal is that face's; and it
+  // lies in one sub-mesh only.
+  const double cosLimit = std::cos(maxAngleDeg * 3.14159265358979323846 / 180);
+  const std::vector<uint32_t> partOf = triangleParts(m);
+  std::vector<uint8_t> faceted(V, 0); // 0 unused, 1 faceted so far, 2 not
+  std::vector<uint32_t> partOfVertex(V, 0);
+  for (size_t t = 0; t < T; ++t) {
+    const uint32_t *c = &m.indices[3 * t];
+    const glm::dvec3 a(m.positions[c[0]]), b(m.positions[c[1]]), d(m.positions[c[2]]);
+    glm::dvec3 face = glm::cross(b - a, d - a);
+    const double len = glm::length(face);
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t v = c[k];
+      const glm::dvec3 n(m.normals[v]);
+      const bool flat =
+          len > 0 && glm::length(n) > 0 && glm::dot(n / glm::length(n), face / len) >= cosLimit;
+      if (faceted[v] != 0 && partOfVertex[v] != partOf[t])
+        faceted[v] = 2;
+      partOfVertex[v] = partOf[t];
+      faceted[v] = flat && faceted[v] != 2 ? 1 : 2;
+    }
+  }
+  // Faceted vertices differing only by their normal (same sub-mesh, position, UV, skin and morph
+  // offsets) weld into their first. A sub-mesh where any do is flat-shaded: all its faceted
+  // vertices are then shaded by their faces. A smooth mesh's planar patch is left as it is.
+  auto keyOf = [&](uint32_t v) {
+    std::vector<uint32_t> key{partOfVertex[v]};
+    for (int k = 0; k < 3; ++k)
+      putBits(key, m.positions[v][k]);
+    if (!m.uvs.empty())
+      putBits(key, m.uvs[v].x), putBits(key, m.uvs[v].y);
+    for (int k = 0; k < 4; ++k)
+      key.push_back(m.joints[v][size_t(k)]), putBits(key, m.weights[v][k]);
+    for (const auto &target : m.morphs)
+      for (int k = 0; k < 3; ++k)
+        putBits(key, target.positions[v][k]);
+    return key;
+  };
+  std::map<std::vector<uint32_t>, uint32_t> firstOf; // every attribute but the normal
+  std::vector<uint8_t> flatPart(m.parts.size() + 1, 0), byFace(V, 0);
+  for (uint32_t v = 0; v < V; ++v)
+    if (faceted[v] == 1) {
+      kept[v] = firstOf.try_emplace(keyOf(v), v).first->second;
+      flatPart[partOfVertex[v]] |= kept[v] != v;
+    }
+  size_t shaded = 0;
+  for (uint32_t v = 0; v < V; ++v) {
+    if (faceted[v] == 1 && !flatPart[partOfVertex[v]])
+      kept[v] = v; // a sub-mesh with no copy to weld keeps its normals
+    else if (faceted[v] == 1)
+      byFace[v] = 1, ++shaded;
+  }
+  if (shaded == 0)
+    return kept;
+
+  // Keep the first of each weld, in input order; its normal (and its morphs' normals) zero.
+  std::vector<uint32_t> newIndex(V, UINT32_MAX), from;
+  for (uint32_t v = 0; v < V; ++v)
+    if (kept[v] == v)
+      newIndex[v] = uint32_t(from.size()), from.push_back(v);
+  for (uint32_t &i : m.indices)
+    i = newIndex[kept[i]];
+  auto keep = [&](auto &values) {
+    auto old = std::move(values);
+    values.clear();
+    for (uint32_t v : from)
+      values.push_back(old[v]);
+  };
+  keep(m.positions), keep(m.normals), keep(m.joints), keep(m.weights);
+  if (!m.uvs.empty())
+    keep(m.uvs);
+  if (!m.sources.empty())
+    keep(m.sources);
+  for (auto &target : m.morphs)
+    keep(target.positions), keep(target.normals);
+  for (uint32_t k = 0; k < from.size(); ++k)
+    if (byFace[from[k]]) {
+      m.normals[k] = glm::vec3(0.0f);
+      for (auto &target : m.morphs)
+        target.normals[k] = glm::vec3(0.0f);
+    }
+  reporter.warn("flat_shaded",
+                std::to_string(shaded) + " vertices are flat-shaded (each normal its face's): " +
+                    std::to_string(V - from.size()) +
+                    " copies that differed only by their normal welded, so the LOD can collapse "
+                    "them; they are drawn with their face's normal (stored as zero)",
+                shaded);
+  return from;
+}
+
+} // namespace crowd
