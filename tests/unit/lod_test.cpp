@@ -205,6 +205,94 @@ TEST(Lod, FlatShadedCopiesWeldAndSimplify) {
   EXPECT_TRUE(quiet.warnings().empty());
 }
 
+// A ring of n vertices at height y, radius r, appended to p; returns its first index.
+uint32_t ring(std::vector<glm::vec3> &p, int n, float y, float r) {
+  const uint32_t first = uint32_t(p.size());
+  for (int k = 0; k < n; ++k) {
+    const float a = 6.2831853f * float(k) / float(n);
+    p.push_back({r * std::cos(a), y, r * std::sin(a)});
+  }
+  return first;
+}
+
+// A tube between two rings (outward faces).
+void tube(std::vector<uint32_t> &idx, uint32_t lower, uint32_t upper, int n) {
+  for (int k = 0; k < n; ++k) {
+    const uint32_t a = lower + uint32_t(k), b = lower + uint32_t((k + 1) % n);
+    const uint32_t c = upper + uint32_t(k), d = upper + uint32_t((k + 1) % n);
+    idx.insert(idx.end(), {a, c, b, b, c, d});
+  }
+}
+
+// A limb's cap sharing its rim with two tubes (the thigh and the hip's skirt of faces): every rim
+// edge has three faces. The rim is cut open and each rim vertex becomes one vertex per fan, so
+// the cap and both tubes simplify on their own, where splitting face by face kept the rim's
+// faces whole.
+TEST(Lod, ACapSharingItsRimWithTwoTubesSplitsPerFan) {
+  const int n = 24;
+  std::vector<glm::vec3> p;
+  std::vector<uint32_t> idx;
+  std::vector<uint32_t> below, above;
+  for (int k = 0; k <= 8; ++k)
+    below.push_back(ring(p, n, -1.0f + 0.125f * float(k), 0.3f)); // the last one is the rim
+  for (int k = 1; k <= 8; ++k)
+    above.push_back(ring(p, n, 0.125f * float(k), 0.3f));
+  const uint32_t rim = below.back();
+  for (size_t k = 0; k + 1 < below.size(); ++k)
+    tube(idx, below[k], below[k + 1], n);
+  tube(idx, rim, above[0], n);
+  for (size_t k = 0; k + 1 < above.size(); ++k)
+    tube(idx, above[k], above[k + 1], n);
+  p.push_back({0, 0, 0}); // the cap: a fan on the rim
+  for (int k = 0; k < n; ++k)
+    idx.insert(idx.end(), {uint32_t(p.size() - 1), rim + uint32_t((k + 1) % n), rim + uint32_t(k)});
+  Reporter rep;
+  rep.quiet = true;
+  LodResult r = bakeLod(p, idx, {}, rep);
+  ASSERT_TRUE(codes(rep).count("non_manifold"));
+  for (const auto &w : rep.warnings())
+    if (w.code == "non_manifold") {
+      EXPECT_NE(w.message.find(std::to_string(n) + " edges with more than two faces"),
+                std::string::npos)
+          << w.message;
+      EXPECT_NE(w.message.find(std::to_string(n) + " vertices where several fans meet"),
+                std::string::npos)
+          << w.message;
+    }
+  EXPECT_EQ(r.order.size(), p.size() + 2 * n) << "each rim vertex once per fan: three";
+  const size_t T = idx.size() / 3, left = walk(r, p, LodOptions{}.maxNormalDeviationDeg);
+  std::printf("cap on two tubes: %zu triangles -> %zu at the floor\n", T, left);
+  EXPECT_LE(left, T / 5);
+}
+
+// Triangles that share nothing cannot lose one without leaving a dangling edge: nothing
+// collapses, and the warning says so, edge by edge.
+TEST(Lod, DisconnectedTrianglesStayAndSayWhy) {
+  std::vector<glm::vec3> p;
+  std::vector<uint32_t> idx;
+  for (int t = 0; t < 50; ++t) {
+    const float x = float(t);
+    p.insert(p.end(), {{x, 0, 0}, {x + 0.5f, 0, 0}, {x, 0.5f, 0.1f}});
+    idx.insert(idx.end(), {uint32_t(3 * t), uint32_t(3 * t + 1), uint32_t(3 * t + 2)});
+  }
+  Reporter rep;
+  rep.quiet = true;
+  LodResult r = bakeLod(p, idx, {}, rep);
+  EXPECT_EQ(r.triangleCount[r.floorVertices], 50u);
+  bool said = false;
+  for (const auto &w : rep.warnings())
+    if (w.code == "lod_floor_not_reached") {
+      said = true;
+      EXPECT_NE(w.message.find("stops at 50 of 50 triangles"), std::string::npos) << w.message;
+      EXPECT_NE(w.message.find("Of its 150 edges, 0 join two seam or boundary corners"),
+                std::string::npos)
+          << w.message;
+      EXPECT_NE(w.message.find("150 would make the mesh non-manifold"), std::string::npos)
+          << w.message;
+    }
+  EXPECT_TRUE(said);
+}
+
 TEST(Lod, TinyAndHugeMeshes) {
   Reporter rep;
   rep.quiet = true;
