@@ -67,8 +67,8 @@ const char *const kLodHelp = R"(Bakes what crowdbake anim bakes, with the mesh o
 continuous LOD: the full edge-collapse sequence down to a floor, so a renderer can draw any
 vertex count v by taking each sub-mesh's first triangles (their count for v is stored) and
 following indices through the collapse map until they are below v. Collapses run on a welded
-mesh, cheapest quadric cost first, the cost summed over the bind pose and poses sampled from every
-clip (skinning-aware); a UV or normal seam vertex collapses only along its seam, a boundary
+mesh, cheapest quadric cost first, the cost the largest over the bind pose and poses sampled from
+every clip (skinning-aware); a UV or normal seam vertex collapses only along its seam, a boundary
 vertex only along its boundary; no cut has a degenerate triangle or one turned more than 75
 degrees from its full-detail normal. No new vertices. Non-manifold edges are cut open (a vertex
 where several fans meet becomes one per fan); duplicate and zero-area triangles are dropped;

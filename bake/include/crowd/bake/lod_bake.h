@@ -1,7 +1,7 @@
 // Continuous LOD (first slice): the full edge-collapse sequence of a mesh, from all its
 // triangles down to a floor, as arrays a renderer can cut at any vertex count. Collapses run on
-// a welded mesh of flat arrays (lod/fan_mesh.h), cheapest quadric cost first (summed over the
-// bind pose and any poses given, lod/cost_queue.h); a UV or normal seam vertex only collapses
+// a welded mesh of flat arrays (lod/fan_mesh.h), cheapest quadric cost first (the largest over
+// the bind pose and any poses given, lod/cost_queue.h); a UV or normal seam vertex only collapses
 // along its seam, a boundary vertex only along its boundary, and no collapse leaves a triangle
 // degenerate or turned more than `maxNormalDeviationDeg` from its full-detail normal, or the
 // mesh non-manifold. No new vertices: every LOD vertex is an original one.
@@ -55,7 +55,7 @@ LodTriangles lodTriangles(const SkinnedMesh &mesh);
 // Per triangle, the sub-mesh holding it (0 for a triangle in none).
 std::vector<uint32_t> triangleParts(const SkinnedMesh &mesh);
 // `count` poses of the mesh, round robin over every clip at mid-interval times (none without
-// clips): the poses applyLod's collapse costs sum over.
+// clips): the poses applyLod's collapse costs take the worst of.
 std::vector<std::vector<glm::vec3>> samplePoses(const Character &character, uint32_t count);
 
 // Flat shading: a low-poly model exported flat-shaded gives each triangle corner its own vertex,
@@ -75,8 +75,9 @@ pack::Lod applyLod(Character &character, const LodOptions &options, Reporter &re
 
 // Seams are where input vertices share a position but not their other attributes (UV, normal):
 // such copies weld into one topological vertex, unless `group` (per vertex, optional) differs.
-// `poses` (optional): the vertices skinned into other poses; collapse costs then sum the quadric
-// error over the bind pose and every pose, so the order suits the animation, not just the rest.
+// `poses` (optional): the vertices skinned into other poses; a collapse then costs its quadric
+// error in the worst of the bind pose and every pose, so the order suits the animation, not just
+// the rest.
 LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uint32_t> &indices,
                   const LodOptions &options, Reporter &reporter,
                   const std::vector<uint32_t> &group = {},

@@ -13,8 +13,8 @@ namespace crowd {
 // its cache. 0.1.1: outfit copies of partly covered body parts survive LOD. 0.2.0: impostor
 // atlases in BC5 blocks and region bytes (IMPO version 3). 0.2.1: the rasterizer gives a pixel on
 // an edge two triangles share to exactly one of them (it could fall between both). 0.3.0: the
-// LOD collapses on flat arrays, non-manifold vertices split per fan (another collapse order),
-// flat-shaded copies welded (normals stored as zero).
+// LOD collapses on flat arrays, non-manifold vertices split per fan, its cost the worst pose's
+// (another collapse order), flat-shaded copies welded (normals stored as zero).
 inline constexpr const char *kBakerVersion = "crowdbake 0.3.0";
 
 // The compiler and C library this crowdbake was built with and runs on: floats may round
