@@ -4,7 +4,8 @@
 # (32..256 at 32x8), charted as accuracy against bytes per frame (issue 15's memory/accuracy
 # chart), and bake time at 1 and 2 threads (32x8, 128 texels, unmirrored: the speed target).
 # Accuracy: frame 0 redrawn from the stored views against the true render, at the views and
-# halfway between them. Writes OUT/impostor_views.csv, OUT/impostor_texels.csv, SVG charts.
+# halfway between them, and popping (the largest per-pixel change a step of a slow orbit, in 8-bit
+# levels, geometry against impostor). Writes OUT/impostor_views.csv, OUT/impostor_texels.csv, SVG charts.
 # Usage: tests/bench/impostor_table.sh [OUT]   (after ./run build)
 set -euo pipefail
 cd "$(dirname "$0")/../.."
@@ -21,9 +22,10 @@ row() { # REPORT -> CSV fields
       f(a.at_views.iou_mean), f(a.at_views.normal_error_mean_deg), f(a.at_views.uv_error_mean),
       f(a.between_views.iou_mean), f(a.between_views.iou_min), f(a.between_views.normal_error_mean_deg),
       f(a.between_views.normal_error_max_deg), f(a.between_views.uv_error_mean),
-      `${a.worst.azimuth_deg}/${a.worst.elevation_deg}`, f(r.job_s - a.time_s)].join(","));' "$(realpath "$1")"
+      `${a.worst.azimuth_deg}/${a.worst.elevation_deg}`, f(a.popping.geometry_change_max),
+      f(a.popping.impostor_change_max), f(r.job_s - a.time_s)].join(","));' "$(realpath "$1")"
 }
-header="views,texels,bytes_per_frame,naive_bytes_per_frame,occupancy,at_iou_mean,at_normal_mean_deg,at_uv_mean,between_iou_mean,between_iou_min,between_normal_mean_deg,between_normal_max_deg,between_uv_mean,worst_az/el_deg,bake_s"
+header="views,texels,bytes_per_frame,naive_bytes_per_frame,occupancy,at_iou_mean,at_normal_mean_deg,at_uv_mean,between_iou_mean,between_iou_min,between_normal_mean_deg,between_normal_max_deg,between_uv_mean,worst_az/el_deg,pop_geometry_max,pop_impostor_max,bake_s"
 echo "view_count,$header" > "$out/impostor_views.csv"
 for v in 8x4 16x8 32x8 64x16; do
   $bin impostor "$glb" -o "$out/impostor/v.crowdpack" --clip walk --views $v --mirror --quiet \

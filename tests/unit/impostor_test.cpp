@@ -210,6 +210,14 @@ TEST(Impostor, AccuracyIsExactAtTheViewsAndImprovesWithMoreViews) {
   ImpostorAccuracy fine = measureImpostor(humanoid(), bakeImpostor(humanoid(), o, r).impostor, 1);
   EXPECT_GT(fine.betweenViews.iouMean, a.betweenViews.iouMean);
   EXPECT_LT(fine.betweenViews.normalMeanDeg, a.betweenViews.normalMeanDeg);
+  // Popping on a slow orbit: the nearest-view impostor stands still between views and jumps at
+  // the switch, well past the geometry's largest change in a step; more views, smaller jumps.
+  for (const auto *p : {&a.popping, &fine.popping}) {
+    EXPECT_GT(p->geometryMean, 0.0);
+    EXPECT_GT(p->impostorMax, 2 * p->geometryMax);
+  }
+  EXPECT_EQ(fine.popping.steps, 32 * kOrbitSteps);
+  EXPECT_LT(fine.popping.impostorMax, a.popping.impostorMax);
 }
 } // namespace
 

@@ -133,7 +133,14 @@ ordered_json impostorAccuracyFigures(const ImpostorAccuracy &a) {
           {"worst",
            {{"azimuth_deg", a.worstAzimuthDeg},
             {"elevation_deg", a.worstElevationDeg},
-            {"iou", a.worstIou}}}};
+            {"iou", a.worstIou}}},
+          {"popping",
+           {{"orbit_steps", a.popping.steps},
+            {"elevation_deg", a.popping.elevationDeg},
+            {"geometry_change_mean", a.popping.geometryMean},
+            {"geometry_change_max", a.popping.geometryMax},
+            {"impostor_change_mean", a.popping.impostorMean},
+            {"impostor_change_max", a.popping.impostorMax}}}};
 }
 
 ordered_json clothFigures(const ClothBakeResult &r) {

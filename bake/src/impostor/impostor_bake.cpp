@@ -432,17 +432,15 @@ ImpostorAccuracy measureImpostor(const Character &c, const pack::Impostor &m, in
   frames[0] = pack::decodeTexels(m, 0);
   if (m.mirrored)
     frames[m.frames / 2] = pack::decodeTexels(m, m.frames / 2);
-  // Directions: at every sampled view, then halfway to the next azimuth and elevation.
-  const size_t views = size_t(m.azimuths) * m.elevations;
-  std::vector<Result> results(2 * views);
-  parallelFor(results.size(), threads, [&](size_t i) {
-    bool between = i >= views;
-    size_t k = i % views, e = k / m.azimuths, a = k % m.azimuths;
-    double half = between ? 0.5 : 0.0;
-    double az = sampledAz(uint32_t(a)) + half * 2 * kPi / m.azimuths;
-    // Halfway up too, except above the top row: there the views stop (and looking straight
-    // down leaves the camera's "up" undefined).
-    double el = sampledEl(double(e) + (e + 1 < m.elevations ? half : 0.0));
+  // A grey per pixel, lit from a fixed object-space light (0 where empty, 0.2 to 1 covered), of
+  // the geometry and of the impostor: what the popping measure compares between frames.
+  const glm::vec3 light = glm::normalize(glm::vec3(0.3f, 0.9f, 0.3f));
+  auto grey = [&](glm::vec3 normal) {
+    return 0.2f + 0.8f * std::max(0.0f, glm::dot(normal, light));
+  };
+  // One camera direction: the reference (the skinned mesh) against the nearest stored view.
+  auto look = [&](double az, double el, Result &r, std::vector<float> *geometryGrey,
+                  std::vector<float> *impostorGrey) {
     ViewFrame cam = viewFrame(az, el);
     auto camera = raster::orthographic(centre + cam.dir * (2 * radius), centre, {0, 1, 0}, radius,
                                        radius, 0.5 * radius, 3.5 * radius);
@@ -466,7 +464,8 @@ ImpostorAccuracy measureImpostor(const Character &c, const pack::Impostor &m, in
         frames[stored / (size_t(m.elevations) * m.storedAzimuths())];
     glm::dvec3 planePoint = centre + sv.dir * double(view.planeOffset);
     size_t both = 0, either = 0;
-    Result &r = results[i];
+    if (geometryGrey)
+      geometryGrey->assign(size_t(n) * size_t(n), 0.0f), impostorGrey->assign(size_t(n) * n, 0.0f);
     for (int y = 0; y < n; ++y)
       for (int x = 0; x < n; ++x) {
         // The camera ray through this pixel meets the stored view's plane at q.
@@ -491,6 +490,13 @@ ImpostorAccuracy measureImpostor(const Character &c, const pack::Impostor &m, in
         bool real = reference.triangle[ti] >= 0;
         both += real && texel;
         either += real || texel;
+        if (geometryGrey && real)
+          (*geometryGrey)[ti] = grey(
+              glm::normalize(raster::interpolate(reference, ti, posed.normals, c.mesh.indices)));
+        if (geometryGrey && texel) {
+          const auto decoded = atlas.normal(at);
+          (*impostorGrey)[ti] = grey({flip ? -decoded[0] : decoded[0], decoded[1], decoded[2]});
+        }
         if (real && texel) {
           const auto decoded = atlas.normal(at);
           glm::vec3 normal(decoded[0], decoded[1], decoded[2]);
@@ -518,7 +524,43 @@ ImpostorAccuracy measureImpostor(const Character &c, const pack::Impostor &m, in
         }
       }
     r.iou = either ? double(both) / double(either) : 1.0;
+  };
+  // Directions: at every sampled view, then halfway to the next azimuth and elevation.
+  const size_t views = size_t(m.azimuths) * m.elevations;
+  std::vector<Result> results(2 * views);
+  parallelFor(results.size(), threads, [&](size_t i) {
+    bool between = i >= views;
+    size_t k = i % views, e = k / m.azimuths, a = k % m.azimuths;
+    double half = between ? 0.5 : 0.0;
+    // Halfway up too, except above the top row: there the views stop (and looking straight
+    // down leaves the camera's "up" undefined).
+    look(sampledAz(uint32_t(a)) + half * 2 * kPi / m.azimuths,
+         sampledEl(double(e) + (e + 1 < m.elevations ? half : 0.0)), results[i], nullptr, nullptr);
   });
+  // Popping: a slow orbit around the walker at the lowest row's elevation, kOrbitSteps a view
+  // apart; the mean per-pixel change of the grey between consecutive steps, for the geometry and
+  // for the impostor. The geometry changes a little every step; the nearest-view impostor stays
+  // still, then jumps where the nearest view changes.
+  const size_t steps = size_t(m.azimuths) * kOrbitSteps;
+  std::vector<std::vector<float>> geometry(steps), impostor(steps);
+  parallelFor(steps, threads, [&](size_t s) {
+    Result unused;
+    look(2 * kPi * double(s) / double(steps), sampledEl(0), unused, &geometry[s], &impostor[s]);
+  });
+  ImpostorAccuracy::Popping pop;
+  pop.steps = uint32_t(steps);
+  pop.elevationDeg = glm::degrees(sampledEl(0));
+  for (size_t s = 0; s < steps; ++s) {
+    const size_t prev = (s + steps - 1) % steps;
+    double g = 0, im = 0;
+    for (size_t k = 0; k < geometry[s].size(); ++k) {
+      g += std::abs(geometry[s][k] - geometry[prev][k]);
+      im += std::abs(impostor[s][k] - impostor[prev][k]);
+    }
+    g *= 255.0 / double(geometry[s].size()), im *= 255.0 / double(geometry[s].size());
+    pop.geometryMean += g / double(steps), pop.impostorMean += im / double(steps);
+    pop.geometryMax = std::max(pop.geometryMax, g), pop.impostorMax = std::max(pop.impostorMax, im);
+  }
 
   ImpostorAccuracy acc;
   for (int part = 0; part < 2; ++part) {
@@ -548,6 +590,7 @@ ImpostorAccuracy measureImpostor(const Character &c, const pack::Impostor &m, in
     f.normalMeanDeg = angles ? angleSum / double(angles) : 0;
     f.uvMean = angles ? uvSum / double(angles) : 0;
   }
+  acc.popping = pop;
   return acc;
 }
 

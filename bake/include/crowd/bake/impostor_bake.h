@@ -75,7 +75,16 @@ struct ImpostorAccuracy {
   };
   Figures atViews, betweenViews; // directions at the sampled views; halfway between them
   double worstAzimuthDeg = 0, worstElevationDeg = 0, worstIou = 1; // lowest IoU found
+  // A slow orbit (kOrbitSteps a view) at the lowest row: the mean and largest per-pixel change of
+  // a lit grey between consecutive steps, in 8-bit levels, geometry against impostor. Popping is
+  // the impostor's largest change well above the geometry's.
+  struct Popping {
+    uint32_t steps = 0;
+    double elevationDeg = 0;
+    double geometryMean = 0, geometryMax = 0, impostorMean = 0, impostorMax = 0;
+  } popping;
 };
+inline constexpr uint32_t kOrbitSteps = 8; // orbit steps between two stored azimuths
 ImpostorAccuracy measureImpostor(const Character &character, const pack::Impostor &impostor,
                                  int threads = 0);
 
