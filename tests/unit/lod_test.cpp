@@ -203,6 +203,17 @@ TEST(Lod, FlatShadedCopiesWeldAndSimplify) {
   EXPECT_EQ(weldFlatShading(seams, quiet).size(), before.positions.size());
   EXPECT_EQ(seams.normals, before.normals);
   EXPECT_TRUE(quiet.warnings().empty());
+  // Vertices to keep (a cloth loop's, placed by their source) stay as they are.
+  SkinnedMesh kept = before;
+  const std::vector<uint32_t> keptWas = weldFlatShading(kept, rep, 1, {0, 1, 2});
+  ASSERT_GE(kept.positions.size(), 3u);
+  for (uint32_t k = 0; k < 3; ++k) {
+    EXPECT_EQ(keptWas[k], k);
+    EXPECT_EQ(kept.normals[k], before.normals[k]);
+  }
+  // The rest weld: one vertex per position, plus a kept one at two of the three (the grid's
+  // corner, the first, has no other copy).
+  EXPECT_EQ(kept.positions.size(), p.size() + 2);
 }
 
 // A ring of n vertices at height y, radius r, appended to p; returns its first index.

@@ -17,7 +17,8 @@ void putBits(std::vector<uint32_t> &key, float f) {
 
 } // namespace
 
-std::vector<uint32_t> weldFlatShading(SkinnedMesh &m, Reporter &reporter, double maxAngleDeg) {
+std::vector<uint32_t> weldFlatShading(SkinnedMesh &m, Reporter &reporter, double maxAngleDeg,
+                                      const std::vector<uint32_t> &keep) {
   const size_t V = m.positions.size(), T = m.indices.size() / 3;
   std::vector<uint32_t> kept(V);
   for (uint32_t v = 0; v < V; ++v)
@@ -44,6 +45,9 @@ std::vector<uint32_t> weldFlatShading(SkinnedMesh &m, Reporter &reporter, double
       faceted[v] = flat && faceted[v] != 2 ? 1 : 2;
     }
   }
+  for (uint32_t v : keep)
+    if (v < V)
+      faceted[v] = 2;
   // Faceted vertices differing only by their normal (same sub-mesh, position, UV, skin and morph
   // offsets) weld into their first. A sub-mesh where any do is flat-shaded: all its faceted
   // vertices are then shaded by their faces. A smooth mesh's planar patch is left as it is.
@@ -84,19 +88,19 @@ std::vector<uint32_t> weldFlatShading(SkinnedMesh &m, Reporter &reporter, double
       newIndex[v] = uint32_t(from.size()), from.push_back(v);
   for (uint32_t &i : m.indices)
     i = newIndex[kept[i]];
-  auto keep = [&](auto &values) {
+  auto keepOnly = [&](auto &values) {
     auto old = std::move(values);
     values.clear();
     for (uint32_t v : from)
       values.push_back(old[v]);
   };
-  keep(m.positions), keep(m.normals), keep(m.joints), keep(m.weights);
+  keepOnly(m.positions), keepOnly(m.normals), keepOnly(m.joints), keepOnly(m.weights);
   if (!m.uvs.empty())
-    keep(m.uvs);
+    keepOnly(m.uvs);
   if (!m.sources.empty())
-    keep(m.sources);
+    keepOnly(m.sources);
   for (auto &target : m.morphs)
-    keep(target.positions), keep(target.normals);
+    keepOnly(target.positions), keepOnly(target.normals);
   for (uint32_t k = 0; k < from.size(); ++k)
     if (byFace[from[k]]) {
       m.normals[k] = glm::vec3(0.0f);

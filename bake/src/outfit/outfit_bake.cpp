@@ -327,7 +327,10 @@ OutfitBakeResult bakeOutfits(const Character &template_, const std::vector<Outfi
   if (options.lod) { // reorders triangles within each sub-mesh: the outfit table stays valid
     const std::vector<uint32_t> partOf = triangleParts(out.mesh);
     LodResult details;
-    lod = applyLod(out, *options.lod, reporter, &details);
+    std::vector<uint32_t> looped; // the pack places a loop's vertices by their glTF source
+    for (const PlacedLoop &l : r.loops)
+      looped.insert(looped.end(), l.vertices.begin(), l.vertices.end());
+    lod = applyLod(out, *options.lod, reporter, &details, looped);
     std::vector<uint32_t> source; // applyLod's output order: per part, the kept triangles
     for (uint32_t p = 0; p < out.mesh.parts.size(); ++p)
       for (uint32_t t : details.source)

@@ -64,14 +64,15 @@ std::vector<std::vector<glm::vec3>> samplePoses(const Character &character, uint
 // their normal weld into one; in a sub-mesh where any do, every faceted vertex's normal (and its
 // morph normals) is stored as zero: the player, the CPU mirror and the impostor bake shade it
 // with its face's normal, the same at full detail. Returns, per vertex of the new mesh, the
-// vertex it was (the identity when nothing is flat-shaded); reported.
-std::vector<uint32_t> weldFlatShading(SkinnedMesh &mesh, Reporter &reporter,
-                                      double maxAngleDeg = 1);
+// vertex it was (the identity when nothing is flat-shaded); reported. `keep` (optional): vertices
+// never welded nor changed (a cloth loop's: the pack places them by their glTF source).
+std::vector<uint32_t> weldFlatShading(SkinnedMesh &mesh, Reporter &reporter, double maxAngleDeg = 1,
+                                      const std::vector<uint32_t> &keep = {});
 
 // The same arrays, applied to a character (flat shading welded first): its mesh reordered
 // (vertices, and triangles within each sub-mesh) and the pack's LOD chunk for it.
 pack::Lod applyLod(Character &character, const LodOptions &options, Reporter &reporter,
-                   LodResult *details = nullptr);
+                   LodResult *details = nullptr, const std::vector<uint32_t> &keep = {});
 
 // Seams are where input vertices share a position but not their other attributes (UV, normal):
 // such copies weld into one topological vertex, unless `group` (per vertex, optional) differs.
