@@ -297,6 +297,43 @@ TEST(ClothVisibility, ALoopThatSwingsTheGarmentAwayUncoversTheBody) {
   EXPECT_GT(p[loops[0].vertices[0]].y, 40.0);
 }
 
+// With LOD the merged mesh is reordered (and flat shading welded): the placed loops follow, so
+// the hole check poses each loop vertex where it now is (before, they kept the pre-LOD numbers).
+TEST(ClothVisibility, LoopVerticesFollowTheLodOrder) {
+  Reporter rep;
+  rep.quiet = true;
+  OutfitInput dress = test::sampleOutfits()[0];
+  const auto garment = garmentVertices(dress.character, "dress");
+  pack::ClothLoop still;
+  still.outfit = still.garment = "dress";
+  still.clip = "walk";
+  still.fps = 30;
+  still.cycles = 1;
+  std::vector<pack::VertexSource> sources;
+  for (uint32_t v : garment)
+    sources.push_back(dress.character.mesh.sources[v]);
+  still.sources = pack::SourceMap::of(sources);
+  still.step = {1e-3f, 1e-3f, 1e-3f};
+  still.positions.assign(2 * 3 * garment.size(), 0);
+  dress.loops = {still};
+  OutfitOptions o;
+  o.visibility.rays = 6;
+  o.visibility.points = 1;
+  o.visibility.frameStep = 1000;
+  o.visibility.loopFrames = 1;
+  o.lod = LodOptions{};
+  o.lod->poses = 2;
+  const OutfitBakeResult r = bakeOutfits(test::sampleHumanoid(), {dress}, o, rep);
+  ASSERT_EQ(r.loops.size(), 1u);
+  ASSERT_EQ(r.loops[0].vertices.size(), garment.size());
+  for (size_t k = 0; k < garment.size(); ++k) {
+    ASSERT_LT(r.loops[0].vertices[k], r.merged.mesh.vertexCount());
+    pack::VertexSource s = r.merged.mesh.sources[r.loops[0].vertices[k]];
+    s.file = sources[k].file; // the merged mesh numbers the outfit's file
+    EXPECT_EQ(s, sources[k]) << "loop vertex " << k;
+  }
+}
+
 TEST(ClothManifest, LoopsNameTheirOutfitClipAndCache) {
   const std::string dir = test::tempDir("cloth_manifest");
   for (const char *f : {"b.glb", "d.glb", "c.pc2"})

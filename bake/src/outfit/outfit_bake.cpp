@@ -337,6 +337,14 @@ OutfitBakeResult bakeOutfits(const Character &template_, const std::vector<Outfi
         if (partOf[t] == p)
           source.push_back(r.sourceTriangle[t]);
     r.sourceTriangle = std::move(source);
+    // The loops' vertices follow the LOD's order (and its flat-shading weld), or the hole check
+    // would pose the loops onto other vertices of the reordered mesh.
+    std::vector<uint32_t> newOf(joined.mesh.vertexCount(), UINT32_MAX);
+    for (uint32_t k = 0; k < details.order.size(); ++k)
+      newOf[details.order[k]] = k;
+    for (PlacedLoop &l : r.loops)
+      for (uint32_t &v : l.vertices)
+        v = newOf[v];
   }
   r.anim = bakeAnimation(out, options.anim, reporter);
   r.anim.pack.lod = std::move(lod);
