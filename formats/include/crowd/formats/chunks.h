@@ -101,7 +101,7 @@ struct SubMesh {
 
 struct Mesh {
   std::vector<float> positions; // xyz per vertex, bind pose
-  std::vector<float> normals;   // xyz per vertex
+  std::vector<float> normals;   // xyz per vertex; (0, 0, 0): flat-shaded, drawn with its face's
   std::vector<float> uvs;       // uv per vertex, or empty
   std::vector<uint32_t> indices;
   std::vector<SubMesh> subMeshes;
