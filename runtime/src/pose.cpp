@@ -113,13 +113,18 @@ void poseAt(const pack::AnimationPack &pack, const PoseMesh &mesh, float seconds
     positions[k] = s.position;
     normals[k] = s.normal;
   }
+  faceNormals(positions, mesh.indices, faceted, normals);
+}
+
+void faceNormals(const std::vector<glm::vec3> &positions, const std::vector<uint32_t> &indices,
+                 const std::vector<uint8_t> &faceted, std::vector<glm::vec3> &normals) {
   if (std::find(faceted.begin(), faceted.end(), 1) == faceted.end())
     return;
   for (size_t k = 0; k < faceted.size(); ++k)
     if (faceted[k])
       normals[k] = glm::vec3(0.0f);
-  for (size_t i = 0; i + 2 < mesh.indices.size(); i += 3) {
-    const uint32_t a = mesh.indices[i], b = mesh.indices[i + 1], c = mesh.indices[i + 2];
+  for (size_t i = 0; i + 2 < indices.size(); i += 3) {
+    const uint32_t a = indices[i], b = indices[i + 1], c = indices[i + 2];
     const glm::vec3 face = glm::cross(positions[b] - positions[a], positions[c] - positions[a]);
     for (uint32_t k : {a, b, c})
       if (faceted[k])

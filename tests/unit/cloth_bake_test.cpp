@@ -249,6 +249,24 @@ TEST(ClothChunk, DamageAndMismatchesAreClearErrors) {
 // Visibility tests a looped garment where its loop has it: a loop that carries the dress far
 // above the head leaves the body about as bare as no outfit does, though the skinned dress
 // hides the torso. (Coarse settings: this is about which poses are tested, not about rays.)
+// A two-frame loop of the sample dress over the walk, every vertex at `origin` in the root frame.
+pack::ClothLoop dressLoop(const OutfitInput &dress, std::array<float, 3> origin) {
+  const auto garment = garmentVertices(dress.character, "dress");
+  pack::ClothLoop loop;
+  loop.outfit = loop.garment = "dress";
+  loop.clip = "walk";
+  loop.fps = 30;
+  loop.cycles = 1;
+  std::vector<pack::VertexSource> sources;
+  for (uint32_t v : garment)
+    sources.push_back(dress.character.mesh.sources[v]);
+  loop.sources = pack::SourceMap::of(sources);
+  loop.origin = origin;
+  loop.step = {1e-3f, 1e-3f, 1e-3f};
+  loop.positions.assign(2 * 3 * garment.size(), 0); // 2 frames
+  return loop;
+}
+
 TEST(ClothVisibility, ALoopThatSwingsTheGarmentAwayUncoversTheBody) {
   Reporter rep;
   rep.quiet = true;
@@ -259,19 +277,7 @@ TEST(ClothVisibility, ALoopThatSwingsTheGarmentAwayUncoversTheBody) {
   for (size_t p = body.mesh.parts.size(); p < joined.mesh.parts.size(); ++p)
     garmentParts.push_back(p);
   const auto garment = garmentVertices(dress.character, "dress");
-  pack::ClothLoop away;
-  away.outfit = away.garment = "dress";
-  away.clip = "walk";
-  away.fps = 30;
-  away.cycles = 1;
-  std::vector<pack::VertexSource> sources;
-  for (uint32_t v : garment)
-    sources.push_back(dress.character.mesh.sources[v]);
-  away.sources = pack::SourceMap::of(sources);
-  away.origin = {0.0f, 50.0f, 0.0f}; // 50 m up in the root frame: every vertex at the origin
-  away.step = {1e-3f, 1e-3f, 1e-3f};
-  away.positions.assign(2 * 3 * garment.size(), 0); // 2 frames
-  dress.loops = {away};
+  dress.loops = {dressLoop(dress, {0.0f, 50.0f, 0.0f})}; // 50 m up in the root frame
   const auto loops = placeLoops(joined, {dress}, {uint32_t(body.mesh.vertexCount())});
   ASSERT_EQ(loops.size(), 1u);
   EXPECT_EQ(loops[0].vertices.size(), garment.size());
@@ -303,19 +309,8 @@ TEST(ClothVisibility, LoopVerticesFollowTheLodOrder) {
   Reporter rep;
   rep.quiet = true;
   OutfitInput dress = test::sampleOutfits()[0];
-  const auto garment = garmentVertices(dress.character, "dress");
-  pack::ClothLoop still;
-  still.outfit = still.garment = "dress";
-  still.clip = "walk";
-  still.fps = 30;
-  still.cycles = 1;
-  std::vector<pack::VertexSource> sources;
-  for (uint32_t v : garment)
-    sources.push_back(dress.character.mesh.sources[v]);
-  still.sources = pack::SourceMap::of(sources);
-  still.step = {1e-3f, 1e-3f, 1e-3f};
-  still.positions.assign(2 * 3 * garment.size(), 0);
-  dress.loops = {still};
+  dress.loops = {dressLoop(dress, {0.0f, 0.0f, 0.0f})};
+  const std::vector<pack::VertexSource> sources = dress.loops[0].sources.expand();
   OutfitOptions o;
   o.visibility.rays = 6;
   o.visibility.points = 1;
@@ -325,8 +320,8 @@ TEST(ClothVisibility, LoopVerticesFollowTheLodOrder) {
   o.lod->poses = 2;
   const OutfitBakeResult r = bakeOutfits(test::sampleHumanoid(), {dress}, o, rep);
   ASSERT_EQ(r.loops.size(), 1u);
-  ASSERT_EQ(r.loops[0].vertices.size(), garment.size());
-  for (size_t k = 0; k < garment.size(); ++k) {
+  ASSERT_EQ(r.loops[0].vertices.size(), sources.size());
+  for (size_t k = 0; k < sources.size(); ++k) {
     ASSERT_LT(r.loops[0].vertices[k], r.merged.mesh.vertexCount());
     pack::VertexSource s = r.merged.mesh.sources[r.loops[0].vertices[k]];
     s.file = sources[k].file; // the merged mesh numbers the outfit's file

@@ -10,6 +10,7 @@
 #include "crowd/formats/bc5.h"
 #include "crowd/formats/error.h"
 #include "crowd/formats/limits.h"
+#include "crowd/runtime/pose.h"
 
 namespace crowd {
 namespace {
@@ -45,18 +46,13 @@ Posed pose(const Character &c, const AnimationClip *clip, double t) {
   }
   // A flat-shaded vertex (its normal stored as zero by the LOD bake's weld) takes its posed
   // faces' normal, area-weighted, as the CPU mirror gives it.
-  std::vector<glm::vec3> faces(p.normals.size(), glm::vec3(0.0f));
-  const auto &idx = c.mesh.indices;
-  for (size_t i = 0; i + 2 < idx.size(); i += 3) {
-    const glm::vec3 &a = p.positions[idx[i]], &b = p.positions[idx[i + 1]];
-    const glm::vec3 face = glm::cross(b - a, p.positions[idx[i + 2]] - a);
-    for (size_t k = 0; k < 3; ++k)
-      if (c.mesh.normals[idx[i + k]] == glm::vec3(0.0f))
-        faces[idx[i + k]] += face;
-  }
-  for (size_t v = 0; v < faces.size(); ++v)
-    if (c.mesh.normals[v] == glm::vec3(0.0f) && glm::length(faces[v]) > 0)
-      p.normals[v] = glm::normalize(faces[v]);
+  std::vector<uint8_t> flat(p.normals.size(), 0);
+  for (size_t v = 0; v < flat.size(); ++v)
+    flat[v] = c.mesh.normals[v] == glm::vec3(0.0f);
+  runtime::faceNormals(p.positions, c.mesh.indices, flat, p.normals);
+  for (size_t v = 0; v < flat.size(); ++v)
+    if (flat[v] && glm::length(p.normals[v]) > 0)
+      p.normals[v] = glm::normalize(p.normals[v]);
   return p;
 }
 

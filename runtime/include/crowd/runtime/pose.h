@@ -40,4 +40,10 @@ PoseMesh poseMesh(const pack::AnimationPack &pack, const PoseOptions &options,
 void poseAt(const pack::AnimationPack &pack, const PoseMesh &mesh, float seconds,
             std::vector<glm::vec3> &positions, std::vector<glm::vec3> &normals);
 
+// For each vertex marked in `faceted`: its normal becomes the sum of the (area-weighted) normals
+// of the triangles using it; the others keep theirs. How a cloth loop's or flat-shaded vertex is
+// lit by the CPU mirror and the impostor bake.
+void faceNormals(const std::vector<glm::vec3> &positions, const std::vector<uint32_t> &indices,
+                 const std::vector<uint8_t> &faceted, std::vector<glm::vec3> &normals);
+
 } // namespace crowd::runtime
