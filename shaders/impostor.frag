@@ -1,11 +1,17 @@
 #version 450 core
 // Per-pixel lighting of an impostor from its normal map, the colour of each texel's region from
-// the instance's palette, re-textured through the UV map. Texels are fetched, never filtered:
-// region ids must not be averaged (the mip levels were built with a mode filter). Normals and UVs
-// are BC5 blocks the GPU decodes; the normal is octahedral.
-in vec2 v_texel;
-flat in vec4 v_rect;
-flat in int v_layer, v_level, v_flip;
+// the instance's palette, re-textured through the UV map. impostor.vert gives, per blended view,
+// where the pixel's ray meets the view's plane in crop texels; there a view covers by its four
+// nearest texels' coverage, bilinearly, and the pixel is drawn where the weighted coverage reaches
+// half. The normal is the weighted mean of the views whose nearest texel is covered, the region
+// and UV the heaviest such view's: region ids are never averaged (the mip levels were built with
+// a mode filter), and texels are fetched, not filtered. Normals and UVs are BC5 blocks the GPU
+// decodes; the normal is octahedral. runtime::sampleImpostor does the same on the CPU.
+in vec3 v_crop[3];
+flat in ivec4 v_rect[3];
+flat in ivec3 v_layer;
+flat in vec3 v_weight;
+flat in int v_level;
 flat in vec3 v_rows0, v_rows1, v_rows2;
 flat in float v_palette;
 
@@ -31,20 +37,55 @@ float inLight(vec3 world) {
   return world.y >= texelFetch(u_shadowHeights, cell, 0).r ? 1.0 : 0.0;
 }
 
-void main() {
-  vec2 t = clamp(v_texel, vec2(0), v_rect.zw - 0.001);
-  if (v_flip == 1) t.x = v_rect.z - 0.001 - t.x;
-  ivec3 at = ivec3((ivec2(v_rect.xy) + ivec2(t)) >> v_level, v_layer);
-  int region = int(texelFetch(u_regions, at, v_level).r);
-  // Sampled before the discard: implicit derivatives need the whole 2x2 pixel quad.
-  vec3 textured = u_hasTexture && u_hasUvs ? texture(u_diffuse, texelFetch(u_uvs, at, v_level).xy).rgb
-                                           : vec3(1.0);
-  if (region == 0) discard;
-  if (u_shadow.w > 0.5) { o_colour = vec4(vec3(0.55), 1.0); return; }
-  vec2 o = texelFetch(u_normals, at, v_level).rg * 2.0 - 1.0;
+vec3 octahedral(vec2 o) {
+  o = o * 2.0 - 1.0;
   vec3 n = vec3(o, 1.0 - abs(o.x) - abs(o.y));
   if (n.z < 0.0) n.xy = (1.0 - abs(n.yx)) * vec2(n.x < 0.0 ? -1.0 : 1.0, n.y < 0.0 ? -1.0 : 1.0);
-  if (v_flip == 1) n.x = -n.x;
+  return normalize(n);
+}
+
+void main() {
+  float cover = 0.0;
+  vec3 normal = vec3(0.0);
+  int region = 0;
+  ivec3 chosen = ivec3(0);
+  for (int k = 0; k < 3; ++k) {
+    if (v_weight[k] <= 0.0) continue;
+    vec2 crop = v_crop[k].xy / v_crop[k].z;
+    ivec4 rect = v_rect[k];
+    int layer = v_layer[k] >> 1;
+    // Coverage from the four nearest texels of this level, inside the crop.
+    ivec2 first = rect.xy >> v_level, last = (rect.xy + rect.zw - 1) >> v_level;
+    vec2 p = (vec2(rect.xy) + crop) / float(1 << v_level) - 0.5;
+    ivec2 base = ivec2(floor(p));
+    vec2 fraction = p - vec2(base);
+    ivec2 nearest = base + ivec2(greaterThanEqual(fraction, vec2(0.5)));
+    float occupancy = 0.0;
+    int r = 0;
+    for (int i = 0; i < 4; ++i) {
+      ivec2 texel = base + ivec2(i & 1, i >> 1);
+      if (any(lessThan(texel, first)) || any(greaterThan(texel, last))) continue;
+      int id = int(texelFetch(u_regions, ivec3(texel, layer), v_level).r);
+      if (id == 0) continue;
+      occupancy += ((i & 1) == 1 ? fraction.x : 1.0 - fraction.x) *
+                   ((i >> 1) == 1 ? fraction.y : 1.0 - fraction.y);
+      if (texel == nearest) r = id;
+    }
+    cover += v_weight[k] * occupancy;
+    // The nearest texel (one of the four): its normal, region and UV.
+    if (r == 0) continue;
+    ivec3 at = ivec3(nearest, layer);
+    vec3 n = octahedral(texelFetch(u_normals, at, v_level).rg);
+    if ((v_layer[k] & 1) == 1) n.x = -n.x;
+    normal += v_weight[k] * n;
+    if (region == 0) region = r, chosen = at;
+  }
+  // Sampled before the discard: implicit derivatives need the whole 2x2 pixel quad.
+  vec2 uv = texelFetch(u_uvs, chosen, v_level).xy;
+  vec3 textured = u_hasTexture && u_hasUvs ? texture(u_diffuse, uv).rgb : vec3(1.0);
+  if (cover < 0.5 || region == 0) discard;
+  if (u_shadow.w > 0.5) { o_colour = vec4(vec3(0.55), 1.0); return; }
+  vec3 n = normalize(normal);
   n = normalize(vec3(dot(v_rows0, n), dot(v_rows1, n), dot(v_rows2, n)));
   float diffuse = max(dot(n, u_lightDirection), 0.0) * inLight(v_world);
   // As on the geometry: A of the region's colour says how much the texture applies (garments of a

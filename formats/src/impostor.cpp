@@ -88,6 +88,8 @@ std::vector<uint8_t> encode(const Impostor &m) {
     w.put<float>(v.pivotX);
     w.put<float>(v.pivotY);
     w.put<float>(v.planeOffset);
+    w.put<float>(v.slopeX);
+    w.put<float>(v.slopeY);
   }
   // Regions first: they say which blocks hold a covered texel; only those blocks are stored.
   w.putArray(m.regions);
@@ -196,6 +198,12 @@ Impostor decodeImpostor(std::span<const uint8_t> bytes, uint32_t version,
     v.pivotX = r.get<float>("view pivot x");
     v.pivotY = r.get<float>("view pivot y");
     v.planeOffset = r.get<float>("view plane offset");
+    if (version >= 4) {
+      v.slopeX = r.get<float>("view plane slope x");
+      v.slopeY = r.get<float>("view plane slope y");
+      if (!(std::abs(v.slopeX) <= kMaxPlaneSlope && std::abs(v.slopeY) <= kMaxPlaneSlope))
+        r.fail("view plane slope", "not finite or steeper than " + std::to_string(kMaxPlaneSlope));
+    }
     if (uint32_t(v.x) + v.width > m.atlasWidth || uint32_t(v.y) + v.height > m.atlasHeight)
       r.fail("view rectangle", "lies outside the atlas");
     if (!std::isfinite(v.pivotX) || !std::isfinite(v.pivotY) || !std::isfinite(v.planeOffset))

@@ -149,7 +149,7 @@ uint32_t uploadImpostor(const pack::Impostor &m, const unsigned textures[3], uns
   std::vector<float> table;
   for (const auto &v : m.views)
     table.insert(table.end(), {float(v.x), float(v.y), float(v.width), float(v.height), v.pivotX,
-                               v.pivotY, v.planeOffset, 0.0f});
+                               v.pivotY, v.planeOffset, 0.0f, v.slopeX, v.slopeY, 0.0f, 0.0f});
   glNamedBufferStorage(views, GLsizeiptr(table.size() * sizeof(float)), table.data(), 0);
   return levels;
 }
@@ -527,7 +527,7 @@ void CrowdRenderer::drawCharacter(const Character &c, const CrowdSelection::Char
     glBindTextureUnit(3, c.textures[5]);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, c.buffers[8]);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, c.buffers[9]);
-    glDrawArraysInstanced(GL_TRIANGLES, 0, 6, GLsizei(chosen.impostorIds.size()));
+    glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, GLsizei(chosen.impostorIds.size()));
     ++stats.drawCalls;
     if (!shadow)
       stats.triangles += 2 * uint64_t(chosen.impostorIds.size());

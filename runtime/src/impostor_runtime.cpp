@@ -11,8 +11,22 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 }
 
-ImpostorChoice chooseImpostorView(const pack::Impostor &m, glm::vec3 toEye, double clipTime,
-                                  bool loop) {
+ImpostorFrame impostorViewFrame(double azimuth, double elevation) {
+  ImpostorFrame v;
+  v.dir = {std::cos(elevation) * std::sin(azimuth), std::sin(elevation),
+           std::cos(elevation) * std::cos(azimuth)};
+  v.right = glm::normalize(glm::cross(-v.dir, glm::dvec3(0, 1, 0)));
+  v.up = glm::cross(v.right, -v.dir);
+  return v;
+}
+
+ImpostorFrame impostorViewFrame(const pack::Impostor &m, uint32_t elevation, uint32_t azimuth) {
+  return impostorViewFrame(2 * kPi * azimuth / m.azimuths,
+                           0.5 * kPi * (elevation + 0.5) / m.elevations);
+}
+
+ImpostorChoice chooseImpostorViews(const pack::Impostor &m, glm::dvec3 toEye, double clipTime,
+                                   bool loop) {
   ImpostorChoice c;
   double f = m.frameStep > 0 ? clipTime / double(m.frameStep) : 0.0;
   if (loop)
@@ -20,18 +34,94 @@ ImpostorChoice chooseImpostorView(const pack::Impostor &m, glm::vec3 toEye, doub
   // The nearest sampled frame; past the last one a loop shows frame 0 again.
   long frame = std::lround(std::clamp(f, 0.0, double(loop ? m.frames : m.frames - 1)));
   c.frame = uint32_t(frame) % m.frames;
-  double az = std::atan2(double(toEye.x), double(toEye.z));
-  long a = std::lround(az / (2 * kPi / m.azimuths));
-  c.azimuth = uint32_t(((a % long(m.azimuths)) + long(m.azimuths)) % long(m.azimuths));
-  double len = glm::length(glm::dvec3(toEye));
-  double el = len > 0 ? std::asin(std::clamp(double(toEye.y) / len, 0.0, 1.0)) : 0.0;
-  c.elevation =
-      uint32_t(std::min(std::floor(el / (0.5 * kPi / m.elevations)), double(m.elevations - 1)));
-  auto [view, flip] = m.lookup(c.frame, c.elevation, c.azimuth);
-  c.view = view;
-  c.flip = flip;
-  c.frame = uint32_t(view / (size_t(m.elevations) * m.storedAzimuths()));
+  // Grid coordinates: azimuth a sits at a, elevation row e at e (rows at 90 (e + 0.5) / E
+  // degrees; below the first and above the last row the nearest row).
+  const double len = glm::length(toEye);
+  const double el = len > 0 ? std::asin(std::clamp(toEye.y / len, 0.0, 1.0)) : 0.0;
+  const double ga = std::atan2(toEye.x, toEye.z) / (2 * kPi / m.azimuths);
+  const double ge =
+      std::clamp(el / (0.5 * kPi / m.elevations) - 0.5, 0.0, double(m.elevations - 1));
+  const long a0 = long(std::floor(ga)), e0 = std::min(long(ge), long(m.elevations) - 1);
+  const long e1 = std::min(e0 + 1, long(m.elevations) - 1);
+  const double s = ga - double(a0), t = ge - double(e0);
+  struct Corner {
+    long a, e;
+    double w;
+  };
+  const Corner corners[3] = {s + t <= 1 ? Corner{a0, e0, 1 - s - t} : Corner{a0 + 1, e1, s + t - 1},
+                             s + t <= 1 ? Corner{a0 + 1, e0, s} : Corner{a0 + 1, e0, 1 - t},
+                             s + t <= 1 ? Corner{a0, e1, t} : Corner{a0, e1, 1 - s}};
+  for (const Corner &k : corners) {
+    if (!(k.w > 1e-9))
+      continue;
+    ImpostorViewWeight &v = c.views[c.count++];
+    v.azimuth = uint32_t(((k.a % long(m.azimuths)) + long(m.azimuths)) % long(m.azimuths));
+    v.elevation = uint32_t(k.e);
+    v.weight = k.w;
+    auto [view, flip] = m.lookup(c.frame, v.elevation, v.azimuth);
+    v.view = view;
+    v.flip = flip;
+    v.layer = uint32_t(view / (size_t(m.elevations) * m.storedAzimuths()));
+  }
+  std::stable_sort(c.views, c.views + c.count,
+                   [](const auto &a, const auto &b) { return a.weight > b.weight; });
   return c;
+}
+
+ImpostorSample sampleImpostor(const pack::Impostor &m,
+                              const std::vector<pack::ImpostorTexels> &layers,
+                              const ImpostorChoice &choice, glm::dvec3 origin, glm::dvec3 ray) {
+  const glm::dvec3 centre(m.sphere[0], m.sphere[1], m.sphere[2]);
+  const double texel = 2.0 * double(m.sphere[3]) / double(m.texels);
+  double cover = 0;
+  glm::dvec3 normal(0);
+  ImpostorSample out;
+  const ImpostorViewWeight *heaviest = nullptr;
+  for (int k = 0; k < choice.count; ++k) {
+    const ImpostorViewWeight &vw = choice.views[k];
+    const pack::ImpostorView &view = m.views[vw.view];
+    const pack::ImpostorTexels &atlas = layers[vw.layer];
+    const ImpostorFrame f = impostorViewFrame(m, vw.elevation, vw.azimuth);
+    // The plane z = offset + slopeX x + slopeY y of the stored view (x mirrored when flipped).
+    const double slopeX = vw.flip ? -double(view.slopeX) : double(view.slopeX);
+    const glm::dvec3 n = f.dir - slopeX * f.right - double(view.slopeY) * f.up;
+    const double along = glm::dot(ray, n);
+    if (std::abs(along) < 1e-12)
+      continue;
+    const glm::dvec3 q =
+        origin - centre + ray * ((double(view.planeOffset) - glm::dot(origin - centre, n)) / along);
+    // Texels from the crop's corner.
+    const double sx = glm::dot(q, f.right) / texel;
+    const double cx = vw.flip ? double(view.pivotX) - sx : double(view.pivotX) + sx;
+    const double cy = double(view.pivotY) - glm::dot(q, f.up) / texel;
+    auto at = [&](long x, long y) -> long { // the atlas texel, or -1 outside the crop or empty
+      if (x < 0 || y < 0 || x >= long(view.width) || y >= long(view.height))
+        return -1;
+      const long i = (long(view.y) + y) * long(m.atlasWidth) + long(view.x) + x;
+      return atlas.regions[size_t(i)] ? i : -1;
+    };
+    const long bx = long(std::floor(cx - 0.5)), by = long(std::floor(cy - 0.5));
+    const double fx = cx - 0.5 - double(bx), fy = cy - 0.5 - double(by);
+    const double occupancy =
+        (1 - fx) * (1 - fy) * (at(bx, by) >= 0) + fx * (1 - fy) * (at(bx + 1, by) >= 0) +
+        (1 - fx) * fy * (at(bx, by + 1) >= 0) + fx * fy * (at(bx + 1, by + 1) >= 0);
+    cover += vw.weight * occupancy;
+    const long nearest = at(long(std::floor(cx)), long(std::floor(cy)));
+    if (nearest < 0)
+      continue;
+    const auto d = atlas.normal(size_t(nearest));
+    normal += vw.weight * glm::dvec3(vw.flip ? -d[0] : d[0], d[1], d[2]);
+    if (!heaviest) { // the views come heaviest first
+      heaviest = &vw;
+      out.region = atlas.regions[size_t(nearest)];
+      if (!atlas.uv.empty())
+        out.uv = {atlas.uv[size_t(nearest) * 2], atlas.uv[size_t(nearest) * 2 + 1]};
+    }
+  }
+  out.covered = cover >= 0.5 && heaviest;
+  if (glm::length(normal) > 0)
+    out.normal = glm::normalize(normal);
+  return out;
 }
 
 double oneToOneDistance(const pack::Impostor &m, double fovY, int viewportHeight) {

@@ -357,8 +357,9 @@ nlohmann::json cameraKey(double time, double distance, double azimuthDeg) {
 }
 
 TEST(Player, ImpostorsStandInForTheGeometryPastTheSwitch) {
-  // Just past the switch (hysteresis: 1.1x), from a stored azimuth and from a mirrored one.
-  for (double azimuth : {33.75, -33.75}) {
+  // Just past the switch (hysteresis: 1.1x), from a stored azimuth, from a mirrored one and from
+  // halfway between two (where the three nearest views blend).
+  for (double azimuth : {33.75, -33.75, 39.375}) {
     double d = 1.15 * hybrid().switchAt;
     std::string scene = writeScene("hybrid", hybridScene({cameraKey(0, d, azimuth)}));
     std::string a = work() + "/hybrid.png", b = work() + "/geometry.png",

@@ -80,8 +80,9 @@ const char *const kImpostorHelp = R"(For sampled frames of a clip, renders the c
 azimuths x elevations over the upper hemisphere with the deterministic rasterizer: object-space
 normals (octahedral, BC5 blocks the GPU samples as stored), the region (sub-mesh) id + 1 (a byte,
 exact) and the UVs (BC5), 3 bytes a texel, each view cropped to its silhouette and shelf-packed
-into one atlas per frame, with a best impostor plane per view. The report gives what the blocks
-cost (normal degrees, UV distance, in texture texels too). crowdplay draws the
+into one atlas per frame, with a best impostor plane per view (fitted to the silhouette's depths,
+tilted). The report gives what the blocks cost (normal degrees, UV distance, in texture texels
+too) and the accuracy of the three-view blend the player draws, at and between the views. crowdplay draws the
 pack for instances of this clip past the distance where a texel covers a pixel (scene file:
 "impostor" in a pack). --texels auto sizes the views the other way round: from the distance where
 the player should switch (--switch-distance, --screen, --fov), so no texel is stored that no

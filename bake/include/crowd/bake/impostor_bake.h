@@ -63,8 +63,9 @@ ImpostorBakeResult bakeImpostor(const Character &character, const ImpostorOption
 uint32_t texelsAtSwitchDistance(double radius, const ImpostorOptions &options);
 
 // Accuracy of a baked impostor against the true render, for frame 0: each camera direction is
-// drawn from the nearest stored view (its crop on its best plane, facing the camera) and
-// compared with the mesh rasterized from that direction at the same size.
+// drawn as the player draws it (runtime::sampleImpostor: the three stored views around it,
+// blended, each on its best plane) and compared with the mesh rasterized from that direction at
+// the same size.
 struct ImpostorAccuracy {
   struct Figures {
     double iouMean = 0, iouMin = 1;             // silhouette intersection over union

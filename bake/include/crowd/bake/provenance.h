@@ -14,8 +14,9 @@ namespace crowd {
 // atlases in BC5 blocks and region bytes (IMPO version 3). 0.2.1: the rasterizer gives a pixel on
 // an edge two triangles share to exactly one of them (it could fall between both). 0.3.0: the
 // LOD collapses on flat arrays, non-manifold vertices split per fan, its cost the worst pose's
-// (another collapse order), flat-shaded copies welded (normals stored as zero).
-inline constexpr const char *kBakerVersion = "crowdbake 0.3.0";
+// (another collapse order), flat-shaded copies welded (normals stored as zero). 0.4.0: impostor
+// planes fitted to the silhouette and tilted (IMPO version 4).
+inline constexpr const char *kBakerVersion = "crowdbake 0.4.0";
 
 // The compiler and C library this crowdbake was built with and runs on: floats may round
 // differently under another, so byte-identical goldens hold only on the same toolchain

@@ -2,8 +2,9 @@
 // elevations over the upper hemisphere, each cropped to its silhouette and packed into one atlas
 // per frame. Three planes of the same layout, each a texture the GPU samples as stored: the
 // object-space normal, octahedral, in BC5 blocks; the region id + 1 (0: empty), a byte per texel,
-// exact; and, when the mesh has UVs, the UVs (wrapped into 0..1) in BC5 blocks. 3 bytes a texel
-// on the GPU; on disk a block with no covered texel is not stored (it reads zero).
+// exact; and, when the mesh has UVs, the UVs (wrapped into 0..1) in BC5 blocks. Each view has a
+// best plane that the player draws it on, blending the three views around the camera. 3 bytes a
+// texel on the GPU; on disk a block with no covered texel is not stored (it reads zero).
 #pragma once
 #include <array>
 #include <cstdint>
@@ -17,16 +18,20 @@
 namespace crowd::pack {
 
 inline constexpr uint32_t kImpostor = fourcc("IMPO");
-inline constexpr uint32_t kImpostorVersion = 3; // 1: no outfit; 2: RGBA8 + RGBA16 atlases
+// 1: no outfit; 2: RGBA8 + RGBA16 atlases; 3: planes face the view (no slopes)
+inline constexpr uint32_t kImpostorVersion = 4;
 
 struct ImpostorView {
   uint16_t x = 0, y = 0, width = 0, height = 0; // crop rectangle in the frame's atlas (texels)
   float pivotX = 0, pivotY = 0; // the sphere centre's position in the crop, texels from its corner
-  // Best impostor plane: it faces the view and sits planeOffset model units from the sphere
-  // centre towards the camera, at the median depth of the visible surface, which minimises the
-  // summed distance of the visible points to a view-facing plane.
+  // Best impostor plane, fitted to the silhouette's texels (their depth, least absolute
+  // distance), where parallax moves the outline between views: in the view's frame (x right, y
+  // up, z towards the camera, model units from the sphere centre) z = planeOffset + slopeX x +
+  // slopeY y. A vertical figure seen from above has slopeY near tan(elevation).
   float planeOffset = 0;
+  float slopeX = 0, slopeY = 0; // |slope| <= kMaxPlaneSlope; 0 before chunk version 4
 };
+inline constexpr float kMaxPlaneSlope = 8; // about 83 degrees from facing the view
 
 struct Impostor {
   std::string clip;
