@@ -58,19 +58,19 @@ void main() {
     ivec2 first = rect.xy >> v_level, last = (rect.xy + rect.zw - 1) >> v_level;
     vec2 p = (vec2(rect.xy) + crop) / float(1 << v_level) - 0.5;
     ivec2 base = ivec2(floor(p));
-    vec2 fraction = p - vec2(base);
-    ivec2 nearest = base + ivec2(greaterThanEqual(fraction, vec2(0.5)));
-    float occupancy = 0.0;
-    int r = 0;
-    for (int i = 0; i < 4; ++i) {
-      ivec2 texel = base + ivec2(i & 1, i >> 1);
-      if (any(lessThan(texel, first)) || any(greaterThan(texel, last))) continue;
-      int id = int(texelFetch(u_regions, ivec3(texel, layer), v_level).r);
-      if (id == 0) continue;
-      occupancy += ((i & 1) == 1 ? fraction.x : 1.0 - fraction.x) *
-                   ((i >> 1) == 1 ? fraction.y : 1.0 - fraction.y);
-      if (texel == nearest) r = id;
-    }
+    vec2 f = p - vec2(base);
+    // Which of the two columns and two rows lie inside the crop (past it: another view's texels).
+    bvec2 in0 = equal(clamp(base, first, last), base);
+    bvec2 in1 = equal(clamp(base + 1, first, last), base + 1);
+    bvec2 nearHigh = greaterThanEqual(f, vec2(0.5));
+    ivec2 nearest = base + ivec2(nearHigh);
+    int r00 = in0.x && in0.y ? int(texelFetch(u_regions, ivec3(base, layer), v_level).r) : 0;
+    int r10 = in1.x && in0.y ? int(texelFetch(u_regions, ivec3(base.x + 1, base.y, layer), v_level).r) : 0;
+    int r01 = in0.x && in1.y ? int(texelFetch(u_regions, ivec3(base.x, base.y + 1, layer), v_level).r) : 0;
+    int r11 = in1.x && in1.y ? int(texelFetch(u_regions, ivec3(base + 1, layer), v_level).r) : 0;
+    float occupancy = mix(mix(float(r00 != 0), float(r10 != 0), f.x),
+                          mix(float(r01 != 0), float(r11 != 0), f.x), f.y);
+    int r = nearHigh.y ? (nearHigh.x ? r11 : r01) : (nearHigh.x ? r10 : r00);
     cover += v_weight[k] * occupancy;
     // The nearest texel (one of the four): its normal, region and UV.
     if (r == 0) continue;

@@ -384,6 +384,49 @@ TEST(Player, ImpostorsStandInForTheGeometryPastTheSwitch) {
   }
 }
 
+// The player's impostor is its CPU mirror, the blend the bake's accuracy check measures: each
+// pixel's ray, through runtime::sampleImpostor, covers the pixels the GPU drew, halfway between
+// stored views (three views blended) and on a stored one.
+TEST(Player, ImpostorPixelsAreWhatTheCpuMirrorDraws) {
+  const auto m = pack::loadImpostorPack(pack::Reader::open(hybrid().pack)).impostor;
+  std::vector<pack::ImpostorTexels> layers(m.frames);
+  for (uint32_t f = 0; f < m.frames; ++f)
+    layers[f] = pack::decodeTexels(m, f);
+  const int width = 320, height = 240;
+  for (double azimuth : {39.375 + 2.0, 33.75}) {
+    const double d = 1.15 * hybrid().switchAt;
+    const auto key = cameraKey(0, d, azimuth);
+    std::string scene = writeScene("mirror", hybridScene({key}));
+    std::string png = work() + "/mirror.png";
+    ASSERT_EQ(run(std::string(CROWDPLAY) + " " + scene + " --headless --frames 1 --size 320x240 " +
+                  "--screenshot " + png)
+                  .code,
+              0);
+    const Image gpu = readPng(png);
+    // The camera's rays (the instance stands at the origin, unturned: its frame is the world's).
+    const glm::dvec3 eye(key["position"][0], key["position"][1], key["position"][2]);
+    const glm::dmat4 toWorld = glm::inverse(glm::lookAt(eye, hybrid().centre, {0, 1, 0}));
+    const double t = std::tan(glm::radians(45.0) / 2);
+    const auto choice = runtime::chooseImpostorViews(m, eye - hybrid().centre, 0.0, true);
+    size_t both = 0, either = 0;
+    for (int y = 0; y < height; ++y)
+      for (int x = 0; x < width; ++x) {
+        const glm::dvec3 camera(((x + 0.5) / width * 2 - 1) * t * width / height,
+                                (1 - (y + 0.5) / height * 2) * t, -1);
+        const glm::dvec3 ray = glm::dvec3(toWorld * glm::dvec4(camera, 0));
+        const bool cpu = runtime::sampleImpostor(m, layers, choice, eye, ray).covered;
+        const bool drawn = !isBackground(gpu, size_t(y) * width + size_t(x));
+        both += cpu && drawn;
+        either += cpu || drawn;
+      }
+    std::printf("impostor on the GPU vs its CPU mirror at azimuth %.3f (%d views): silhouette IoU "
+                "%.4f over %zu pixels\n",
+                azimuth, choice.count, double(both) / double(either), either);
+    EXPECT_GT(either, 1000u);
+    EXPECT_GE(double(both) / double(either), 0.99);
+  }
+}
+
 TEST(Player, TheImpostorSwitchHasHysteresis) {
   // The camera backs away from 0.8x to 1.2x the switch distance and comes back: at 1.0x the
   // character is geometry on the way out and an impostor on the way back.
