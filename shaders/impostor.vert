@@ -14,9 +14,30 @@ layout(std430, binding = 3) readonly buffer Drawn { uint drawn[]; };
 // Three vec4 per stored view (pack::ImpostorView): crop rectangle (x, y, w, h) in the atlas; pivot
 // x, y (the sphere centre, texels from the crop's corner), plane offset, 0; plane slopes x, y, 0, 0.
 layout(std430, binding = 4) readonly buffer Views { vec4 views[]; };
-uniform vec4 u_sphere;     // centre, radius (model units)
-uniform ivec4 u_layout;    // azimuths, elevations, stored azimuths, frames
-uniform float u_texelSize; // model units per texel: 2 radius / texels
+uniform mat4 u_viewProjection;
+uniform float u_time;
+uniform vec3 u_eye;
+uniform vec4 u_sphere;         // centre, radius (model units)
+uniform ivec4 u_layout;        // azimuths, elevations, stored azimuths, frames
+uniform float u_texelSize;     // model units per texel: 2 radius / texels
+uniform bool u_mirrored;
+uniform float u_frameStep;     // seconds between frames
+uniform float u_oneToOne;      // distance where a texel covers a pixel
+uniform int u_maxLevel;
+// A world's shadow pass (crowd.vert's): the view from the light, flat on the ground.
+uniform vec4 u_shadow;
+
+// Per blended view, its crop's texel coordinates at this point of the quad, homogeneous
+// (x w, y w, w): interpolated across the quad and divided per pixel, they are where the pixel's
+// ray meets the view's plane, exactly.
+out vec3 v_crop[3];
+flat out ivec4 v_rect[3];      // the views' crop rectangles in the atlas
+flat out ivec3 v_layer;        // the views' atlas layers * 2 + flip
+flat out vec3 v_weight;        // the views' weights, heaviest first (0: unused)
+flat out int v_level;
+flat out vec3 v_rows0, v_rows1, v_rows2;
+flat out float v_palette;
+out vec3 v_world;
 
 const float PI = 3.14159265358979;
 
@@ -36,28 +57,6 @@ vec4 viewPlane(int view, bool flip, vec3 dir, vec3 right, vec3 up) {
   vec4 slopes = views[3 * view + 2];
   return vec4(dir - (flip ? -slopes.x : slopes.x) * right - slopes.y * up, views[3 * view + 1].z);
 }
-
-uniform mat4 u_viewProjection;
-uniform float u_time;
-uniform vec3 u_eye;
-uniform bool u_mirrored;
-uniform float u_frameStep;     // seconds between frames
-uniform float u_oneToOne;      // distance where a texel covers a pixel
-uniform int u_maxLevel;
-// A world's shadow pass (crowd.vert's): the view from the light, flat on the ground.
-uniform vec4 u_shadow;
-
-// Per blended view, its crop's texel coordinates at this point of the quad, homogeneous
-// (x w, y w, w): interpolated across the quad and divided per pixel, they are where the pixel's
-// ray meets the view's plane, exactly.
-out vec3 v_crop[3];
-flat out ivec4 v_rect[3];      // the views' crop rectangles in the atlas
-flat out ivec3 v_layer;        // the views' atlas layers * 2 + flip
-flat out vec3 v_weight;        // the views' weights, heaviest first (0: unused)
-flat out int v_level;
-flat out vec3 v_rows0, v_rows1, v_rows2;
-flat out float v_palette;
-out vec3 v_world;
 
 void main() {
   uint id = drawn[gl_InstanceID];

@@ -76,7 +76,7 @@ ImpostorSample sampleImpostor(const pack::Impostor &m,
   double cover = 0;
   glm::dvec3 normal(0);
   ImpostorSample out;
-  const ImpostorViewWeight *heaviest = nullptr;
+  bool found = false; // a view whose nearest texel is covered (the heaviest first)
   for (int k = 0; k < choice.count; ++k) {
     const ImpostorViewWeight &vw = choice.views[k];
     const pack::ImpostorView &view = m.views[vw.view];
@@ -111,14 +111,14 @@ ImpostorSample sampleImpostor(const pack::Impostor &m,
       continue;
     const auto d = atlas.normal(size_t(nearest));
     normal += vw.weight * glm::dvec3(vw.flip ? -d[0] : d[0], d[1], d[2]);
-    if (!heaviest) { // the views come heaviest first
-      heaviest = &vw;
+    if (!found) {
+      found = true;
       out.region = atlas.regions[size_t(nearest)];
       if (!atlas.uv.empty())
         out.uv = {atlas.uv[size_t(nearest) * 2], atlas.uv[size_t(nearest) * 2 + 1]};
     }
   }
-  out.covered = cover >= 0.5 && heaviest;
+  out.covered = cover >= 0.5 && found;
   if (glm::length(normal) > 0)
     out.normal = glm::normalize(normal);
   return out;
