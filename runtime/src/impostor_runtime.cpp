@@ -58,6 +58,7 @@ ImpostorChoice chooseImpostorViews(const pack::Impostor &m, glm::dvec3 toEye, do
     v.azimuth = uint32_t(((k.a % long(m.azimuths)) + long(m.azimuths)) % long(m.azimuths));
     v.elevation = uint32_t(k.e);
     v.weight = k.w;
+    v.frame = impostorViewFrame(m, v.elevation, v.azimuth);
     auto [view, flip] = m.lookup(c.frame, v.elevation, v.azimuth);
     v.view = view;
     v.flip = flip;
@@ -81,7 +82,7 @@ ImpostorSample sampleImpostor(const pack::Impostor &m,
     const ImpostorViewWeight &vw = choice.views[k];
     const pack::ImpostorView &view = m.views[vw.view];
     const pack::ImpostorTexels &atlas = layers[vw.layer];
-    const ImpostorFrame f = impostorViewFrame(m, vw.elevation, vw.azimuth);
+    const ImpostorFrame &f = vw.frame;
     // The plane z = offset + slopeX x + slopeY y of the stored view (x mirrored when flipped).
     const double slopeX = vw.flip ? -double(view.slopeX) : double(view.slopeX);
     const glm::dvec3 n = f.dir - slopeX * f.right - double(view.slopeY) * f.up;

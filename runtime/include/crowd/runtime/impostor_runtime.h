@@ -13,6 +13,12 @@
 
 namespace crowd::runtime {
 
+// A sampled view's camera frame: `dir` from the sphere centre towards the camera, `right` and
+// `up` the image's axes.
+struct ImpostorFrame {
+  glm::dvec3 dir, right, up;
+};
+
 // One of the stored views an impostor blends.
 struct ImpostorViewWeight {
   uint32_t azimuth = 0, elevation = 0; // the sampled direction
@@ -20,6 +26,7 @@ struct ImpostorViewWeight {
   uint32_t layer = 0;                  // the frame whose atlas holds it
   bool flip = false;                   // mirrored: drawn flipped left-right
   double weight = 0;                   // the weights sum to 1
+  ImpostorFrame frame;                 // of the sampled direction (impostorViewFrame)
 };
 
 // The frame shown and the stored views drawn for it, blended: the three sampled directions
@@ -53,11 +60,6 @@ ImpostorSample sampleImpostor(const pack::Impostor &m,
                               const std::vector<pack::ImpostorTexels> &layers,
                               const ImpostorChoice &choice, glm::dvec3 origin, glm::dvec3 ray);
 
-// A sampled view's camera frame: `dir` from the sphere centre towards the camera, `right` and
-// `up` the image's axes.
-struct ImpostorFrame {
-  glm::dvec3 dir, right, up;
-};
 ImpostorFrame impostorViewFrame(const pack::Impostor &m, uint32_t elevation, uint32_t azimuth);
 ImpostorFrame impostorViewFrame(double azimuth, double elevation); // radians
 
