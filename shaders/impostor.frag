@@ -6,18 +6,30 @@
 // half. The normal is the weighted mean of the views whose nearest texel is covered, the region
 // and UV the heaviest such view's: region ids are never averaged (the mip levels were built with
 // a mode filter), and texels are fetched, not filtered. Normals and UVs are BC5 blocks the GPU
-// decodes; the normal is octahedral. runtime::sampleImpostor does the same on the CPU.
+// decodes, kept only in each view's spans (formats/impostor_spans.h): a covered texel's are read
+// through its row's span. The normal is octahedral. runtime::sampleImpostor does the same on the
+// CPU.
 in vec3 v_crop[3];
 flat in ivec4 v_rect[3];
 flat in ivec3 v_layer;
+flat in ivec3 v_rows;
 flat in vec3 v_weight;
 flat in int v_level;
 flat in vec3 v_rows0, v_rows1, v_rows2;
 flat in float v_palette;
 
-layout(binding = 0) uniform sampler2DArray u_normals;  // octahedral normal
-layout(binding = 1) uniform sampler2DArray u_uvs;      // u, v
-layout(binding = 3) uniform usampler2DArray u_regions; // region id + 1
+layout(binding = 0) uniform sampler2DArray u_normals;  // octahedral normal, pool of blocks
+layout(binding = 1) uniform sampler2DArray u_uvs;      // u, v, the same pool
+// Region id + 1 (0: empty), 4 or 8 bits; every mip level in the frame's layer, level l's corner at
+// u_regionOrigin[l] (bytes, rows).
+layout(binding = 3) uniform usampler2DArray u_regions;
+uniform ivec2 u_regionOrigin[6];
+// Rows of spans (impostor.vert gives each view's first at this level): x, the pool block of the
+// row's first stored block; y, its block column.
+layout(std430, binding = 7) readonly buffer Spans { uvec2 spans[]; };
+uniform int u_regionShift; // 1: two ids a byte (4 bits); 0: a byte each
+uniform uint u_regionBits; // 4 or 8
+uniform int u_poolShift; // a pool row holds 1 << u_poolShift blocks
 layout(binding = 2) uniform sampler2D u_diffuse;
 layout(std430, binding = 2) readonly buffer Palettes { vec4 colours[]; };
 uniform bool u_hasTexture, u_hasUvs;
@@ -35,6 +47,19 @@ float inLight(vec3 world) {
   if (any(lessThan(cell, ivec2(0))) || any(greaterThanEqual(cell, textureSize(u_shadowHeights, 0))))
     return 1.0;
   return world.y >= texelFetch(u_shadowHeights, cell, 0).r ? 1.0 : 0.0;
+}
+
+// The ids of the 2x2 texels from `base` at this level (x: base; y: a column on; z: a row on; w:
+// both) in one gather, without a branch (a CPU rasterizer pays for each fetch and branch): two
+// bytes of each row hold both columns, 4-bit ids the even column in the lower nibble.
+uvec4 regionsAt(ivec2 base, int layer) {
+  ivec2 corner = u_regionOrigin[v_level] + ivec2(base.x >> u_regionShift, base.y);
+  vec2 at = (vec2(corner) + 1.0) / vec2(textureSize(u_regions, 0).xy); // between the four
+  uvec4 g = textureGather(u_regions, vec3(at, float(layer))); // (c, r+1) (c+1, r+1) (c+1, r) (c, r)
+  uint row0 = g.w | (g.z << 8), row1 = g.x | (g.y << 8);
+  uint shift = u_regionBits * uint(base.x & u_regionShift), next = shift + u_regionBits;
+  return uvec4(row0 >> shift, row0 >> next, row1 >> shift, row1 >> next) &
+         ((1u << u_regionBits) - 1u);
 }
 
 vec3 octahedral(vec2 o) {
@@ -64,24 +89,28 @@ void main() {
     bvec2 in1 = equal(clamp(base + 1, first, last), base + 1);
     bvec2 nearHigh = greaterThanEqual(f, vec2(0.5));
     ivec2 nearest = base + ivec2(nearHigh);
-    int r00 = in0.x && in0.y ? int(texelFetch(u_regions, ivec3(base, layer), v_level).r) : 0;
-    int r10 = in1.x && in0.y ? int(texelFetch(u_regions, ivec3(base.x + 1, base.y, layer), v_level).r) : 0;
-    int r01 = in0.x && in1.y ? int(texelFetch(u_regions, ivec3(base.x, base.y + 1, layer), v_level).r) : 0;
-    int r11 = in1.x && in1.y ? int(texelFetch(u_regions, ivec3(base + 1, layer), v_level).r) : 0;
+    uvec4 ids = regionsAt(base, layer);
+    int r00 = in0.x && in0.y ? int(ids.x) : 0;
+    int r10 = in1.x && in0.y ? int(ids.y) : 0;
+    int r01 = in0.x && in1.y ? int(ids.z) : 0;
+    int r11 = in1.x && in1.y ? int(ids.w) : 0;
     float occupancy = mix(mix(float(r00 != 0), float(r10 != 0), f.x),
                           mix(float(r01 != 0), float(r11 != 0), f.x), f.y);
     int r = nearHigh.y ? (nearHigh.x ? r11 : r01) : (nearHigh.x ? r10 : r00);
     cover += v_weight[k] * occupancy;
-    // The nearest texel (one of the four): its normal, region and UV.
+    // The nearest texel (one of the four): its normal, region and UV, in its row's span.
     if (r == 0) continue;
-    ivec3 at = ivec3(nearest, layer);
-    vec3 n = octahedral(texelFetch(u_normals, at, v_level).rg);
+    uvec2 span = spans[v_rows[k] + (nearest.y >> 2) - (first.y >> 2)];
+    uint block = span.x + uint(nearest.x >> 2) - span.y;
+    ivec2 pool = ivec2(block & ((1u << u_poolShift) - 1u), block >> u_poolShift);
+    ivec3 at = ivec3(pool * 4 + (nearest & 3), layer);
+    vec3 n = octahedral(texelFetch(u_normals, at, 0).rg);
     if ((v_layer[k] & 1) == 1) n.x = -n.x;
     normal += v_weight[k] * n;
     if (region == 0) region = r, chosen = at;
   }
   // Sampled before the discard: implicit derivatives need the whole 2x2 pixel quad.
-  vec2 uv = texelFetch(u_uvs, chosen, v_level).xy;
+  vec2 uv = texelFetch(u_uvs, chosen, 0).xy;
   vec3 textured = u_hasTexture && u_hasUvs ? texture(u_diffuse, uv).rgb : vec3(1.0);
   if (cover < 0.5 || region == 0) discard;
   if (u_shadow.w > 0.5) { o_colour = vec4(vec3(0.55), 1.0); return; }

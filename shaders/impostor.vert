@@ -14,6 +14,9 @@ layout(std430, binding = 3) readonly buffer Drawn { uint drawn[]; };
 // Three vec4 per stored view (pack::ImpostorView): crop rectangle (x, y, w, h) in the atlas; pivot
 // x, y (the sphere centre, texels from the crop's corner), plane offset, 0; plane slopes x, y, 0, 0.
 layout(std430, binding = 4) readonly buffer Views { vec4 views[]; };
+// impostor.frag's: per (level, view) at level * u_viewCount + view, x is the view's first row.
+layout(std430, binding = 7) readonly buffer Spans { uvec2 spans[]; };
+uniform int u_viewCount;
 uniform mat4 u_viewProjection;
 uniform float u_time;
 uniform vec3 u_eye;
@@ -33,6 +36,7 @@ uniform vec4 u_shadow;
 out vec3 v_crop[3];
 flat out ivec4 v_rect[3];      // the views' crop rectangles in the atlas
 flat out ivec3 v_layer;        // the views' atlas layers * 2 + flip
+flat out ivec3 v_rows;         // the views' first rows in Spans at this level
 flat out vec3 v_weight;        // the views' weights, heaviest first (0: unused)
 flat out int v_level;
 flat out vec3 v_rows0, v_rows1, v_rows2;
@@ -68,6 +72,10 @@ void main() {
   // The camera in the character's frame, from the sphere centre (a shadow: towards the light).
   vec3 eye = toLocal * (u_eye - origin) - u_sphere.xyz;
   vec3 toEye = shadow ? toLocal * u_shadow.xyz : eye;
+
+  // Texels per pixel grow with distance past the 1:1 distance: fetch the matching mip level.
+  vec3 centre = transpose(toLocal) * u_sphere.xyz + origin;
+  v_level = clamp(int(floor(log2(max(length(u_eye - centre) / u_oneToOne, 1.0)))), 0, u_maxLevel);
 
   int A = u_layout.x, E = u_layout.y, stored = u_layout.z, F = u_layout.w;
   vec4 clip = clips[int(params.x)];
@@ -124,6 +132,7 @@ void main() {
     pivots[k] = views[3 * view + 1].xy;
     v_rect[k] = ivec4(rect);
     v_layer[k] = layer * 2 + (flip ? 1 : 0);
+    v_rows[k] = int(spans[v_level * u_viewCount + view].x);
     if (flip) rights[k] = -rights[k]; // crop x runs the other way
     if (weights[k] <= 0.0)
       continue;
@@ -163,9 +172,6 @@ void main() {
   v_world = world;
   gl_Position = u_viewProjection * vec4(world, 1.0);
 
-  // Texels per pixel grow with distance past the 1:1 distance: fetch the matching mip level.
-  vec3 centre = transpose(toLocal) * u_sphere.xyz + origin;
-  v_level = clamp(int(floor(log2(max(length(u_eye - centre) / u_oneToOne, 1.0)))), 0, u_maxLevel);
   v_rows0 = rows[0].xyz;
   v_rows1 = rows[1].xyz;
   v_rows2 = rows[2].xyz;

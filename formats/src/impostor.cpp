@@ -6,12 +6,29 @@
 #include "crowd/formats/bc5.h"
 #include "crowd/formats/bytes.h"
 #include "crowd/formats/error.h"
+#include "crowd/formats/impostor_spans.h"
 #include "crowd/formats/registry.h"
 
 namespace crowd::pack {
 
 uint64_t Impostor::bytesPerFrame() const {
-  return frames ? (normals.size() + regions.size() + uvs.size()) / frames : 0;
+  if (frames == 0)
+    return 0;
+  const size_t perFrame = views.size() / frames;
+  uint64_t bytes = 0;
+  for (uint32_t f = 0; f < frames; ++f) {
+    const ImpostorSpans s = impostorSpans(
+        std::span(views).subspan(f * perFrame, perFrame),
+        std::span(regions).subspan(f * frameTexels(), frameTexels()), atlasWidth, atlasHeight, 0);
+    const uint64_t planes = uvs.empty() ? 1 : 2;
+    bytes += s.sourceBlocks.size() * kBc5BlockBytes * planes +
+             (s.rows.size() + s.viewRows.size()) * 8; // the player's span buffer: 2 words each
+  }
+  return uint64_t(regionRowBytes(atlasWidth, regionBits())) * atlasHeight + bytes / frames;
+}
+
+uint32_t Impostor::regionBits() const {
+  return regions.empty() || *std::max_element(regions.begin(), regions.end()) <= 15 ? 4 : 8;
 }
 
 std::array<float, 2> octEncode(const std::array<float, 3> &n) {

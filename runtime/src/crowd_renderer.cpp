@@ -15,6 +15,7 @@
 #include "crowd/runtime/render_queues.h"
 #include "crowd/runtime/texture_skinning.h"
 #include "crowd_shaders.h" // generated at build time from shaders/
+#include "impostor_upload.h"
 
 namespace crowd::runtime {
 
@@ -62,8 +63,8 @@ struct CrowdRenderer::Character {
   const pack::Impostor *impostor = nullptr;
   // Mesh, normals, indices of every LOD level, clips, instances, palettes, UVs, geometry ids
   // (sorted by level), impostor ids, views, draw commands, morph slots and offsets, cloth
-  // vertices, loops and positions.
-  unsigned vao = 0, buffers[17] = {}, textures[6] = {};
+  // vertices, loops and positions, impostor spans.
+  unsigned vao = 0, buffers[18] = {}, textures[6] = {};
   ClothBuffers cloth;
   // Per instance: 3 rows, params (clip, time offset, speed, palette) and fade (clip faded from
   // or -1, its time offset, fade start, fade length): kInstanceFloats floats.
@@ -73,7 +74,7 @@ struct CrowdRenderer::Character {
   std::vector<uint32_t> clipOf;     // per scene clip: the pack's
   std::vector<uint8_t> clipFits;    // per scene clip: the impostor's clip
   std::vector<uint8_t> outfitFits;  // per instance: the impostor shows its outfit
-  uint32_t mipLevels = 0;
+  ImpostorGpu impostorGpu;
   // Per LOD level, per sub-mesh and one past the last: where its triangles start in buffers[2].
   std::vector<uint32_t> levelStarts;
   std::vector<uint32_t> commands;  // glMultiDrawElementsIndirect's, 5 words each, by sub-mesh
@@ -112,46 +113,6 @@ std::array<float, 4> regionColour(const pack::AnimationPack &p, size_t s,
       if (region == key)
         col = value;
   return {col.r, col.g, col.b, textured};
-}
-
-// The impostor's planes as three texture arrays (a layer per frame: normals and UVs in BC5 blocks
-// as stored, region ids as bytes) with the mode-filtered mip chain, and its view table.
-// `textures`: normals, UVs, regions.
-uint32_t uploadImpostor(const pack::Impostor &m, const unsigned textures[3], unsigned views) {
-  const uint32_t levels = impostorMipLevels(m);
-  const auto w = GLsizei(m.atlasWidth), h = GLsizei(m.atlasHeight), d = GLsizei(m.frames);
-  glTextureStorage3D(textures[0], GLsizei(levels), GL_COMPRESSED_RG_RGTC2, w, h, d);
-  if (!m.uvs.empty())
-    glTextureStorage3D(textures[1], GLsizei(levels), GL_COMPRESSED_RG_RGTC2, w, h, d);
-  glTextureStorage3D(textures[2], GLsizei(levels), GL_R8UI, w, h, d);
-  // An integer texture is incomplete, and reads 0, under a linear filter.
-  glTextureParameteri(textures[2], GL_TEXTURE_MIN_FILTER, GL_NEAREST_MIPMAP_NEAREST);
-  glTextureParameteri(textures[2], GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-  // Region rows are one byte a texel and mip widths odd: rows are packed, not 4-byte aligned
-  // (GL's default would read past each level's end).
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-  for (uint32_t f = 0; f < m.frames; ++f) {
-    auto mips = impostorMips(m, f, levels);
-    for (uint32_t l = 0; l < mips.size(); ++l) {
-      const auto mw = GLsizei(mips[l].width), mh = GLsizei(mips[l].height);
-      glCompressedTextureSubImage3D(textures[0], GLint(l), 0, 0, GLint(f), mw, mh, 1,
-                                    GL_COMPRESSED_RG_RGTC2, GLsizei(mips[l].normals.size()),
-                                    mips[l].normals.data());
-      if (!m.uvs.empty())
-        glCompressedTextureSubImage3D(textures[1], GLint(l), 0, 0, GLint(f), mw, mh, 1,
-                                      GL_COMPRESSED_RG_RGTC2, GLsizei(mips[l].uvs.size()),
-                                      mips[l].uvs.data());
-      glTextureSubImage3D(textures[2], GLint(l), 0, 0, GLint(f), mw, mh, 1, GL_RED_INTEGER,
-                          GL_UNSIGNED_BYTE, mips[l].regions.data());
-    }
-  }
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-  std::vector<float> table;
-  for (const auto &v : m.views)
-    table.insert(table.end(), {float(v.x), float(v.y), float(v.width), float(v.height), v.pivotX,
-                               v.pivotY, v.planeOffset, 0.0f, v.slopeX, v.slopeY, 0.0f, 0.0f});
-  glNamedBufferStorage(views, GLsizeiptr(table.size() * sizeof(float)), table.data(), 0);
-  return levels;
 }
 
 // Every texture of a pack must fit this GL implementation (GL_MAX_TEXTURE_SIZE, array layers):
@@ -346,7 +307,8 @@ CrowdRenderer::CrowdRenderer(const std::vector<const pack::AnimationPack *> &pac
     glCreateTextures(GL_TEXTURE_2D, 3, c->textures);
     if (c->impostor) {
       glCreateTextures(GL_TEXTURE_2D_ARRAY, 3, c->textures + 3);
-      c->mipLevels = uploadImpostor(*c->impostor, c->textures + 3, c->buffers[9]);
+      const unsigned buffers[2] = {c->buffers[9], c->buffers[17]};
+      c->impostorGpu = uploadImpostor(*c->impostor, c->textures + 3, buffers);
     }
     const auto &t = p.animation;
     bool half = t.format == pack::TexelFormat::RGBA16F;
@@ -402,6 +364,13 @@ void CrowdRenderer::updateClips(Character &c, size_t ci, double seconds) {
   for (uint32_t i = 0; i < c.instanceCount; ++i)
     writeClip(c, ci, i, schedule_.at(c.sceneIndex[i], seconds),
               float(scene_.instances[c.sceneIndex[i]].speed), seconds);
+}
+
+uint64_t CrowdRenderer::impostorBytes() const {
+  uint64_t bytes = 0;
+  for (const auto &c : characters_)
+    bytes += c->impostorGpu.bytes;
+  return bytes;
 }
 
 void CrowdRenderer::attachWorld(SceneWorld &world) {
@@ -517,7 +486,12 @@ void CrowdRenderer::drawCharacter(const Character &c, const CrowdSelection::Char
     glUniform1f(iloc("u_frameStep"), m.frameStep > 0 ? m.frameStep : 1.0f);
     glUniform1f(iloc("u_texelSize"), 2.0f * m.sphere[3] / float(m.texels));
     glUniform1f(iloc("u_oneToOne"), float(oneToOneDistance(m, view.fovY, view.viewportHeight)));
-    glUniform1i(iloc("u_maxLevel"), int(c.mipLevels) - 1);
+    glUniform1i(iloc("u_maxLevel"), int(c.impostorGpu.levels) - 1);
+    glUniform1i(iloc("u_regionShift"), c.impostorGpu.regionBits == 4 ? 1 : 0);
+    glUniform1ui(iloc("u_regionBits"), c.impostorGpu.regionBits);
+    glUniform2iv(iloc("u_regionOrigin"), 6, c.impostorGpu.regionOrigin[0].data());
+    glUniform1i(iloc("u_poolShift"), int(c.impostorGpu.poolShift));
+    glUniform1i(iloc("u_viewCount"), int(m.views.size()));
     glUniform1i(iloc("u_hasTexture"), p.diffuse ? 1 : 0);
     glUniform1i(iloc("u_hasUvs"), !m.uvs.empty());
     glUniform1i(iloc("u_subMeshCount"), int(p.mesh.subMeshes.size()));
@@ -527,6 +501,7 @@ void CrowdRenderer::drawCharacter(const Character &c, const CrowdSelection::Char
     glBindTextureUnit(3, c.textures[5]);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, c.buffers[8]);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, c.buffers[9]);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, c.buffers[17]);
     glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, GLsizei(chosen.impostorIds.size()));
     ++stats.drawCalls;
     if (!shadow)

@@ -12,6 +12,7 @@
 #include "crowd/formats/bc5.h"
 #include "crowd/formats/bytes.h"
 #include "crowd/formats/error.h"
+#include "crowd/formats/impostor_spans.h"
 #include "crowd/formats/limits.h"
 #include "crowd/runtime/impostor_runtime.h"
 #include "gltf_writer.h"
@@ -72,12 +73,14 @@ TEST(Impostor, ViewsAreCroppedPackedWithoutOverlapAndHoldRegions) {
       EXPECT_LT(view.pivotX, view.width);
     }
   }
-  // Three planes of one layout: BC5 normals and UVs, a region byte per texel.
+  // Three planes of one layout: BC5 normals and UVs, a region byte per texel; on the GPU less
+  // (GpuHoldsRegionIdsIn4BitsAndOnlyTheCoveredSpans).
   EXPECT_EQ(m.atlasWidth % 4, 0u);
   EXPECT_EQ(m.atlasHeight % 4, 0u);
   EXPECT_EQ(m.uvs.size(), m.normals.size());
   EXPECT_EQ(m.normals.size(), m.frames * pack::bc5Bytes(m.atlasWidth, m.atlasHeight));
-  EXPECT_EQ(res.bytesPerFrame, 3 * m.frameTexels());
+  EXPECT_EQ(res.bytesPerFrame, m.bytesPerFrame());
+  EXPECT_LT(res.bytesPerFrame, 3 * m.frameTexels()); // less than every texel's 3 bytes
   // What the blocks cost, over every covered texel: a few degrees at these 24-texel views (a
   // limb spans a block), 1.6 degrees at the default 128.
   EXPECT_GT(res.compression.texels, 0u);
@@ -86,6 +89,54 @@ TEST(Impostor, ViewsAreCroppedPackedWithoutOverlapAndHoldRegions) {
   EXPECT_LT(res.compression.uvMean, 0.03);
   pack::Reader reader(pack::packBytes(pack::ImpostorPack{{}, m}), "mem");
   EXPECT_EQ(pack::loadImpostorPack(reader).impostor.views.size(), m.views.size());
+}
+
+// The player reads a covered texel's normal and UV through its row's span: every covered texel of
+// every view, at full detail and at the first mip level, lies in a span whose block is the
+// atlas's, and the bytes a frame are the plane of 4-bit ids, the spans' blocks and their index.
+TEST(Impostor, GpuHoldsRegionIdsIn4BitsAndOnlyTheCoveredSpans) {
+  Reporter r;
+  const pack::Impostor m = bakeImpostor(humanoid(), small(), r).impostor;
+  ASSERT_EQ(m.regionBits(), 4u); // six regions
+  const size_t perFrame = m.views.size() / m.frames;
+  uint64_t spanBytes = 0, blocks = 0, stored = 0;
+  for (uint32_t f = 0; f < m.frames; ++f) {
+    const auto mips = runtime::impostorMips(m, f, 2);
+    ASSERT_EQ(mips.size(), 2u);
+    for (uint32_t l = 0; l < 2; ++l) {
+      const auto &mip = mips[l];
+      const auto views = std::span(m.views).subspan(f * perFrame, perFrame);
+      const pack::ImpostorSpans s =
+          pack::impostorSpans(views, mip.regions, mip.width, mip.height, l);
+      ASSERT_EQ(s.viewRows.size(), perFrame);
+      if (l == 0) {
+        spanBytes += s.sourceBlocks.size() * 32 + (s.rows.size() + perFrame) * 8;
+        blocks += size_t(m.atlasWidth / 4) * (m.atlasHeight / 4);
+        stored += s.sourceBlocks.size();
+      }
+      for (size_t v = 0; v < perFrame; ++v) {
+        const auto &view = views[v];
+        const uint32_t x0 = view.x >> l, x1 = (view.x + view.width - 1u) >> l;
+        const uint32_t y0 = view.y >> l, y1 = (view.y + view.height - 1u) >> l;
+        for (uint32_t y = y0; y <= y1; ++y)
+          for (uint32_t x = x0; x <= x1; ++x) {
+            if (!mip.regions[size_t(y) * mip.width + x])
+              continue;
+            const auto &row = s.rows.at(s.viewRows[v] + y / 4 - y0 / 4);
+            ASSERT_GE(x / 4, row.firstColumn);
+            const size_t k = row.start + x / 4 - row.firstColumn;
+            ASSERT_LT(k, s.sourceBlocks.size());
+            EXPECT_EQ(s.sourceBlocks[k], y / 4 * ((mip.width + 3) / 4) + x / 4);
+          }
+      }
+    }
+  }
+  EXPECT_LT(stored, blocks * 3 / 4) << "the spans leave the empty blocks out";
+  EXPECT_EQ(m.bytesPerFrame(),
+            uint64_t(pack::regionRowBytes(m.atlasWidth, 4)) * m.atlasHeight + spanBytes / m.frames);
+  EXPECT_EQ(pack::regionRowBytes(m.atlasWidth, 4), m.atlasWidth / 2);
+  EXPECT_EQ(pack::regionRowBytes(7, 4), 4u); // an odd mip level's last texel has its own byte
+  EXPECT_EQ(pack::regionRowBytes(m.atlasWidth, 8), m.atlasWidth);
 }
 
 TEST(Impostor, OneFrameClipsRestPosesAndMemoryGuard) {
@@ -414,7 +465,9 @@ TEST(Impostor, DegenerateMeshesFailClearlyAndExtraRegionsAreClamped) {
   uint8_t highest = 0;
   for (uint8_t region : res.impostor.regions)
     highest = std::max(highest, region);
-  EXPECT_EQ(highest, 255); // clamped, not wrapped around to low ids
+  EXPECT_EQ(highest, 255);                  // clamped, not wrapped around to low ids
+  EXPECT_EQ(res.impostor.regionBits(), 8u); // more than 15: a byte a texel on the GPU
+  EXPECT_EQ(res.compression.regionBits, 8u);
 }
 } // namespace
 
@@ -444,7 +497,8 @@ TEST(ImpostorChunk, OnlyBlocksWithACoveredTexelAreStoredAndDamageIsAClearError) 
   EXPECT_EQ(back.normals, m.normals); // the empty block reads zero, as the encoder left it
   EXPECT_EQ(back.uvs, m.uvs);
   EXPECT_EQ(back.regions, m.regions);
-  EXPECT_EQ(back.bytesPerFrame(), 3u * 32);
+  // On the GPU: rows of 4 bytes of 4-bit ids, one block a plane, one row and one view.
+  EXPECT_EQ(back.bytesPerFrame(), 4u * 4 + 2 * 16 + 2 * 8);
   pack::Impostor full = m; // all covered: both blocks stored, 16 bytes more per plane
   full.regions.assign(32, 1);
   EXPECT_EQ(pack::encode(full).size(), bytes.size() + 2 * pack::kBc5BlockBytes);
@@ -622,6 +676,6 @@ TEST(Impostor, UvErrorIsReportedInTexelsOfAWideTexture) {
   const auto &c = f.at("compression");
   EXPECT_DOUBLE_EQ(c.at("uv_error_max_texels").get<double>(), res.compression.uvMax * 1024);
   EXPECT_GT(c.at("uv_error_mean_texels").get<double>(), 0.0);
-  EXPECT_EQ(c.at("regions").get<std::string>(), "exact, 8 bits");
+  EXPECT_EQ(c.at("regions").get<std::string>(), "exact, 4 bits"); // six regions
 }
 } // namespace

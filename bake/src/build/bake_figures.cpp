@@ -89,7 +89,7 @@ namespace {
 ordered_json compressionFigures(const ImpostorCompression &c) {
   ordered_json f{{"normals", "bc5 octahedral"},
                  {"uvs", "bc5"},
-                 {"regions", "exact, 8 bits"},
+                 {"regions", "exact, " + std::to_string(c.regionBits) + " bits"},
                  {"normal_error_mean_deg", c.normalMeanDeg},
                  {"normal_error_max_deg", c.normalMaxDeg},
                  {"uv_error_mean", c.uvMean},

@@ -78,9 +78,10 @@ warning says what blocks it.)";
 
 const char *const kImpostorHelp = R"(For sampled frames of a clip, renders the character from
 azimuths x elevations over the upper hemisphere with the deterministic rasterizer: object-space
-normals (octahedral, BC5 blocks the GPU samples as stored), the region (sub-mesh) id + 1 (a byte,
-exact) and the UVs (BC5), 3 bytes a texel, each view cropped to its silhouette and shelf-packed
-into one atlas per frame, with a best impostor plane per view (fitted to the silhouette's depths,
+normals (octahedral, BC5 blocks the GPU samples as stored), the region (sub-mesh) id + 1 (exact:
+4 bits on the GPU where the ids fit, else a byte) and the UVs (BC5), each view cropped to its
+silhouette and shelf-packed into one atlas per frame; the player keeps only each view's blocks
+that hold covered texels, with a best impostor plane per view (fitted to the silhouette's depths,
 tilted). The report gives what the blocks cost (normal degrees, UV distance, in texture texels
 too) and the accuracy of the three-view blend the player draws, at and between the views. crowdplay draws the
 pack for instances of this clip past the distance where a texel covers a pixel (scene file:

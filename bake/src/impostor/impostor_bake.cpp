@@ -431,6 +431,7 @@ ImpostorBakeResult bakeImpostor(const Character &c, const ImpostorOptions &optio
   }
   r.compression = compressAtlases(m, oct, uv, o.threads);
   r.compression.textureWidth = c.diffuse ? uint32_t(c.diffuse->width) : 0;
+  r.compression.regionBits = m.regionBits();
   r.occupancy = double(area) / (double(o.frames) * width * height);
   r.bytesPerFrame = m.bytesPerFrame();
   r.naiveBytesPerFrame = views * o.texels * o.texels * (hasUvs ? 3 : 2);

@@ -309,6 +309,7 @@ int headless(const Options &o, crowd::runtime::CrowdRenderer &renderer,
   summary["budget"] = o.draw.budget;
   summary["detail"] = o.draw.detail; // 0: chosen under the budget
   summary["all_impostors"] = o.draw.allImpostors;
+  summary["impostor_gpu_bytes"] = renderer.impostorBytes(); // every frame and mip level
   summary["renderer"] = reinterpret_cast<const char *>(glGetString(GL_RENDERER));
   summary["path"] = pathName(o.draw.path);
   summary["size"] = std::to_string(o.width) + "x" + std::to_string(o.height);

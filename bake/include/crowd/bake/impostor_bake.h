@@ -42,13 +42,14 @@ struct ImpostorCompression {
   uint64_t texels = 0;
   double normalMeanDeg = 0, normalMaxDeg = 0, uvMean = 0, uvMax = 0;
   uint32_t textureWidth = 0; // the diffuse texture's (0: none), for the UV error in its texels
+  uint32_t regionBits = 8;   // region ids on the GPU (Impostor::regionBits)
 };
 
 struct ImpostorBakeResult {
   pack::Impostor impostor;
   double occupancy = 0;            // silhouette-crop texels / atlas texels
-  uint64_t bytesPerFrame = 0;      // one frame's planes as the GPU holds them (3 bytes a texel)
-  uint64_t naiveBytesPerFrame = 0; // the same for every view uncropped
+  uint64_t bytesPerFrame = 0;      // one frame's planes as the GPU holds them (bytesPerFrame)
+  uint64_t naiveBytesPerFrame = 0; // 3 bytes a texel for every view uncropped
   ImpostorCompression compression;
   // Left-right mirroring measured (even frame counts of a clip; -1 otherwise): silhouette IoU of
   // each view against the view from the opposite azimuth half a clip later, flipped.

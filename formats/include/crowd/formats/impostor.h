@@ -3,8 +3,9 @@
 // per frame. Three planes of the same layout, each a texture the GPU samples as stored: the
 // object-space normal, octahedral, in BC5 blocks; the region id + 1 (0: empty), a byte per texel,
 // exact; and, when the mesh has UVs, the UVs (wrapped into 0..1) in BC5 blocks. Each view has a
-// best plane that the player draws it on, blending the three views around the camera. 3 bytes a
-// texel on the GPU; on disk a block with no covered texel is not stored (it reads zero).
+// best plane that the player draws it on, blending the three views around the camera. On disk a
+// block with no covered texel is not stored (it reads zero); on the GPU the region ids take 4 bits
+// where they fit and the blocks only each view's covered spans (impostor_spans.h).
 #pragma once
 #include <array>
 #include <cstdint>
@@ -54,7 +55,10 @@ struct Impostor {
   // when the mesh has none).
   std::vector<uint8_t> normals, regions, uvs;
   size_t frameTexels() const { return size_t(atlasWidth) * atlasHeight; }
-  uint64_t bytesPerFrame() const; // the three planes of one frame, as the GPU holds them
+  // One frame's planes at full detail as the GPU holds them (impostor_spans.h), the mean over
+  // frames: the region plane, the spans' blocks and their index.
+  uint64_t bytesPerFrame() const;
+  uint32_t regionBits() const; // on the GPU: 4 when every region id + 1 is at most 15, else 8
   uint32_t storedAzimuths() const { return mirrored ? azimuths / 2 + 1 : azimuths; }
   // Index of a stored view (a < storedAzimuths()).
   size_t viewIndex(uint32_t f, uint32_t e, uint32_t a) const {

@@ -64,6 +64,9 @@ public:
   // on, and its environment is drawn before them. The world must outlive the renderer.
   void attachWorld(SceneWorld &world);
 
+  // Bytes of every impostor's textures and buffers on the GPU, every frame and mip level.
+  uint64_t impostorBytes() const;
+
 private:
   struct Character;
   // Writes character ci's instances where the world's agents stand, with their clips.
