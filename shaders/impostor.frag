@@ -20,15 +20,17 @@ flat in float v_palette;
 
 layout(binding = 0) uniform sampler2DArray u_normals;  // octahedral normal, pool of blocks
 layout(binding = 1) uniform sampler2DArray u_uvs;      // u, v, the same pool
-// Region id + 1 (0: empty), 4 or 8 bits; every mip level in the frame's layer, level l's corner at
-// u_regionOrigin[l] (bytes, rows).
-layout(binding = 3) uniform usampler2DArray u_regions;
-uniform ivec2 u_regionOrigin[6];
+// Region id + 1 (0: empty), 4 or 8 bits a texel in 32-bit words, the lower bits the left texel:
+// frame f's level l from word f * u_regionFrameWords + u_regionLevelWord[l], rows of
+// u_regionRowWords[l] words. A storage buffer, not a texture: on a CPU rasterizer a texture fetch
+// costs many times a buffer load.
+layout(std430, binding = 5) readonly buffer Regions { uint regionWords[]; };
+uniform int u_regionBits;
+uniform int u_regionFrameWords;
+uniform int u_regionLevelWord[6], u_regionRowWords[6];
 // Rows of spans (impostor.vert gives each view's first at this level): x, the pool block of the
 // row's first stored block; y, its block column.
 layout(std430, binding = 7) readonly buffer Spans { uvec2 spans[]; };
-uniform int u_regionShift; // 1: two ids a byte (4 bits); 0: a byte each
-uniform uint u_regionBits; // 4 or 8
 uniform int u_poolShift; // a pool row holds 1 << u_poolShift blocks
 layout(binding = 2) uniform sampler2D u_diffuse;
 layout(std430, binding = 2) readonly buffer Palettes { vec4 colours[]; };
@@ -49,17 +51,12 @@ float inLight(vec3 world) {
   return world.y >= texelFetch(u_shadowHeights, cell, 0).r ? 1.0 : 0.0;
 }
 
-// The ids of the 2x2 texels from `base` at this level (x: base; y: a column on; z: a row on; w:
-// both) in one gather, without a branch (a CPU rasterizer pays for each fetch and branch): two
-// bytes of each row hold both columns, 4-bit ids the even column in the lower nibble.
-uvec4 regionsAt(ivec2 base, int layer) {
-  ivec2 corner = u_regionOrigin[v_level] + ivec2(base.x >> u_regionShift, base.y);
-  vec2 at = (vec2(corner) + 1.0) / vec2(textureSize(u_regions, 0).xy); // between the four
-  uvec4 g = textureGather(u_regions, vec3(at, float(layer))); // (c, r+1) (c+1, r+1) (c+1, r) (c, r)
-  uint row0 = g.w | (g.z << 8), row1 = g.x | (g.y << 8);
-  uint shift = u_regionBits * uint(base.x & u_regionShift), next = shift + u_regionBits;
-  return uvec4(row0 >> shift, row0 >> next, row1 >> shift, row1 >> next) &
-         ((1u << u_regionBits) - 1u);
+// The ids of texels `a` and `b` of a row (x: a's column, y: b's; z: the row) at this level.
+uvec2 regionPair(ivec3 at, int layer) {
+  int row = layer * u_regionFrameWords + u_regionLevelWord[v_level] + at.z * u_regionRowWords[v_level];
+  int bitA = at.x * u_regionBits, bitB = at.y * u_regionBits;
+  uvec2 words = uvec2(regionWords[row + (bitA >> 5)], regionWords[row + (bitB >> 5)]);
+  return (words >> uvec2(bitA & 31, bitB & 31)) & ((1u << u_regionBits) - 1u);
 }
 
 vec3 octahedral(vec2 o) {
@@ -89,11 +86,14 @@ void main() {
     bvec2 in1 = equal(clamp(base + 1, first, last), base + 1);
     bvec2 nearHigh = greaterThanEqual(f, vec2(0.5));
     ivec2 nearest = base + ivec2(nearHigh);
-    uvec4 ids = regionsAt(base, layer);
-    int r00 = in0.x && in0.y ? int(ids.x) : 0;
-    int r10 = in1.x && in0.y ? int(ids.y) : 0;
-    int r01 = in0.x && in1.y ? int(ids.z) : 0;
-    int r11 = in1.x && in1.y ? int(ids.w) : 0;
+    // Read inside the crop only (clamped), then masked.
+    ivec2 c0 = clamp(base, first, last), c1 = clamp(base + 1, first, last);
+    uvec2 row0 = regionPair(ivec3(c0.x, c1.x, c0.y), layer);
+    uvec2 row1 = regionPair(ivec3(c0.x, c1.x, c1.y), layer);
+    int r00 = in0.x && in0.y ? int(row0.x) : 0;
+    int r10 = in1.x && in0.y ? int(row0.y) : 0;
+    int r01 = in0.x && in1.y ? int(row1.x) : 0;
+    int r11 = in1.x && in1.y ? int(row1.y) : 0;
     float occupancy = mix(mix(float(r00 != 0), float(r10 != 0), f.x),
                           mix(float(r01 != 0), float(r11 != 0), f.x), f.y);
     int r = nearHigh.y ? (nearHigh.x ? r11 : r01) : (nearHigh.x ? r10 : r00);

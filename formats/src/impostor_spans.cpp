@@ -35,7 +35,7 @@ ImpostorSpans impostorSpans(std::span<const ImpostorView> views, std::span<const
 }
 
 uint32_t regionRowBytes(uint32_t width, uint32_t regionBits) {
-  return regionBits == 4 ? (width + 1) / 2 : width;
+  return (width * regionBits + 31) / 32 * 4;
 }
 
 } // namespace crowd::pack

@@ -63,8 +63,9 @@ struct CrowdRenderer::Character {
   const pack::Impostor *impostor = nullptr;
   // Mesh, normals, indices of every LOD level, clips, instances, palettes, UVs, geometry ids
   // (sorted by level), impostor ids, views, draw commands, morph slots and offsets, cloth
-  // vertices, loops and positions, impostor spans.
-  unsigned vao = 0, buffers[18] = {}, textures[6] = {};
+  // vertices, loops and positions, impostor spans and region ids. Textures: animation, skin
+  // weights, diffuse, impostor normal and UV pools.
+  unsigned vao = 0, buffers[19] = {}, textures[5] = {};
   ClothBuffers cloth;
   // Per instance: 3 rows, params (clip, time offset, speed, palette) and fade (clip faded from
   // or -1, its time offset, fade start, fade length): kInstanceFloats floats.
@@ -85,7 +86,7 @@ struct CrowdRenderer::Character {
   ~Character() {
     glDeleteVertexArrays(1, &vao);
     glDeleteBuffers(GLsizei(std::size(buffers)), buffers);
-    glDeleteTextures(6, textures);
+    glDeleteTextures(GLsizei(std::size(textures)), textures);
   }
 };
 
@@ -306,8 +307,8 @@ CrowdRenderer::CrowdRenderer(const std::vector<const pack::AnimationPack *> &pac
 
     glCreateTextures(GL_TEXTURE_2D, 3, c->textures);
     if (c->impostor) {
-      glCreateTextures(GL_TEXTURE_2D_ARRAY, 3, c->textures + 3);
-      const unsigned buffers[2] = {c->buffers[9], c->buffers[17]};
+      glCreateTextures(GL_TEXTURE_2D_ARRAY, 2, c->textures + 3);
+      const unsigned buffers[3] = {c->buffers[9], c->buffers[17], c->buffers[18]};
       c->impostorGpu = uploadImpostor(*c->impostor, c->textures + 3, buffers);
     }
     const auto &t = p.animation;
@@ -487,9 +488,11 @@ void CrowdRenderer::drawCharacter(const Character &c, const CrowdSelection::Char
     glUniform1f(iloc("u_texelSize"), 2.0f * m.sphere[3] / float(m.texels));
     glUniform1f(iloc("u_oneToOne"), float(oneToOneDistance(m, view.fovY, view.viewportHeight)));
     glUniform1i(iloc("u_maxLevel"), int(c.impostorGpu.levels) - 1);
-    glUniform1i(iloc("u_regionShift"), c.impostorGpu.regionBits == 4 ? 1 : 0);
-    glUniform1ui(iloc("u_regionBits"), c.impostorGpu.regionBits);
-    glUniform2iv(iloc("u_regionOrigin"), 6, c.impostorGpu.regionOrigin[0].data());
+    const ImpostorGpu &g = c.impostorGpu;
+    glUniform1i(iloc("u_regionBits"), int(g.regionBits));
+    glUniform1i(iloc("u_regionFrameWords"), int(g.regionFrameWords));
+    glUniform1iv(iloc("u_regionLevelWord"), kImpostorMaxLevels, g.regionLevelWord.data());
+    glUniform1iv(iloc("u_regionRowWords"), kImpostorMaxLevels, g.regionRowWords.data());
     glUniform1i(iloc("u_poolShift"), int(c.impostorGpu.poolShift));
     glUniform1i(iloc("u_viewCount"), int(m.views.size()));
     glUniform1i(iloc("u_hasTexture"), p.diffuse ? 1 : 0);
@@ -498,9 +501,9 @@ void CrowdRenderer::drawCharacter(const Character &c, const CrowdSelection::Char
     glUniform3fv(iloc("u_lightDirection"), 1, glm::value_ptr(light_));
     glBindTextureUnit(0, c.textures[3]);
     glBindTextureUnit(1, c.textures[4]);
-    glBindTextureUnit(3, c.textures[5]);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, c.buffers[8]);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, c.buffers[9]);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, c.buffers[18]);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, c.buffers[17]);
     glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, GLsizei(chosen.impostorIds.size()));
     ++stats.drawCalls;

@@ -11,21 +11,24 @@ inline constexpr uint32_t kImpostorMaxLevels = 6; // impostorMipLevels' limit
 
 struct ImpostorGpu {
   uint32_t levels = 0;     // mip levels (impostorMipLevels)
-  uint32_t regionBits = 8; // 4: two texels a byte, the lower nibble the even column
-  // Each level's region plane in its frame's layer: level 0 at the corner, the others in a row
-  // below it (columns in bytes, rows), so one gather reads a texel's 2x2 at any level.
-  std::array<std::array<int32_t, 2>, kImpostorMaxLevels> regionOrigin{};
+  uint32_t regionBits = 8; // 4 or 8 (Impostor::regionBits)
+  // The region ids in 32-bit words, the lower bits the left texel: frame f's level l starts at
+  // word f * regionFrameWords + regionLevelWord[l], rows of regionRowWords[l] words.
+  uint32_t regionFrameWords = 0;
+  std::array<int32_t, kImpostorMaxLevels> regionLevelWord{}, regionRowWords{};
   uint32_t poolShift = 0; // a pool row holds 1 << poolShift blocks
   uint64_t bytes = 0;     // everything uploaded, every frame and level
 };
 
-// Uploads into `textures` (2D arrays: normal pool, UV pool, region planes) and `buffers` (views:
-// 3 vec4 each as impostor.vert reads them; spans: uvec2 each, first one per (level, view) at
-// level * views + view giving the index of the view's first row, then the rows (pool block of
-// the row's first stored block within the frame's layer, its block column at that level)). Each
-// level's blocks follow the level before's in a frame's layer. Throws a clear error when a pool
-// would exceed this GL's texture size.
-ImpostorGpu uploadImpostor(const pack::Impostor &m, const unsigned textures[3],
-                           const unsigned buffers[2]);
+// Uploads into `textures` (2D arrays, a layer per frame: the normal pool and the UV pool, every
+// level's span blocks, level 0's first) and `buffers`: the views (3 vec4 each as impostor.vert
+// reads them); the spans (uvec2 each: first one per (level, view) at level * views + view giving
+// the index of the view's first row, then the rows: the pool block of the row's first stored
+// block within the frame's layer, and its block column at that level); the region ids
+// (ImpostorGpu's layout). The ids are read from a storage buffer, not a texture: on a CPU
+// rasterizer a texture fetch costs many times a buffer load. Throws a clear error when a plane
+// exceeds this GL's texture or storage-block size.
+ImpostorGpu uploadImpostor(const pack::Impostor &m, const unsigned textures[2],
+                           const unsigned buffers[3]);
 
 } // namespace crowd::runtime

@@ -134,9 +134,11 @@ TEST(Impostor, GpuHoldsRegionIdsIn4BitsAndOnlyTheCoveredSpans) {
   EXPECT_LT(stored, blocks * 3 / 4) << "the spans leave the empty blocks out";
   EXPECT_EQ(m.bytesPerFrame(),
             uint64_t(pack::regionRowBytes(m.atlasWidth, 4)) * m.atlasHeight + spanBytes / m.frames);
-  EXPECT_EQ(pack::regionRowBytes(m.atlasWidth, 4), m.atlasWidth / 2);
-  EXPECT_EQ(pack::regionRowBytes(7, 4), 4u); // an odd mip level's last texel has its own byte
-  EXPECT_EQ(pack::regionRowBytes(m.atlasWidth, 8), m.atlasWidth);
+  // Rows of whole 32-bit words.
+  EXPECT_EQ(pack::regionRowBytes(8, 4), 4u);
+  EXPECT_EQ(pack::regionRowBytes(9, 4), 8u);
+  EXPECT_EQ(pack::regionRowBytes(3, 8), 4u);
+  EXPECT_EQ(pack::regionRowBytes(8, 8), 8u);
 }
 
 TEST(Impostor, OneFrameClipsRestPosesAndMemoryGuard) {

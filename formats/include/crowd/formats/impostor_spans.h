@@ -1,10 +1,10 @@
 // How the player holds an impostor frame on the GPU, compactly. The region plane stays a full
-// atlas, since coverage is read there first, but at 4 bits a texel (two a byte) when every id + 1
-// fits. The normal and UV planes keep only, per view and per row of 4x4 blocks, the run of blocks
-// from the first to the last one holding a covered texel of that view's crop: a "pool" of BC5
-// blocks, each copied as stored. The player reads a covered texel's normal and UV through its
-// row's span; it never reads an empty texel's. On the sample humanoid's walk (128 texels,
-// mirrored) the spans hold 47% of the atlas's blocks.
+// atlas, since coverage is read there first, but at 4 bits a texel when every id + 1 fits. The
+// normal and UV planes keep only, per view and per row of 4x4 blocks, the run of blocks from the
+// first to the last one holding a covered texel of that view's crop: a "pool" of BC5 blocks, each
+// copied as stored. The player reads a covered texel's normal and UV through its row's span; it
+// never reads an empty texel's. On the sample humanoid's walk (128 texels, mirrored) the spans hold
+// 47% of the atlas's blocks.
 #pragma once
 #include <cstdint>
 #include <span>
@@ -33,8 +33,8 @@ struct ImpostorSpans {
 ImpostorSpans impostorSpans(std::span<const ImpostorView> views, std::span<const uint8_t> regions,
                             uint32_t width, uint32_t height, uint32_t level);
 
-// Bytes of one row of a region plane `width` texels wide as the GPU holds it: two texels a byte
-// when `regionBits` is 4, else a byte a texel.
+// Bytes of one row of a region plane `width` texels wide as the GPU holds it: `regionBits` (4 or
+// 8) a texel, in whole 32-bit words.
 uint32_t regionRowBytes(uint32_t width, uint32_t regionBits);
 
 } // namespace crowd::pack
