@@ -22,8 +22,7 @@ layout(binding = 0) uniform sampler2DArray u_normals;  // octahedral normal, poo
 layout(binding = 1) uniform sampler2DArray u_uvs;      // u, v, the same pool
 // Region id + 1 (0: empty), 4 or 8 bits a texel in 32-bit words, the lower bits the left texel:
 // frame f's level l from word f * u_regionFrameWords + u_regionLevelWord[l], rows of
-// u_regionRowWords[l] words. A storage buffer, not a texture: on a CPU rasterizer a texture fetch
-// costs many times a buffer load.
+// u_regionRowWords[l] words (a storage buffer: no texture layout of the mip levels is needed).
 layout(std430, binding = 5) readonly buffer Regions { uint regionWords[]; };
 uniform int u_regionBits;
 uniform int u_regionFrameWords;
@@ -53,7 +52,8 @@ float inLight(vec3 world) {
 
 // The ids of texels `a` and `b` of a row (x: a's column, y: b's; z: the row) at this level.
 uvec2 regionPair(ivec3 at, int layer) {
-  int row = layer * u_regionFrameWords + u_regionLevelWord[v_level] + at.z * u_regionRowWords[v_level];
+  int row = layer * u_regionFrameWords + u_regionLevelWord[v_level] +
+            at.z * u_regionRowWords[v_level];
   int bitA = at.x * u_regionBits, bitB = at.y * u_regionBits;
   uvec2 words = uvec2(regionWords[row + (bitA >> 5)], regionWords[row + (bitB >> 5)]);
   return (words >> uvec2(bitA & 31, bitB & 31)) & ((1u << u_regionBits) - 1u);

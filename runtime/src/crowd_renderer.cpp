@@ -487,13 +487,13 @@ void CrowdRenderer::drawCharacter(const Character &c, const CrowdSelection::Char
     glUniform1f(iloc("u_frameStep"), m.frameStep > 0 ? m.frameStep : 1.0f);
     glUniform1f(iloc("u_texelSize"), 2.0f * m.sphere[3] / float(m.texels));
     glUniform1f(iloc("u_oneToOne"), float(oneToOneDistance(m, view.fovY, view.viewportHeight)));
-    glUniform1i(iloc("u_maxLevel"), int(c.impostorGpu.levels) - 1);
     const ImpostorGpu &g = c.impostorGpu;
+    glUniform1i(iloc("u_maxLevel"), int(g.levels) - 1);
     glUniform1i(iloc("u_regionBits"), int(g.regionBits));
     glUniform1i(iloc("u_regionFrameWords"), int(g.regionFrameWords));
     glUniform1iv(iloc("u_regionLevelWord"), kImpostorMaxLevels, g.regionLevelWord.data());
     glUniform1iv(iloc("u_regionRowWords"), kImpostorMaxLevels, g.regionRowWords.data());
-    glUniform1i(iloc("u_poolShift"), int(c.impostorGpu.poolShift));
+    glUniform1i(iloc("u_poolShift"), int(g.poolShift));
     glUniform1i(iloc("u_viewCount"), int(m.views.size()));
     glUniform1i(iloc("u_hasTexture"), p.diffuse ? 1 : 0);
     glUniform1i(iloc("u_hasUvs"), !m.uvs.empty());

@@ -25,9 +25,8 @@ struct ImpostorGpu {
 // reads them); the spans (uvec2 each: first one per (level, view) at level * views + view giving
 // the index of the view's first row, then the rows: the pool block of the row's first stored
 // block within the frame's layer, and its block column at that level); the region ids
-// (ImpostorGpu's layout). The ids are read from a storage buffer, not a texture: on a CPU
-// rasterizer a texture fetch costs many times a buffer load. Throws a clear error when a plane
-// exceeds this GL's texture or storage-block size.
+// (ImpostorGpu's layout; a storage buffer, so the mip levels need no texture layout). Throws a
+// clear error when a plane exceeds this GL's texture or storage-block size.
 ImpostorGpu uploadImpostor(const pack::Impostor &m, const unsigned textures[2],
                            const unsigned buffers[3]);
 
