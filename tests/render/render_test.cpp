@@ -372,6 +372,10 @@ TEST(Player, ImpostorsStandInForTheGeometryPastTheSwitch) {
     auto j = nlohmann::json::parse(std::ifstream(stats));
     EXPECT_EQ(j["summary"]["impostors"].get<double>(), 1);
     EXPECT_EQ(j["summary"]["draw_calls"].get<double>(), 1); // the geometry draws nothing
+    // Held compactly: every level in less than the full-detail atlases at 3 bytes a texel.
+    const auto m = pack::loadImpostorPack(pack::Reader::open(hybrid().pack)).impostor;
+    EXPECT_GT(j["summary"]["impostor_gpu_bytes"].get<double>(), 0);
+    EXPECT_LT(j["summary"]["impostor_gpu_bytes"].get<double>(), 3.0 * m.frames * m.frameTexels());
     ASSERT_EQ(run(std::string(CROWDPLAY) + " " + scene +
                   " --headless --frames 1 --size 320x240 --geometry --screenshot " + b)
                   .code,
