@@ -194,6 +194,7 @@ CrowdSelection::Result CrowdSelection::select(const FrameView &view, const DrawO
   for (uint32_t ci = 0; ci < characters.size(); ++ci) {
     Character &c = characters[ci];
     c.impostorIds.clear();
+    impostorOrder_.clear();
     // Past the one-texel-per-pixel distance an eligible instance becomes an impostor, with
     // hysteresis.
     const bool hybrid = options.path == DrawPath::Hybrid && c.impostor;
@@ -206,21 +207,28 @@ CrowdSelection::Result CrowdSelection::select(const FrameView &view, const DrawO
     for (uint32_t i = 0; i < uint32_t(c.bounds.size()); ++i) {
       if (cull && !frustum.sees(c.bounds[i], c.radius))
         continue; // `far` keeps its state: the instance is not drawn either way
+      float d2 = 0;
       if (hybrid && c.eligible[i]) {
         const glm::vec3 e = view.eye - c.centres[i];
-        const double d2 = double(glm::dot(e, e));
+        d2 = glm::dot(e, e);
         c.far[i] = options.allImpostors || (c.far[i] ? d2 > in2 : d2 > out2);
       } else {
         c.far[i] = 0;
       }
       if (c.far[i]) {
-        c.impostorIds.push_back(i);
+        impostorOrder_.push_back({d2, i});
         continue;
       }
       const glm::vec3 d = c.bounds[i] - view.eye;
       visible_.push_back({lodWeight(glm::dot(d, d), c.radius, pixelsPerUnit), ci, 0});
       instance_.push_back(i);
     }
+    // Nearest first: the depth test then rejects the pixels of impostors hidden behind nearer
+    // ones before shading them (llvmpipe tests depth early though the shader discards, and
+    // writes it late).
+    std::sort(impostorOrder_.begin(), impostorOrder_.end());
+    for (const auto &[d2, i] : impostorOrder_)
+      c.impostorIds.push_back(i);
     r.impostors += uint32_t(c.impostorIds.size());
   }
   // The geometry's budget: what the impostors' two triangles each leave (at least 1).

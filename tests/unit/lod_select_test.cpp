@@ -187,3 +187,30 @@ TEST(LodSelect, AFixedDetailOverridesTheBudget) {
     }
   }
 }
+
+// Impostors come nearest first, so the depth test rejects the pixels of those behind before
+// they are shaded: instances added in a scrambled order along the view.
+TEST(LodSelect, ImpostorsAreListedNearestFirst) {
+  pack::Impostor impostor;
+  impostor.texels = 128;
+  impostor.sphere = {0, 1, 0, 1};
+  CrowdSelection s;
+  s.addCharacter(lodPack(), &impostor);
+  std::vector<float> depth;
+  for (int i = 0; i < 50; ++i) {
+    depth.push_back(5.0f + float((i * 37) % 50));
+    s.addInstance({0, 0, -depth.back()}, 0, true);
+  }
+  FrameView view;
+  view.eye = {0, 1.6f, 0};
+  view.viewProjection = viewProjection(view.eye, {0, 1, -10});
+  view.fovY = glm::radians(50.0);
+  view.viewportHeight = 540;
+  DrawOptions o;
+  o.allImpostors = true;
+  EXPECT_EQ(s.select(view, o).impostors, 50u);
+  const auto &ids = s.characters[0].impostorIds;
+  ASSERT_EQ(ids.size(), 50u);
+  for (size_t k = 1; k < ids.size(); ++k)
+    EXPECT_LT(depth[ids[k - 1]], depth[ids[k]]) << k;
+}

@@ -114,7 +114,7 @@ public:
     std::vector<uint8_t> eligible;  // per instance: plays the impostor's clip
     std::vector<uint8_t> far;       // per instance: an impostor now (hysteresis: kept)
     // Results of select(): geometry ids sorted by level, with runEnds[l] the end of level l's
-    // run, and the impostor ids.
+    // run, and the impostor ids, nearest first.
     std::vector<uint32_t> ids, runEnds, impostorIds;
   };
   std::vector<Character> characters;
@@ -139,6 +139,7 @@ public:
 private:
   std::vector<Visible> visible_;
   std::vector<uint32_t> instance_;
+  std::vector<std::pair<float, uint32_t>> impostorOrder_; // squared distance, id
 };
 
 } // namespace crowd::runtime
