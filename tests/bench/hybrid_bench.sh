@@ -3,25 +3,34 @@
 # path, instanced geometry only (--geometry) against hybrid (impostors past the 1:1 distance), in
 # the same binary and the same run. Prints a table and writes OUT/hybrid_bench.csv.
 # Usage: tests/bench/hybrid_bench.sh [OUT] [FRAMES] [WxH]   (after ./run demo, which bakes out/)
+# BASELINE=DIR: another checkout (the previous release), built and with its own out/ from its
+# ./run demo; its hybrid path runs right after this one's, the same arguments, and the ratio is
+# printed. PATHS=hybrid skips the geometry-only runs (over 30 minutes at 10k on llvmpipe).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
-out=${1:-out/bench}
+here=$PWD
+out=$(realpath -m "${1:-out/bench}")
 frames=${2:-4}
 size=${3:-960x540}
 mkdir -p "$out"
 for f in out/humanoid.crowdpack out/humanoid_walk.impostor.crowdpack; do
   [ -f $f ] || { echo "run ./run demo first (it bakes $f)" >&2; exit 1; }
+  [ -z "${BASELINE:-}" ] || [ -f "$BASELINE/$f" ] ||
+    { echo "BASELINE: run ./run demo in $BASELINE first (it bakes $f)" >&2; exit 1; }
 done
 csv=$out/hybrid_bench.csv
 echo "instances,path,frames,frame_ms,gpu_ms,draw_calls,impostors,triangles,renderer" > "$csv"
 step=$(node -e "console.log(12 / $frames)") # the path is 12 s long
+runs="${PATHS:-geometry hybrid}"
+[ -n "${BASELINE:-}" ] && runs="$runs baseline"
 for n in 10000 30000; do
-  for path in geometry hybrid; do
+  for path in $runs; do
     flag=""; [ $path = geometry ] && flag=--geometry
+    tree=$here; [ $path = baseline ] && tree=$(realpath "$BASELINE")
     stats=$out/hybrid_${n}_$path.json
-    xvfb-run -a -s "-screen 0 640x480x24" build/bin/crowdplay samples/scenes/crowd10k.json \
-      --headless --frames "$frames" --step "$step" --size "$size" --instances $n $flag \
-      --stats "$stats" >/dev/null
+    (cd "$tree" && xvfb-run -a -s "-screen 0 640x480x24" build/bin/crowdplay \
+      samples/scenes/crowd10k.json --headless --frames "$frames" --step "$step" --size "$size" \
+      --instances $n $flag --stats "$stats" >/dev/null)
     node -e '
       const s = require(process.argv[1]).summary;
       console.log([process.argv[2], process.argv[3], s.frames, s.frame_ms.toFixed(1), s.gpu_ms.toFixed(1),
@@ -33,6 +42,9 @@ column -s, -t "$csv"
 node -e '
   const rows = require("fs").readFileSync(process.argv[1], "utf8").trim().split("\n").slice(1).map(l => l.split(","));
   for (const n of ["10000", "30000"]) {
-    const g = rows.find(r => r[0] === n && r[1] === "geometry"), h = rows.find(r => r[0] === n && r[1] === "hybrid");
-    console.log(`${n}: geometry/hybrid frame time ${(g[3] / h[3]).toFixed(1)}x, gpu time ${(g[4] / h[4]).toFixed(1)}x, triangles ${(g[7] / h[7]).toFixed(0)}x fewer`);
+    const [g, h, b] = ["geometry", "hybrid", "baseline"].map(p => rows.find(r => r[0] === n && r[1] === p));
+    if (g && h)
+      console.log(`${n}: geometry/hybrid frame time ${(g[3] / h[3]).toFixed(1)}x, gpu time ${(g[4] / h[4]).toFixed(1)}x, triangles ${(g[7] / h[7]).toFixed(0)}x fewer`);
+    if (b && h)
+      console.log(`${n}: hybrid frame time ${(h[3] / b[3]).toFixed(2)}x the baseline (${h[3]} against ${b[3]} ms)`);
   }' "$csv"

@@ -1,8 +1,8 @@
 // The impostor chunk: for each sampled frame of a clip, views of the character from azimuths x
 // elevations over the upper hemisphere, each cropped to its silhouette and packed into one atlas
-// per frame. Three planes of the same layout, each a texture the GPU samples as stored: the
-// object-space normal, octahedral, in BC5 blocks; the region id + 1 (0: empty), a byte per texel,
-// exact; and, when the mesh has UVs, the UVs (wrapped into 0..1) in BC5 blocks. Each view has a
+// per frame. Three planes of the same layout, stored as the GPU reads them: the object-space
+// normal, octahedral, in BC5 blocks; the region id + 1 (0: empty), a byte per texel, exact; and,
+// when the mesh has UVs, the UVs (wrapped into 0..1) in BC5 blocks. Each view has a
 // best plane that the player draws it on, blending the three views around the camera. On disk a
 // block with no covered texel is not stored (it reads zero); on the GPU the region ids take 4 bits
 // where they fit and the blocks only each view's covered spans (impostor_spans.h).
