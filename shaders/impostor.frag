@@ -26,7 +26,7 @@ layout(binding = 1) uniform sampler2DArray u_uvs;      // u, v, the same pool
 layout(std430, binding = 5) readonly buffer Regions { uint regionWords[]; };
 uniform int u_regionBits;
 uniform int u_regionFrameWords;
-uniform int u_regionLevelWord[6], u_regionRowWords[6];
+uniform int u_regionLevelWord[6], u_regionRowWords[6]; // runtime::kImpostorMaxMipLevels
 // Rows of spans (impostor.vert gives each view's first at this level): x, the pool block of the
 // row's first stored block; y, its block column.
 layout(std430, binding = 7) readonly buffer Spans { uvec2 spans[]; };

@@ -491,8 +491,8 @@ void CrowdRenderer::drawCharacter(const Character &c, const CrowdSelection::Char
     glUniform1i(iloc("u_maxLevel"), int(g.levels) - 1);
     glUniform1i(iloc("u_regionBits"), int(g.regionBits));
     glUniform1i(iloc("u_regionFrameWords"), int(g.regionFrameWords));
-    glUniform1iv(iloc("u_regionLevelWord"), kImpostorMaxLevels, g.regionLevelWord.data());
-    glUniform1iv(iloc("u_regionRowWords"), kImpostorMaxLevels, g.regionRowWords.data());
+    glUniform1iv(iloc("u_regionLevelWord"), kImpostorMaxMipLevels, g.regionLevelWord.data());
+    glUniform1iv(iloc("u_regionRowWords"), kImpostorMaxMipLevels, g.regionRowWords.data());
     glUniform1i(iloc("u_poolShift"), int(g.poolShift));
     glUniform1i(iloc("u_viewCount"), int(m.views.size()));
     glUniform1i(iloc("u_hasTexture"), p.diffuse ? 1 : 0);

@@ -136,7 +136,7 @@ uint32_t impostorMipLevels(const pack::Impostor &m) {
     if (v.width && v.height)
       smallest = std::min<uint32_t>(smallest, std::min(v.width, v.height));
   uint32_t levels = 1;
-  while (levels < 6 && (smallest >> levels) >= 2)
+  while (levels < kImpostorMaxMipLevels && (smallest >> levels) >= 2)
     ++levels;
   return levels;
 }

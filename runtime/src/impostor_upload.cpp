@@ -67,7 +67,7 @@ FrameUpload frameUpload(const pack::Impostor &m, uint32_t f, const ImpostorGpu &
 ImpostorGpu uploadImpostor(const pack::Impostor &m, const unsigned textures[2],
                            const unsigned buffers[3]) {
   ImpostorGpu g;
-  g.levels = std::min(impostorMipLevels(m), kImpostorMaxLevels);
+  g.levels = impostorMipLevels(m);
   g.regionBits = m.regionBits();
   placeRegionLevels(m, g);
   std::vector<FrameUpload> frames;

@@ -4,10 +4,9 @@
 #include <cstdint>
 
 #include "crowd/formats/impostor.h"
+#include "crowd/runtime/impostor_runtime.h"
 
 namespace crowd::runtime {
-
-inline constexpr uint32_t kImpostorMaxLevels = 6; // impostorMipLevels' limit
 
 struct ImpostorGpu {
   uint32_t levels = 0;     // mip levels (impostorMipLevels)
@@ -15,7 +14,7 @@ struct ImpostorGpu {
   // The region ids in 32-bit words, the lower bits the left texel: frame f's level l starts at
   // word f * regionFrameWords + regionLevelWord[l], rows of regionRowWords[l] words.
   uint32_t regionFrameWords = 0;
-  std::array<int32_t, kImpostorMaxLevels> regionLevelWord{}, regionRowWords{};
+  std::array<int32_t, kImpostorMaxMipLevels> regionLevelWord{}, regionRowWords{};
   uint32_t poolShift = 0; // a pool row holds 1 << poolShift blocks
   uint64_t bytes = 0;     // everything uploaded, every frame and level
 };

@@ -360,6 +360,7 @@ nlohmann::json cameraKey(double time, double distance, double azimuthDeg) {
 TEST(Player, ImpostorsStandInForTheGeometryPastTheSwitch) {
   // Just past the switch (hysteresis: 1.1x), from a stored azimuth, from a mirrored one and from
   // halfway between two (where the three nearest views blend); then farther, at mip levels 1 and 2.
+  const auto m = pack::loadImpostorPack(pack::Reader::open(hybrid().pack)).impostor;
   for (auto [far, azimuth] :
        {std::pair{1.15, 33.75}, {1.15, -33.75}, {1.15, 39.375}, {2.3, 39.375}, {4.6, 39.375}}) {
     double d = far * hybrid().switchAt;
@@ -373,7 +374,6 @@ TEST(Player, ImpostorsStandInForTheGeometryPastTheSwitch) {
     EXPECT_EQ(j["summary"]["impostors"].get<double>(), 1);
     EXPECT_EQ(j["summary"]["draw_calls"].get<double>(), 1); // the geometry draws nothing
     // Held compactly: every level in less than the full-detail atlases at 3 bytes a texel.
-    const auto m = pack::loadImpostorPack(pack::Reader::open(hybrid().pack)).impostor;
     EXPECT_GT(j["summary"]["impostor_gpu_bytes"].get<double>(), 0);
     EXPECT_LT(j["summary"]["impostor_gpu_bytes"].get<double>(), 3.0 * m.frames * m.frameTexels());
     ASSERT_EQ(run(std::string(CROWDPLAY) + " " + scene +
@@ -446,9 +446,7 @@ TEST(Player, ImpostorRegionIdsDrawTheSameInFourBitsAndInBytes) {
   *covered = 16;
   ASSERT_EQ(p.impostor.regionBits(), 8u);
   const std::string bytePack = work() + "/walk_byte_ids.impostor.crowdpack";
-  const auto bytes = pack::packBytes(p);
-  std::ofstream(bytePack, std::ios::binary)
-      .write(reinterpret_cast<const char *>(bytes.data()), std::streamsize(bytes.size()));
+  pack::writeFileAtomic(bytePack, pack::packBytes(p));
   Image images[2];
   for (int k = 0; k < 2; ++k) {
     auto scene = hybridScene({cameraKey(0, 1.15 * hybrid().switchAt, 41.375)});

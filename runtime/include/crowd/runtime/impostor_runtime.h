@@ -81,8 +81,9 @@ struct ImpostorMip {
 };
 std::vector<ImpostorMip> impostorMips(const pack::Impostor &m, uint32_t frame, uint32_t levels);
 
-// How many mip levels the player builds: at most 6, stopping where a level would mix whole views
-// (half the smallest crop's shorter side).
+// How many mip levels the player builds: at most kImpostorMaxMipLevels, stopping where a level
+// would mix whole views (half the smallest crop's shorter side).
+inline constexpr uint32_t kImpostorMaxMipLevels = 6; // impostor.frag's per-level arrays too
 uint32_t impostorMipLevels(const pack::Impostor &m);
 
 } // namespace crowd::runtime
