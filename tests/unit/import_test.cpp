@@ -253,3 +253,23 @@ TEST(Import, AnUndecodableTextureIsAWarningNotAFailure) {
   EXPECT_TRUE(warned);
 }
 } // namespace
+
+namespace {
+// tinygltf hands an image in a buffer view to its callback without checking the view against the
+// buffer (a fuzzed Fox.glb read past the end): a clear error, never a read outside it.
+TEST(Import, AnImageViewPastItsBufferIsAClearError) {
+  GltfBuilder b;
+  b.skinnedQuad();
+  int bytes = b.accessor(std::vector<uint8_t>{1, 2, 3, 4, 5, 6, 7, 8}, 5121, "SCALAR");
+  const auto view = b.j["accessors"][size_t(bytes)]["bufferView"];
+  b.j["bufferViews"][size_t(view.get<int>())]["byteLength"] = 1 << 20;
+  b.j["images"] = {{{"bufferView", view}, {"mimeType", "image/png"}}};
+  try {
+    load(b, "image_past_buffer");
+    FAIL() << "an image view past its buffer loaded";
+  } catch (const Error &e) {
+    EXPECT_NE(std::string(e.what()).find("runs past the end of buffer"), std::string::npos)
+        << e.what();
+  }
+}
+} // namespace

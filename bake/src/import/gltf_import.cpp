@@ -39,10 +39,26 @@ std::string oneLine(std::string s) {
 // Images are kept encoded as tinygltf hands them over; only the diffuse texture the mesh uses is
 // decoded (through OpenImageIO), and an image that cannot be decoded is a warning, not a failure.
 using EncodedImages = std::map<int, std::vector<uint8_t>>;
-bool keepEncodedImage(tinygltf::Image *, const int index, std::string *, std::string *, int, int,
-                      const unsigned char *bytes, int size, void *user) {
+struct ImageSink {
+  EncodedImages *images;
+  const Model *model; // as tinygltf has parsed it so far: its buffers and views come first
+};
+bool keepEncodedImage(tinygltf::Image *image, const int index, std::string *err, std::string *, int,
+                      int, const unsigned char *bytes, int size, void *user) {
+  const ImageSink &sink = *static_cast<ImageSink *>(user);
+  if (image->bufferView >= 0) { // tinygltf does not check the view against its buffer
+    const auto &view = sink.model->bufferViews[size_t(image->bufferView)];
+    const auto &buffer = sink.model->buffers[size_t(view.buffer)];
+    if (view.byteOffset > buffer.data.size() ||
+        view.byteLength > buffer.data.size() - view.byteOffset) {
+      *err += "image " + std::to_string(index) + ": its bufferView " +
+              std::to_string(image->bufferView) + " runs past the end of buffer " +
+              std::to_string(view.buffer) + " (" + std::to_string(buffer.data.size()) + " bytes)";
+      return false;
+    }
+  }
   if (bytes && size > 0)
-    (*static_cast<EncodedImages *>(user))[index].assign(bytes, bytes + size);
+    (*sink.images)[index].assign(bytes, bytes + size);
   return true;
 }
 
@@ -139,7 +155,8 @@ private:
     stage_ = "parsing the glTF JSON";
     Confinement confinement{&path_, &policy, {}, {}};
     tinygltf::TinyGLTF loader;
-    loader.SetImageLoader(keepEncodedImage, &encodedImages_);
+    ImageSink images{&encodedImages_, &model_};
+    loader.SetImageLoader(keepEncodedImage, &images);
     loader.SetFsCallbacks({uriExists, expandUri, readUri, noWrite, &confinement});
     std::string err, warn;
     // base_dir stays empty: URIs reach expandUri as written (percent-decoded), and are resolved
