@@ -8,13 +8,14 @@
 // a mode filter), and texels are fetched, not filtered. Normals and UVs are BC5 blocks the GPU
 // decodes, kept only in each view's spans (formats/impostor_spans.h): a covered texel's are read
 // through its row's span. The normal is octahedral. runtime::sampleImpostor does the same on the
-// CPU.
+// CPU. The diffuse texture is read at impostor.vert's level, the same for every pixel.
 in vec3 v_crop[3];
 flat in ivec4 v_rect[3];
 flat in ivec3 v_layer;
 flat in ivec3 v_rows;
 flat in vec3 v_weight;
 flat in int v_level;
+flat in float v_diffuseLod;
 flat in vec3 v_rows0, v_rows1, v_rows2;
 flat in float v_palette;
 
@@ -67,10 +68,11 @@ vec3 octahedral(vec2 o) {
 }
 
 void main() {
+  // First the coverage and each view's nearest region, then the discard: the GPU (and llvmpipe,
+  // per block of pixels) skips the fetches below where no pixel of the group is covered.
   float cover = 0.0;
-  vec3 normal = vec3(0.0);
-  int region = 0;
-  ivec3 chosen = ivec3(0);
+  ivec3 near[3];
+  ivec3 rz = ivec3(0);
   for (int k = 0; k < 3; ++k) {
     if (v_weight[k] <= 0.0) continue;
     vec2 crop = v_crop[k].xy / v_crop[k].z;
@@ -85,7 +87,6 @@ void main() {
     bvec2 in0 = equal(clamp(base, first, last), base);
     bvec2 in1 = equal(clamp(base + 1, first, last), base + 1);
     bvec2 nearHigh = greaterThanEqual(f, vec2(0.5));
-    ivec2 nearest = base + ivec2(nearHigh);
     // Read inside the crop only (clamped), then masked.
     ivec2 c0 = clamp(base, first, last), c1 = clamp(base + 1, first, last);
     uvec2 row0 = regionPair(ivec3(c0.x, c1.x, c0.y), layer);
@@ -96,24 +97,31 @@ void main() {
     int r11 = in1.x && in1.y ? int(row1.y) : 0;
     float occupancy = mix(mix(float(r00 != 0), float(r10 != 0), f.x),
                           mix(float(r01 != 0), float(r11 != 0), f.x), f.y);
-    int r = nearHigh.y ? (nearHigh.x ? r11 : r01) : (nearHigh.x ? r10 : r00);
+    rz[k] = nearHigh.y ? (nearHigh.x ? r11 : r01) : (nearHigh.x ? r10 : r00);
+    near[k] = ivec3(base + ivec2(nearHigh), first.y);
     cover += v_weight[k] * occupancy;
-    // The nearest texel (one of the four): its normal, region and UV, in its row's span.
-    if (r == 0) continue;
-    uvec2 span = spans[v_rows[k] + (nearest.y >> 2) - (first.y >> 2)];
+  }
+  if (cover < 0.5 || rz == ivec3(0)) discard;
+  // The nearest texel of each view that covers it: its normal, region and UV, in its row's span.
+  vec3 normal = vec3(0.0);
+  int region = 0;
+  ivec3 chosen = ivec3(0);
+  for (int k = 0; k < 3; ++k) {
+    if (rz[k] == 0) continue;
+    ivec2 nearest = near[k].xy;
+    int layer = v_layer[k] >> 1;
+    uvec2 span = spans[v_rows[k] + (nearest.y >> 2) - (near[k].z >> 2)];
     uint block = span.x + uint(nearest.x >> 2) - span.y;
     ivec2 pool = ivec2(block & ((1u << u_poolShift) - 1u), block >> u_poolShift);
     ivec3 at = ivec3(pool * 4 + (nearest & 3), layer);
     vec3 n = octahedral(texelFetch(u_normals, at, 0).rg);
     if ((v_layer[k] & 1) == 1) n.x = -n.x;
     normal += v_weight[k] * n;
-    if (region == 0) region = r, chosen = at;
+    if (region == 0) region = rz[k], chosen = at;
   }
-  // Sampled before the discard: implicit derivatives need the whole 2x2 pixel quad.
-  vec2 uv = texelFetch(u_uvs, chosen, 0).xy;
-  vec3 textured = u_hasTexture && u_hasUvs ? texture(u_diffuse, uv).rgb : vec3(1.0);
-  if (cover < 0.5 || region == 0) discard;
   if (u_shadow.w > 0.5) { o_colour = vec4(vec3(0.55), 1.0); return; }
+  vec2 uv = texelFetch(u_uvs, chosen, 0).xy;
+  vec3 textured = u_hasTexture && u_hasUvs ? textureLod(u_diffuse, uv, v_diffuseLod).rgb : vec3(1.0);
   vec3 n = normalize(normal);
   n = normalize(vec3(dot(v_rows0, n), dot(v_rows1, n), dot(v_rows2, n)));
   float diffuse = max(dot(n, u_lightDirection), 0.0) * inLight(v_world);

@@ -23,6 +23,7 @@ uniform vec3 u_eye;
 uniform vec4 u_sphere;         // centre, radius (model units)
 uniform ivec4 u_layout;        // azimuths, elevations, stored azimuths, frames
 uniform float u_texelSize;     // model units per texel: 2 radius / texels
+uniform float u_diffusePerTexel; // diffuse texels per texel (runtime::diffuseTexelsPerUnit)
 uniform bool u_mirrored;
 uniform float u_frameStep;     // seconds between frames
 uniform float u_oneToOne;      // distance where a texel covers a pixel
@@ -39,6 +40,7 @@ flat out ivec3 v_layer;        // the views' atlas layers * 2 + flip
 flat out ivec3 v_rows;         // the views' first rows in Spans at this level
 flat out vec3 v_weight;        // the views' weights, heaviest first (0: unused)
 flat out int v_level;
+flat out float v_diffuseLod;   // the diffuse texture's mip level
 flat out vec3 v_rows0, v_rows1, v_rows2;
 flat out float v_palette;
 out vec3 v_world;
@@ -75,7 +77,11 @@ void main() {
 
   // Texels per pixel grow with distance past the 1:1 distance: fetch the matching mip level.
   vec3 centre = transpose(toLocal) * u_sphere.xyz + origin;
-  v_level = clamp(int(floor(log2(max(length(u_eye - centre) / u_oneToOne, 1.0)))), 0, u_maxLevel);
+  float texelsPerPixel = length(u_eye - centre) / u_oneToOne;
+  v_level = clamp(int(floor(log2(max(texelsPerPixel, 1.0)))), 0, u_maxLevel);
+  // The diffuse texture's level for the whole impostor, from its texels per pixel (an impostor is
+  // far: one level for all its pixels is what the geometry's derivatives would give, near enough).
+  v_diffuseLod = log2(max(texelsPerPixel * u_diffusePerTexel, 1e-6));
 
   int A = u_layout.x, E = u_layout.y, stored = u_layout.z, F = u_layout.w;
   vec4 clip = clips[int(params.x)];

@@ -76,6 +76,7 @@ struct CrowdRenderer::Character {
   std::vector<uint8_t> clipFits;    // per scene clip: the impostor's clip
   std::vector<uint8_t> outfitFits;  // per instance: the impostor shows its outfit
   ImpostorGpu impostorGpu;
+  double diffuseTexelsPerUnit = 0; // of the mesh's surface (runtime::diffuseTexelsPerUnit)
   // Per LOD level, per sub-mesh and one past the last: where its triangles start in buffers[2].
   std::vector<uint32_t> levelStarts;
   std::vector<uint32_t> commands;  // glMultiDrawElementsIndirect's, 5 words each, by sub-mesh
@@ -327,6 +328,7 @@ CrowdRenderer::CrowdRenderer(const std::vector<const pack::AnimationPack *> &pac
     }
     if (p.diffuse) {
       const auto &d = *p.diffuse;
+      c->diffuseTexelsPerUnit = diffuseTexelsPerUnit(p.mesh, d.width, d.height);
       int levels = 1;
       while ((std::max(d.width, d.height) >> levels) > 0)
         ++levels;
@@ -486,6 +488,8 @@ void CrowdRenderer::drawCharacter(const Character &c, const CrowdSelection::Char
     glUniform1i(iloc("u_mirrored"), m.mirrored);
     glUniform1f(iloc("u_frameStep"), m.frameStep > 0 ? m.frameStep : 1.0f);
     glUniform1f(iloc("u_texelSize"), 2.0f * m.sphere[3] / float(m.texels));
+    glUniform1f(iloc("u_diffusePerTexel"),
+                float(c.diffuseTexelsPerUnit * 2.0 * m.sphere[3] / double(m.texels)));
     glUniform1f(iloc("u_oneToOne"), float(oneToOneDistance(m, view.fovY, view.viewportHeight)));
     const ImpostorGpu &g = c.impostorGpu;
     glUniform1i(iloc("u_maxLevel"), int(g.levels) - 1);

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <glm/gtc/type_ptr.hpp>
+
 #include "crowd/formats/bc5.h"
 
 namespace crowd::runtime {
@@ -128,6 +130,21 @@ ImpostorSample sampleImpostor(const pack::Impostor &m,
 double oneToOneDistance(const pack::Impostor &m, double fovY, int viewportHeight) {
   double texel = 2.0 * double(m.sphere[3]) / double(m.texels);
   return texel * double(viewportHeight) / (2.0 * std::tan(fovY / 2));
+}
+
+double diffuseTexelsPerUnit(const pack::Mesh &mesh, uint32_t width, uint32_t height) {
+  if (mesh.uvs.size() != 2 * mesh.vertexCount())
+    return 0;
+  double surface = 0, texture = 0;
+  for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+    const uint32_t *v = &mesh.indices[t];
+    auto at = [&](int k) { return glm::dvec3(glm::make_vec3(&mesh.positions[3 * size_t(v[k])])); };
+    auto uv = [&](int k) { return glm::dvec2(glm::make_vec2(&mesh.uvs[2 * size_t(v[k])])); };
+    surface += glm::length(glm::cross(at(1) - at(0), at(2) - at(0)));
+    const glm::dvec2 a = uv(1) - uv(0), b = uv(2) - uv(0);
+    texture += std::abs(a.x * b.y - a.y * b.x) * double(width) * double(height);
+  }
+  return surface > 0 ? std::sqrt(texture / surface) : 0;
 }
 
 uint32_t impostorMipLevels(const pack::Impostor &m) {

@@ -366,6 +366,23 @@ TEST(ImpostorRuntime, ChoosesTheViewsAroundTheDirectionAndTheFrame) {
   EXPECT_NEAR(2.0 * d * std::tan(pi / 4) / 480, 2.0 * m.sphere[3] / m.texels, 1e-9);
 }
 
+// The impostor's diffuse mip level comes from the mesh's texture density: a 2 x 1 quad whose UVs
+// span a 256 x 128 texture holds 128 texels per unit, whatever its orientation; without UVs, 0.
+TEST(ImpostorRuntime, DiffuseTexelsPerUnitIsTheMeshsTextureDensity) {
+  pack::Mesh quad;
+  quad.positions = {0, 0, 0, 0, 0, 2, 0, 1, 2, 0, 1, 0};
+  quad.uvs = {0, 0, 1, 0, 1, 1, 0, 1};
+  quad.indices = {0, 1, 2, 0, 2, 3};
+  EXPECT_NEAR(runtime::diffuseTexelsPerUnit(quad, 256, 128), 128.0, 1e-9);
+  quad.uvs = {0, 0, 0.5, 0, 0.5, 0.5, 0, 0.5}; // a quarter of the texture: half the texels a unit
+  EXPECT_NEAR(runtime::diffuseTexelsPerUnit(quad, 256, 128), 64.0, 1e-9);
+  quad.uvs.clear();
+  EXPECT_EQ(runtime::diffuseTexelsPerUnit(quad, 256, 128), 0.0);
+  quad.uvs = {0, 0, 1, 0, 1, 1, 0, 1};
+  quad.positions.assign(12, 0.0f); // no area
+  EXPECT_EQ(runtime::diffuseTexelsPerUnit(quad, 256, 128), 0.0);
+}
+
 TEST(ImpostorRuntime, MipLevelsNeverAverageRegionIds) {
   pack::Impostor m;
   m.frames = 1;

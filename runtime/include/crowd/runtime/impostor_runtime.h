@@ -9,6 +9,7 @@
 
 #include <glm/glm.hpp>
 
+#include "crowd/formats/chunks.h"
 #include "crowd/formats/impostor.h"
 
 namespace crowd::runtime {
@@ -67,6 +68,12 @@ ImpostorFrame impostorViewFrame(double azimuth, double elevation); // radians
 // perspective camera with vertical field of view `fovY` (radians) drawing `viewportHeight`
 // pixels. Farther than this, an impostor shows at least as much detail as the screen can.
 double oneToOneDistance(const pack::Impostor &m, double fovY, int viewportHeight);
+
+// The diffuse texture's texels per model unit on the mesh's surface (the square root of the
+// texture area its triangles cover over their area; 0 without UVs or area). An impostor reads the
+// diffuse texture at the mip level this gives for its distance, the same for its every pixel, so
+// no pixel's level depends on its neighbours' (at a silhouette, uncovered ones).
+double diffuseTexelsPerUnit(const pack::Mesh &mesh, uint32_t width, uint32_t height);
 
 // Mip chain of one frame's atlases (level 0 first: the stored blocks). A texel of level k+1 covers
 // a 2x2 block of level k (fewer at an odd edge): it is covered when at least half of them are; its
