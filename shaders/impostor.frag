@@ -10,7 +10,9 @@
 // through its row's span. The normal is octahedral. runtime::sampleImpostor does the same on the
 // CPU. The diffuse texture is read at impostor.vert's level, the same for every pixel.
 in vec3 v_crop[3];
-flat in ivec4 v_rect[3];
+flat in ivec4 v_bounds[3];
+flat in ivec3 v_regionRow;
+flat in int v_regionRowWords;
 flat in ivec3 v_layer;
 flat in ivec3 v_rows;
 flat in vec3 v_weight;
@@ -21,13 +23,11 @@ flat in float v_palette;
 
 layout(binding = 0) uniform sampler2DArray u_normals;  // octahedral normal, pool of blocks
 layout(binding = 1) uniform sampler2DArray u_uvs;      // u, v, the same pool
-// Region id + 1 (0: empty), 4 or 8 bits a texel in 32-bit words, the lower bits the left texel:
-// frame f's level l from word f * u_regionFrameWords + u_regionLevelWord[l], rows of
-// u_regionRowWords[l] words (a storage buffer: no texture layout of the mip levels is needed).
+// Region id + 1 (0: empty), 4 or 8 bits a texel in 32-bit words, the lower bits the left texel,
+// rows of whole words, each frame's mip levels one after another (impostor.vert gives where a
+// view's level starts; a storage buffer: no texture layout of the mip levels is needed).
 layout(std430, binding = 5) readonly buffer Regions { uint regionWords[]; };
 uniform int u_regionBits;
-uniform int u_regionFrameWords;
-uniform int u_regionLevelWord[6], u_regionRowWords[6]; // runtime::kImpostorMaxMipLevels
 // Rows of spans (impostor.vert gives each view's first at this level): x, the pool block of the
 // row's first stored block; y, its block column.
 layout(std430, binding = 7) readonly buffer Spans { uvec2 spans[]; };
@@ -52,9 +52,8 @@ float inLight(vec3 world) {
 }
 
 // The ids of texels `a` and `b` of a row (x: a's column, y: b's; z: the row) at this level.
-uvec2 regionPair(ivec3 at, int layer) {
-  int row = layer * u_regionFrameWords + u_regionLevelWord[v_level] +
-            at.z * u_regionRowWords[v_level];
+uvec2 regionPair(ivec3 at, int level0) {
+  int row = level0 + at.z * v_regionRowWords;
   int bitA = at.x * u_regionBits, bitB = at.y * u_regionBits;
   uvec2 words = uvec2(regionWords[row + (bitA >> 5)], regionWords[row + (bitB >> 5)]);
   return (words >> uvec2(bitA & 31, bitB & 31)) & ((1u << u_regionBits) - 1u);
@@ -75,12 +74,9 @@ void main() {
   ivec3 rz = ivec3(0);
   for (int k = 0; k < 3; ++k) {
     if (v_weight[k] <= 0.0) continue;
-    vec2 crop = v_crop[k].xy / v_crop[k].z;
-    ivec4 rect = v_rect[k];
-    int layer = v_layer[k] >> 1;
     // Coverage from the four nearest texels of this level, inside the crop.
-    ivec2 first = rect.xy >> v_level, last = (rect.xy + rect.zw - 1) >> v_level;
-    vec2 p = (vec2(rect.xy) + crop) / float(1 << v_level) - 0.5;
+    ivec2 first = v_bounds[k].xy, last = v_bounds[k].zw;
+    vec2 p = v_crop[k].xy / v_crop[k].z;
     ivec2 base = ivec2(floor(p));
     vec2 f = p - vec2(base);
     // Which of the two columns and two rows lie inside the crop (past it: another view's texels).
@@ -89,8 +85,8 @@ void main() {
     bvec2 nearHigh = greaterThanEqual(f, vec2(0.5));
     // Read inside the crop only (clamped), then masked.
     ivec2 c0 = clamp(base, first, last), c1 = clamp(base + 1, first, last);
-    uvec2 row0 = regionPair(ivec3(c0.x, c1.x, c0.y), layer);
-    uvec2 row1 = regionPair(ivec3(c0.x, c1.x, c1.y), layer);
+    uvec2 row0 = regionPair(ivec3(c0.x, c1.x, c0.y), v_regionRow[k]);
+    uvec2 row1 = regionPair(ivec3(c0.x, c1.x, c1.y), v_regionRow[k]);
     int r00 = in0.x && in0.y ? int(row0.x) : 0;
     int r10 = in1.x && in0.y ? int(row0.y) : 0;
     int r01 = in0.x && in1.y ? int(row1.x) : 0;

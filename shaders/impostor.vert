@@ -28,14 +28,21 @@ uniform bool u_mirrored;
 uniform float u_frameStep;     // seconds between frames
 uniform float u_oneToOne;      // distance where a texel covers a pixel
 uniform int u_maxLevel;
+// impostor.frag's region ids: where frame f's level l starts, f * u_regionFrameWords +
+// u_regionLevelWord[l], and its rows' words.
+uniform int u_regionFrameWords;
+uniform int u_regionLevelWord[6], u_regionRowWords[6]; // runtime::kImpostorMaxMipLevels
 // A world's shadow pass (crowd.vert's): the view from the light, flat on the ground.
 uniform vec4 u_shadow;
 
-// Per blended view, its crop's texel coordinates at this point of the quad, homogeneous
-// (x w, y w, w): interpolated across the quad and divided per pixel, they are where the pixel's
-// ray meets the view's plane, exactly.
+// Per blended view, where the ray through this point of the quad meets the view's plane, in
+// texels of the atlas at this mip level less half a texel (texel centres at whole numbers),
+// homogeneous (x w, y w, w): interpolated across the quad and divided per pixel, exact. Everything
+// the fragment shader needs that is the same for the whole instance is worked out here, once.
 out vec3 v_crop[3];
-flat out ivec4 v_rect[3];      // the views' crop rectangles in the atlas
+flat out ivec4 v_bounds[3];    // the views' crops at this level: first texel x, y, last x, y
+flat out ivec3 v_regionRow;    // the views' frames' region words at this level, row 0
+flat out int v_regionRowWords; // words per row at this level
 flat out ivec3 v_layer;        // the views' atlas layers * 2 + flip
 flat out ivec3 v_rows;         // the views' first rows in Spans at this level
 flat out vec3 v_weight;        // the views' weights, heaviest first (0: unused)
@@ -122,7 +129,7 @@ void main() {
   vec2 low = vec2(1e30), high = vec2(-1e30);
   vec3 rights[3], ups[3];
   vec4 planes[3];
-  vec2 pivots[3];
+  vec2 pivots[3], rects[3];
   for (int k = 0; k < 3; ++k) {
     int a = ((corners[k].x % A) + A) % A, e = corners[k].y, layer = frame, sa = a;
     bool flip = u_mirrored && a > A / 2;
@@ -136,7 +143,10 @@ void main() {
     vec4 rect = views[3 * view];
     planes[k] = viewPlane(view, flip, dir, rights[k], ups[k]);
     pivots[k] = views[3 * view + 1].xy;
-    v_rect[k] = ivec4(rect);
+    rects[k] = rect.xy;
+    ivec4 r = ivec4(rect);
+    v_bounds[k] = ivec4(r.xy, r.xy + r.zw - 1) >> v_level;
+    v_regionRow[k] = layer * u_regionFrameWords + u_regionLevelWord[v_level];
     v_layer[k] = layer * 2 + (flip ? 1 : 0);
     v_rows[k] = int(spans[v_level * u_viewCount + view].x);
     if (flip) rights[k] = -rights[k]; // crop x runs the other way
@@ -156,6 +166,7 @@ void main() {
     }
   }
   v_weight = weights;
+  v_regionRowWords = u_regionRowWords[v_level];
   low -= u_texelSize, high += u_texelSize;
   vec2 c = vec2(gl_VertexID & 1, gl_VertexID >> 1); // a strip of 4 corners
   vec3 local = u_sphere.xyz + qRight * mix(low.x, high.x, c.x) + qUp * mix(high.y, low.y, c.y);
@@ -168,8 +179,10 @@ void main() {
     float d = dot(ray, n);
     vec3 q = from * d + ray * (planes[k].w - dot(from, n)); // the point times d
     if (shadow) q /= d, d = 1.0;
-    v_crop[k] = vec3(pivots[k].x * d + dot(q, rights[k]) / u_texelSize,
-                     pivots[k].y * d - dot(q, ups[k]) / u_texelSize, d);
+    vec2 crop = vec2(pivots[k].x * d + dot(q, rights[k]) / u_texelSize,
+                     pivots[k].y * d - dot(q, ups[k]) / u_texelSize);
+    float scale = 1.0 / float(1 << v_level);
+    v_crop[k] = vec3((crop + (rects[k] - 0.5 / scale) * d) * scale, d);
   }
   vec3 world = vec3(dot(rows[0], vec4(local, 1)), dot(rows[1], vec4(local, 1)),
                     dot(rows[2], vec4(local, 1)));
