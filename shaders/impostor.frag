@@ -66,37 +66,41 @@ vec3 octahedral(vec2 o) {
   return normalize(n);
 }
 
+// One blended view's coverage of the pixel (from the four nearest texels of this level, inside
+// the crop, bilinearly), its nearest texel and that texel's region (0: uncovered).
+float viewCover(vec3 crop, ivec4 bounds, int regionRow, out ivec2 nearest, out int region) {
+  ivec2 first = bounds.xy, last = bounds.zw;
+  vec2 p = crop.xy / crop.z;
+  ivec2 base = ivec2(floor(p));
+  vec2 f = p - vec2(base);
+  // Which of the two columns and two rows lie inside the crop (past it: another view's texels).
+  bvec2 in0 = equal(clamp(base, first, last), base);
+  bvec2 in1 = equal(clamp(base + 1, first, last), base + 1);
+  bvec2 nearHigh = greaterThanEqual(f, vec2(0.5));
+  // Read inside the crop only (clamped), then masked.
+  ivec2 c0 = clamp(base, first, last), c1 = clamp(base + 1, first, last);
+  uvec2 row0 = regionPair(ivec3(c0.x, c1.x, c0.y), regionRow);
+  uvec2 row1 = regionPair(ivec3(c0.x, c1.x, c1.y), regionRow);
+  int r00 = in0.x && in0.y ? int(row0.x) : 0;
+  int r10 = in1.x && in0.y ? int(row0.y) : 0;
+  int r01 = in0.x && in1.y ? int(row1.x) : 0;
+  int r11 = in1.x && in1.y ? int(row1.y) : 0;
+  region = nearHigh.y ? (nearHigh.x ? r11 : r01) : (nearHigh.x ? r10 : r00);
+  nearest = base + ivec2(nearHigh);
+  return mix(mix(float(r00 != 0), float(r10 != 0), f.x), mix(float(r01 != 0), float(r11 != 0), f.x),
+             f.y);
+}
+
 void main() {
   // First the coverage and each view's nearest region, then the discard: the GPU (and llvmpipe,
   // per block of pixels) skips the fetches below where no pixel of the group is covered.
-  float cover = 0.0;
-  ivec3 near[3];
+  ivec2 near[3];
   ivec3 rz = ivec3(0);
-  for (int k = 0; k < 3; ++k) {
-    if (v_weight[k] <= 0.0) continue;
-    // Coverage from the four nearest texels of this level, inside the crop.
-    ivec2 first = v_bounds[k].xy, last = v_bounds[k].zw;
-    vec2 p = v_crop[k].xy / v_crop[k].z;
-    ivec2 base = ivec2(floor(p));
-    vec2 f = p - vec2(base);
-    // Which of the two columns and two rows lie inside the crop (past it: another view's texels).
-    bvec2 in0 = equal(clamp(base, first, last), base);
-    bvec2 in1 = equal(clamp(base + 1, first, last), base + 1);
-    bvec2 nearHigh = greaterThanEqual(f, vec2(0.5));
-    // Read inside the crop only (clamped), then masked.
-    ivec2 c0 = clamp(base, first, last), c1 = clamp(base + 1, first, last);
-    uvec2 row0 = regionPair(ivec3(c0.x, c1.x, c0.y), v_regionRow[k]);
-    uvec2 row1 = regionPair(ivec3(c0.x, c1.x, c1.y), v_regionRow[k]);
-    int r00 = in0.x && in0.y ? int(row0.x) : 0;
-    int r10 = in1.x && in0.y ? int(row0.y) : 0;
-    int r01 = in0.x && in1.y ? int(row1.x) : 0;
-    int r11 = in1.x && in1.y ? int(row1.y) : 0;
-    float occupancy = mix(mix(float(r00 != 0), float(r10 != 0), f.x),
-                          mix(float(r01 != 0), float(r11 != 0), f.x), f.y);
-    rz[k] = nearHigh.y ? (nearHigh.x ? r11 : r01) : (nearHigh.x ? r10 : r00);
-    near[k] = ivec3(base + ivec2(nearHigh), first.y);
-    cover += v_weight[k] * occupancy;
-  }
+  float cover = v_weight[0] * viewCover(v_crop[0], v_bounds[0], v_regionRow[0], near[0], rz[0]);
+  if (v_weight[1] > 0.0)
+    cover += v_weight[1] * viewCover(v_crop[1], v_bounds[1], v_regionRow[1], near[1], rz[1]);
+  if (v_weight[2] > 0.0)
+    cover += v_weight[2] * viewCover(v_crop[2], v_bounds[2], v_regionRow[2], near[2], rz[2]);
   if (cover < 0.5 || rz == ivec3(0)) discard;
   // The nearest texel of each view that covers it: its normal, region and UV, in its row's span.
   vec3 normal = vec3(0.0);
@@ -106,7 +110,7 @@ void main() {
     if (rz[k] == 0) continue;
     ivec2 nearest = near[k].xy;
     int layer = v_layer[k] >> 1;
-    uvec2 span = spans[v_rows[k] + (nearest.y >> 2) - (near[k].z >> 2)];
+    uvec2 span = spans[v_rows[k] + (nearest.y >> 2) - (v_bounds[k].y >> 2)];
     uint block = span.x + uint(nearest.x >> 2) - span.y;
     ivec2 pool = ivec2(block & ((1u << u_poolShift) - 1u), block >> u_poolShift);
     ivec3 at = ivec3(pool * 4 + (nearest & 3), layer);

@@ -23,6 +23,12 @@ echo "instances,path,frames,frame_ms,gpu_ms,draw_calls,impostors,triangles,rende
 step=$(node -e "console.log(12 / $frames)") # the path is 12 s long
 runs="${PATHS:-geometry hybrid}"
 [ -n "${BASELINE:-}" ] && runs="$runs baseline"
+# One untimed frame per binary first: after a rebuild, Mesa's shader cache is cold and llvmpipe
+# compiles the shaders during the first timed frame (about 80 ms of it at 10k).
+for tree in "$here" ${BASELINE:+"$(realpath "$BASELINE")"}; do
+  (cd "$tree" && xvfb-run -a -s "-screen 0 640x480x24" build/bin/crowdplay \
+    samples/scenes/crowd10k.json --headless --frames 1 --size "$size" --instances 1000 >/dev/null)
+done
 for n in 10000 30000; do
   for path in $runs; do
     flag=""; [ $path = geometry ] && flag=--geometry
