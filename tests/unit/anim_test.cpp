@@ -9,6 +9,7 @@
 #include "crowd/formats/error.h"
 #include "crowd/runtime/texture_skinning.h"
 #include "gltf_writer.h"
+#include "real_models.h"
 #include "sample_character.h"
 
 using namespace crowd;
@@ -159,25 +160,19 @@ TEST(TextureSkinning, FrameAtWrapsLoopsAndClampsOthers) {
   EXPECT_EQ(a, 0.0f);
 }
 
-// Every real glTF character in ../shared/assets/gltf: held to the fp32 target at frame times when
-// stored as float matrices, and within the default error budget at any time.
+// Every real glTF character (test::realModels: ../shared/assets/gltf and the Blender exports):
+// held to the fp32 target at frame times when stored as float matrices, and within the default
+// error budget at any time.
 TEST(RealAssets, EveryModelBakesWithinTheFp32TargetAndTheBudget) {
-  std::string dir = CROWD_SHARED_ASSETS;
-  if (!std::filesystem::exists(dir))
-    GTEST_SKIP() << "shared assets absent at " << dir;
-  std::vector<std::filesystem::path> files;
-  for (const auto &e : std::filesystem::recursive_directory_iterator(dir))
-    if (e.path().extension() == ".glb" || e.path().extension() == ".gltf")
-      files.push_back(e.path());
-  std::sort(files.begin(), files.end());
-  ASSERT_FALSE(files.empty());
+  const auto files = test::realModels();
+  ASSERT_GE(files.size(), 3u); // the Blender exports at least
   for (const auto &f : files) {
-    SCOPED_TRACE(f.string());
+    SCOPED_TRACE(f);
     Reporter r;
     r.quiet = true;
-    Character c = importGltf(f.string(), {}, r);
+    Character c = importGltf(f, {}, r);
     AnimBakeResult res = bakeAnimation(c, {}, r);
-    pack::Reader reader(pack::packBytes(res.pack), f.string());
+    pack::Reader reader(pack::packBytes(res.pack), f);
     EXPECT_NO_THROW(pack::loadAnimationPack(reader));
     EXPECT_TRUE(res.budget.met) << res.budget.precision;
     for (const auto &clip : res.accuracy[res.baked].clips)

@@ -16,6 +16,7 @@
 #include "crowd/formats/limits.h"
 #include "crowd/runtime/impostor_runtime.h"
 #include "gltf_writer.h"
+#include "real_models.h"
 #include "sample_character.h"
 
 using namespace crowd;
@@ -696,5 +697,29 @@ TEST(Impostor, UvErrorIsReportedInTexelsOfAWideTexture) {
   EXPECT_DOUBLE_EQ(c.at("uv_error_max_texels").get<double>(), res.compression.uvMax * 1024);
   EXPECT_GT(c.at("uv_error_mean_texels").get<double>(), 0.0);
   EXPECT_EQ(c.at("regions").get<std::string>(), "exact, 4 bits"); // six regions
+}
+} // namespace
+
+namespace {
+// Every real model (test::realModels) bakes an impostor of its first clip that holds up between
+// the stored views, at the default 32x8 views and a small per-view resolution (2 frames).
+TEST(Impostor, EveryRealModelHoldsUpBetweenViews) {
+  for (const auto &f : test::realModels()) {
+    SCOPED_TRACE(f);
+    Reporter r;
+    r.quiet = true;
+    const Character c = importGltf(f, {}, r);
+    ImpostorOptions o;
+    o.frames = 2;
+    o.texels = 64;
+    const auto baked = bakeImpostor(c, o, r);
+    const ImpostorAccuracy a = measureImpostor(c, baked.impostor, 1);
+    std::printf("%s: between views IoU %.3f, normal %.1f degrees; %zu bytes a frame\n",
+                std::filesystem::path(f).filename().c_str(), a.betweenViews.iouMean,
+                a.betweenViews.normalMeanDeg, size_t(baked.bytesPerFrame));
+    EXPECT_GE(a.atViews.iouMin, 0.95);
+    EXPECT_GE(a.betweenViews.iouMean, 0.8);
+    EXPECT_LE(a.betweenViews.normalMeanDeg, 16.0);
+  }
 }
 } // namespace

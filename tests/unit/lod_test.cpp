@@ -14,6 +14,7 @@
 #include "crowd/bake/import.h"
 #include "crowd/bake/lod_bake.h"
 #include "crowd/formats/error.h"
+#include "real_models.h"
 #include "sample_character.h"
 
 using namespace crowd;
@@ -60,8 +61,8 @@ size_t walk(const LodResult &r, const std::vector<glm::vec3> &input, double maxD
       bool bad = a == b || b == c || a == c || a >= k || b >= k || c >= k || glm::length(n) == 0 ||
                  glm::dot(glm::normalize(n), original[t]) < cosLimit - 1e-4f;
       if (bad && ++failures < 5)
-        ADD_FAILURE() << "at " << k << " vertices, triangle " << t << " (" << a << ", " << b
-                      << ", " << c << ") is degenerate, out of range or flipped";
+        ADD_FAILURE() << "at " << k << " vertices, triangle " << t << " (" << a << ", " << b << ", "
+                      << c << ") is degenerate, out of range or flipped";
     }
   }
   EXPECT_EQ(failures, 0u);
@@ -91,17 +92,12 @@ TEST(Lod, TheHumanoidWalksCleanlyToTheFloor) {
   EXPECT_LT(*distinct.rbegin(), m.positions.size());
 }
 
-TEST(Lod, EverySharedAssetWalksCleanly) {
-  std::string dir = CROWD_SHARED_ASSETS;
-  if (!std::filesystem::exists(dir))
-    GTEST_SKIP() << "shared assets absent at " << dir;
-  for (const auto &e : std::filesystem::recursive_directory_iterator(dir)) {
-    if (e.path().extension() != ".glb" && e.path().extension() != ".gltf")
-      continue;
-    SCOPED_TRACE(e.path().string());
+TEST(Lod, EveryRealModelWalksCleanly) {
+  for (const auto &f : test::realModels()) {
+    SCOPED_TRACE(f);
     Reporter rep;
     rep.quiet = true;
-    Character c = importGltf(e.path().string(), {}, rep);
+    Character c = importGltf(f, {}, rep);
     LodResult r = bakeLod(c.mesh.positions, c.mesh.indices, {}, rep);
     walk(r, c.mesh.positions, LodOptions{}.maxNormalDeviationDeg);
   }
@@ -124,7 +120,7 @@ TEST(Lod, FailureModesAreRepairedAndReported) {
   std::vector<uint32_t> idx;
   grid(6, 6, p, idx);
   const size_t gridTriangles = idx.size() / 3;
-  p.push_back({3, 1, 3});                          // a fin on the edge (3,3)-(4,3): non-manifold
+  p.push_back({3, 1, 3}); // a fin on the edge (3,3)-(4,3): non-manifold
   idx.insert(idx.end(), {24, 25, uint32_t(p.size() - 1)});
   idx.insert(idx.end(), {idx[0], idx[1], idx[2]}); // a duplicate face
   idx.insert(idx.end(), {0, 0, 1});                // zero-area (index-degenerate)

@@ -1,0 +1,25 @@
+// Real glTF characters, written by real exporters: ../shared/assets/gltf's (when that folder is
+// beside the checkout) and the Blender exports in tests/data/blender (always: they are committed).
+#pragma once
+#include <algorithm>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace crowd::test {
+
+inline std::vector<std::string> realModels() {
+  std::vector<std::string> files;
+  for (const std::string dir :
+       {std::string(CROWD_SHARED_ASSETS), std::string(CROWD_SOURCE_DIR) + "/tests/data/blender"}) {
+    if (!std::filesystem::exists(dir))
+      continue;
+    for (const auto &e : std::filesystem::recursive_directory_iterator(dir))
+      if (e.path().extension() == ".glb" || e.path().extension() == ".gltf")
+        files.push_back(e.path().string());
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+} // namespace crowd::test
