@@ -453,6 +453,12 @@ AnimationPack loadAnimationPack(const Reader &reader) {
                   std::to_string(p.sources->vertexCount()) + " vertices, the mesh has " +
                   std::to_string(p.mesh.vertexCount()) + ")");
   }
+  if (const ChunkEntry *looks = reader.find(kLooks)) {
+    p.looks = decodeLooks(reader.payload(*looks), ctx(kLooks));
+    if (p.looks->textured.size() != p.mesh.subMeshes.size())
+      throw Error(ctx(kLooks) + ": " + std::to_string(p.looks->textured.size()) +
+                  " sub-meshes described, the mesh has " + std::to_string(p.mesh.subMeshes.size()));
+  }
   if (const ChunkEntry *morphs = reader.find(kMorphs)) {
     p.morphs = decodeMorphs(reader.payload(*morphs), ctx(kMorphs));
     if (p.morphs->vertexCount != p.mesh.vertexCount() ||
@@ -503,6 +509,8 @@ std::vector<uint8_t> packBytes(const AnimationPack &p) {
     w.add(kSourceMap, kChunkVersion, encode(*p.sources));
   if (p.morphs)
     w.add(kMorphs, kChunkVersion, encode(*p.morphs));
+  if (p.looks)
+    w.add(kLooks, kChunkVersion, encode(*p.looks));
   return w.bytes();
 }
 

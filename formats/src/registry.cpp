@@ -170,6 +170,23 @@ Description describeOutfits(std::span<const uint8_t> b, uint32_t, const std::str
   return d;
 }
 
+Description describeLooks(std::span<const uint8_t> b, uint32_t, const std::string &ctx) {
+  Looks l = decodeLooks(b, ctx);
+  Description d;
+  Description::Table looks{"looks", {"sub_mesh", "colour", "textured"}, {}};
+  for (size_t s = 0; s < l.textured.size(); ++s) {
+    std::string colour;
+    for (int k = 0; k < 4; ++k) {
+      char buf[16];
+      std::snprintf(buf, sizeof buf, "%.3g", double(l.colours[4 * s + size_t(k)]));
+      appendWord(colour, buf, ',');
+    }
+    looks.rows.push_back({number(double(s)), text(colour), text(l.textured[s] ? "yes" : "no")});
+  }
+  d.tables = {looks};
+  return d;
+}
+
 Description describeSourceMap(std::span<const uint8_t> b, uint32_t, const std::string &ctx) {
   SourceMap m = decodeSourceMap(b, ctx);
   const auto made = std::count(m.ordinals.begin(), m.ordinals.end(), SourceMap::kMade);
@@ -334,6 +351,7 @@ const std::vector<ChunkCodec> &chunkCodecs() {
       {kOutfits, "outfits", 1, kChunkVersion, describeOutfits},
       {kSourceMap, "vertex sources", 1, kChunkVersion, describeSourceMap},
       {kMorphs, "morph targets", 1, kChunkVersion, describeMorphs},
+      {kLooks, "sub-mesh looks", 1, kChunkVersion, describeLooks},
       {kImpostor, "impostor", 1, kImpostorVersion, describeImpostor, imagesImpostor},
       {kCloth, "cloth loop", 1, kClothVersion, describeCloth},
       {kTerrain, "terrain", 1, kTerrainVersion, describeTerrain, imagesTerrain},

@@ -12,6 +12,7 @@
 #include "crowd/formats/error.h"
 #include "crowd/runtime/environment_renderer.h"
 #include "crowd/runtime/impostor_runtime.h"
+#include "crowd/runtime/region_colour.h"
 #include "crowd/runtime/render_queues.h"
 #include "crowd/runtime/texture_skinning.h"
 #include "crowd_shaders.h" // generated at build time from shaders/
@@ -92,30 +93,6 @@ struct CrowdRenderer::Character {
 };
 
 namespace {
-
-// A sub-mesh's colour under a palette: the palette's entry for its name, or for the name's
-// first part ("skin" for "skin/spine" or "skin@dress"); else the baked material colour of a
-// clothed pack, or the palette's "default". A = 1 where the diffuse texture applies.
-std::array<float, 4> regionColour(const pack::AnimationPack &p, size_t s,
-                                  const std::vector<std::pair<std::string, glm::vec3>> &palette) {
-  const std::string &name = p.mesh.subMeshes[s].name;
-  const std::string stem = name.substr(0, name.find_first_of("/@"));
-  glm::vec3 col(0.8f);
-  float textured = 1;
-  if (p.outfits) {
-    col = glm::make_vec3(&p.outfits->colours[s * 4]);
-    textured = p.outfits->textured[s];
-  } else {
-    for (const auto &[region, value] : palette)
-      if (region == "default")
-        col = value;
-  }
-  for (const std::string &key : {stem, name})
-    for (const auto &[region, value] : palette)
-      if (region == key)
-        col = value;
-  return {col.r, col.g, col.b, textured};
-}
 
 // Every texture of a pack must fit this GL implementation (GL_MAX_TEXTURE_SIZE, array layers):
 // otherwise GL would fail quietly and draw garbage, so it is one error naming the pack.

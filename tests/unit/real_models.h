@@ -10,7 +10,7 @@ namespace crowd::test {
 
 inline std::vector<std::string> realModels() {
   std::vector<std::string> files;
-  for (const std::string dir :
+  for (const std::string &dir :
        {std::string(CROWD_SHARED_ASSETS), std::string(CROWD_SOURCE_DIR) + "/tests/data/blender"}) {
     if (!std::filesystem::exists(dir))
       continue;

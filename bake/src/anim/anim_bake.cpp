@@ -300,8 +300,13 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
   if (c.diffuse && !c.mesh.uvs.empty())
     pk.diffuse =
         pack::Texture{uint32_t(c.diffuse->width), uint32_t(c.diffuse->height), c.diffuse->rgba};
-  for (const auto &part : c.mesh.parts)
+  pk.looks.emplace();
+  for (const auto &part : c.mesh.parts) {
     mesh.subMeshes.push_back({part.name, part.firstIndex, part.indexCount});
+    for (int k = 0; k < 4; ++k)
+      pk.looks->colours.push_back(std::clamp(part.colour[k], 0.0f, 1.0f));
+    pk.looks->textured.push_back(part.textured && pk.diffuse ? 1 : 0);
+  }
   glm::dvec3 lo(INFINITY), hi(-INFINITY);
   for (const auto &frame : reference)
     for (const auto &q : frame) {

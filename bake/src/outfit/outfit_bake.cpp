@@ -349,6 +349,7 @@ OutfitBakeResult bakeOutfits(const Character &template_, const std::vector<Outfi
   r.anim = bakeAnimation(out, options.anim, reporter);
   r.anim.pack.lod = std::move(lod);
   r.anim.pack.outfits = std::move(table);
+  r.anim.pack.looks.reset(); // a clothed pack's looks are its outfit table's
   if (options.check > 0) {
     HoleCheckOptions ho;
     ho.frameStep = options.check;

@@ -15,8 +15,9 @@ namespace crowd {
 // an edge two triangles share to exactly one of them (it could fall between both). 0.3.0: the
 // LOD collapses on flat arrays, non-manifold vertices split per fan, its cost the worst pose's
 // (another collapse order), flat-shaded copies welded (normals stored as zero). 0.4.0: impostor
-// planes fitted to the silhouette and tilted (IMPO version 4).
-inline constexpr const char *kBakerVersion = "crowdbake 0.4.0";
+// planes fitted to the silhouette and tilted (IMPO version 4). 0.5.0: unclothed packs keep each
+// sub-mesh's material colour and texture flag (LOOK).
+inline constexpr const char *kBakerVersion = "crowdbake 0.5.0";
 
 // The compiler and C library this crowdbake was built with and runs on: floats may round
 // differently under another, so byte-identical goldens hold only on the same toolchain

@@ -23,6 +23,7 @@ inline constexpr uint32_t kLod = fourcc("LODS");
 inline constexpr uint32_t kOutfits = fourcc("OUTF");
 inline constexpr uint32_t kSourceMap = fourcc("SRCV");
 inline constexpr uint32_t kMorphs = fourcc("MRPH");
+inline constexpr uint32_t kLooks = fourcc("LOOK");
 // The version written of every chunk above (formats/src/registry.cpp says which are read).
 inline constexpr uint32_t kChunkVersion = 1;
 
@@ -159,6 +160,13 @@ struct Outfits {
   std::vector<Outfit> outfits;
 };
 
+// How each sub-mesh of an unclothed pack looks, from its glTF material: the base colour factor
+// and whether the diffuse texture applies (a clothed pack's are in its Outfits). The player starts
+// from these, and a scene's palette overrides them.
+struct Looks {
+  std::vector<float> colours;    // per sub-mesh: base colour RGBA, each in 0..1
+  std::vector<uint8_t> textured; // per sub-mesh: 1 when the diffuse texture applies
+};
 // Where each mesh vertex came from: the glTF file (0: the character's, k: its k-th outfit's),
 // node, mesh, primitive and vertex index it was read from. A vertex the bake made is all -1.
 struct VertexSource {
@@ -216,6 +224,7 @@ std::vector<uint8_t> encode(const Lod &);
 std::vector<uint8_t> encode(const Outfits &);
 std::vector<uint8_t> encode(const SourceMap &);
 std::vector<uint8_t> encode(const Morphs &);
+std::vector<uint8_t> encode(const Looks &);
 
 // Decoders validate everything local to the chunk; `context` prefixes error messages.
 Provenance decodeProvenance(std::span<const uint8_t>, const std::string &context);
@@ -229,6 +238,7 @@ Lod decodeLod(std::span<const uint8_t>, const std::string &context);
 Outfits decodeOutfits(std::span<const uint8_t>, const std::string &context);
 SourceMap decodeSourceMap(std::span<const uint8_t>, const std::string &context);
 Morphs decodeMorphs(std::span<const uint8_t>, const std::string &context);
+Looks decodeLooks(std::span<const uint8_t>, const std::string &context);
 // Cross-checks an outfit table against the mesh it draws (sub-mesh counts and indices).
 void checkOutfits(const Outfits &, const Mesh &, const std::string &context);
 
@@ -246,6 +256,7 @@ struct AnimationPack {
   std::optional<Outfits> outfits;   // optional chunk: crowdbake outfits
   std::optional<SourceMap> sources; // optional chunk: every bake from glTF writes it
   std::optional<Morphs> morphs;     // optional chunk: when the mesh has morph targets
+  std::optional<Looks> looks;       // optional chunk: every bake of an unclothed pack from glTF
 };
 AnimationPack loadAnimationPack(const Reader &reader);
 void writePack(const AnimationPack &pack, const std::string &path);
