@@ -17,7 +17,7 @@ status=0 models=0
 check() { # check MODEL PACK REPORT
   node "$root/tests/scripts/threejs_pose.mjs" "$bin/crowdbake" "$three" "$@" "$work" || status=1
 }
-for model in "$assets"/*/*.glb "$assets"/*/*.gltf "$root"/tests/data/blender/*.glb; do
+for model in "$assets"/*/*.glb "$assets"/*/*.gltf "$root"/tests/data/blender/*.glb "$root"/tests/data/blender/*.gltf; do
   [ -f "$model" ] || continue
   name=$(basename "${model%.*}")
   "$bin/crowdbake" anim "$model" -o "$work/$name.crowdpack" --report "$work/$name.json" -q \

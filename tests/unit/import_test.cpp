@@ -1,6 +1,8 @@
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <set>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
@@ -271,5 +273,63 @@ TEST(Import, AnImageViewPastItsBufferIsAClearError) {
     EXPECT_NE(std::string(e.what()).find("runs past the end of buffer"), std::string::npos)
         << e.what();
   }
+}
+} // namespace
+
+namespace {
+// Every skin a mesh node uses is baked, merged into one skeleton: the quad bound a second time by
+// a skin of the same joints and matrices shares them; bound with other inverse bind matrices, its
+// joints are entries of their own. Either way it is a second set of vertices (before, the largest
+// skin alone was baked and the other meshes were dropped without a word).
+TEST(Import, EverySkinAMeshUsesIsBakedIntoOneSkeleton) {
+  for (bool sameBinding : {true, false}) {
+    SCOPED_TRACE(sameBinding ? "same binding" : "another binding");
+    GltfBuilder b;
+    b.skinnedQuad();
+    nlohmann::json skin1 = b.j["skins"][0];
+    if (!sameBinding)
+      skin1["inverseBindMatrices"] =
+          b.floats({2, 0, 0, 0, 0, 2, 0, 0, 0, 0, 2, 0, 0, 0,  0, 1, // twice the size
+                    2, 0, 0, 0, 0, 2, 0, 0, 0, 0, 2, 0, 0, -1, 0, 1},
+                   "MAT4");
+    b.j["skins"].push_back(skin1);
+    b.j["nodes"].push_back({{"name", "quad2"}, {"mesh", 0}, {"skin", 1}});
+    b.j["scenes"][0]["nodes"].push_back(b.j["nodes"].size() - 1);
+    Reporter r;
+    r.quiet = true;
+    Character c = load(b, sameBinding ? "two_skins_same" : "two_skins_other", &r);
+    EXPECT_EQ(c.jointCount(), sameBinding ? 2u : 4u);
+    ASSERT_EQ(c.mesh.vertexCount(), 8u);
+    // The second quad's vertices use the first's joints, or joints of their own.
+    std::set<uint16_t> first, second;
+    for (size_t v = 0; v < 8; ++v)
+      for (int k = 0; k < 2; ++k)
+        if (c.mesh.weights[v][k] > 0)
+          (v < 4 ? first : second).insert(c.mesh.joints[v][size_t(k)]);
+    EXPECT_EQ(first == second, sameBinding);
+    EXPECT_EQ(first.size(), 2u);
+    std::vector<uint16_t> both;
+    std::set_intersection(first.begin(), first.end(), second.begin(), second.end(),
+                          std::back_inserter(both));
+    EXPECT_EQ(both.empty(), !sameBinding);
+    // In the rest pose both quads lie where their skins put them: the same place, or twice the
+    // size with the second binding.
+    const auto rest = posedPositions(c, nullptr, 0);
+    EXPECT_NEAR(rest[7].x, sameBinding ? 1.0 : 2.0, 1e-9);
+    EXPECT_NEAR(rest[3].x, 1.0, 1e-9);
+  }
+}
+
+TEST(Import, TheBlenderFileWithTwoArmaturesBakesBoth) {
+  Reporter r;
+  r.quiet = true;
+  const Character c =
+      importGltf(std::string(CROWD_SOURCE_DIR) + "/tests/data/blender/two_rigs.glb", {}, r);
+  EXPECT_EQ(c.jointCount(), 4u);
+  EXPECT_EQ(c.clips.size(), 2u);
+  std::set<std::string> bound;
+  for (size_t v = 0; v < c.mesh.vertexCount(); ++v)
+    bound.insert(c.jointName(c.mesh.joints[v][0]).substr(0, 1));
+  EXPECT_EQ(bound, (std::set<std::string>{"a", "b"})) << "both tubes, each on its own rig";
 }
 } // namespace

@@ -147,6 +147,39 @@ TEST(Lod, FailureModesAreRepairedAndReported) {
 // A low-poly export, flat-shaded: every triangle corner its own vertex, its normal the face's,
 // the UVs continuous. Unwelded, every edge is a normal seam and nothing collapses; welded, the
 // copies are one vertex each (normal zero: drawn with the face's) and the grid simplifies.
+// One mesh bound twice (RecursiveSkeletons binds one mesh with 84 skins): the copies share rest
+// positions but not joints, so they never weld and neither is dropped as the other's duplicate.
+TEST(Lod, CopiesBoundToOtherJointsStaySeparate) {
+  std::vector<glm::vec3> p;
+  std::vector<uint32_t> idx;
+  grid(4, 4, p, idx);
+  SkinnedMesh m;
+  for (uint16_t copy = 0; copy < 2; ++copy) {
+    const uint32_t base = uint32_t(m.positions.size());
+    for (const glm::vec3 &q : p) {
+      m.positions.push_back(q);
+      m.normals.push_back({0, 1, 0});
+      m.joints.push_back({copy, 0, 0, 0});
+      m.weights.push_back({1, 0, 0, 0});
+    }
+    for (uint32_t i : idx)
+      m.indices.push_back(base + i);
+  }
+  m.parts.push_back({"one", 0, uint32_t(m.indices.size())});
+  const LodTriangles lt = lodTriangles(m);
+  EXPECT_NE(lt.group.front(), lt.group.back());
+  Reporter rep;
+  rep.quiet = true;
+  const LodResult r = bakeLod(m.positions, lt.indices, {}, rep, lt.group);
+  EXPECT_FALSE(codes(rep).count("duplicate_triangles"));
+  EXPECT_EQ(r.indices.size(), m.indices.size()) << "both copies are in the LOD mesh";
+  // Welded together, the second copy would be dropped: the old behaviour, for contrast.
+  Reporter merged;
+  merged.quiet = true;
+  bakeLod(m.positions, lt.indices, {}, merged, std::vector<uint32_t>(m.positions.size(), 0));
+  EXPECT_TRUE(codes(merged).count("duplicate_triangles"));
+}
+
 TEST(Lod, FlatShadedCopiesWeldAndSimplify) {
   std::vector<glm::vec3> p;
   std::vector<uint32_t> idx;

@@ -87,6 +87,7 @@ private:
     int node;
     int rigid; // node that acts as the joint of a rigid mesh, or -1 when skinned
     uint16_t rigidJoint = 0;
+    int skin = -1; // a skinned mesh's skin
   };
 
   [[noreturn]] void fail(const std::string &what) const { throw Error(path_ + ": " + what); }
@@ -432,14 +433,16 @@ private:
     for (size_t i = 0; i < nodes.size(); ++i)
       checkRef(i);
 
-    skin_ = -1;
+    // The skins baked: every skin a mesh node uses (the named mesh's, with --mesh), merged into
+    // one skeleton; a file whose skins bind no mesh gives its largest, for rigid parts under it.
+    skins_.clear();
     if (!options.mesh.empty()) {
       bool found = false;
       for (size_t i = 0; i < nodes.size(); ++i) {
         const auto &nd = nodes[i];
         if (nd.mesh >= 0 && model_.meshes[size_t(nd.mesh)].name == options.mesh) {
-          if (!found)
-            skin_ = nd.skin;
+          if (!found && nd.skin >= 0)
+            skins_.push_back(nd.skin);
           found = true;
         }
       }
@@ -450,26 +453,38 @@ private:
         fail("no mesh named '" + options.mesh + "' used by a node (meshes: " + names + ")");
       }
     } else {
+      std::set<int> used;
+      for (const auto &nd : nodes)
+        if (nd.mesh >= 0 && nd.skin >= 0)
+          used.insert(nd.skin);
+      skins_.assign(used.begin(), used.end());
+      int largest = -1;
       for (size_t s = 0; s < model_.skins.size(); ++s)
-        if (skin_ < 0 || model_.skins[s].joints.size() > model_.skins[size_t(skin_)].joints.size())
-          skin_ = int(s);
+        if (largest < 0 ||
+            model_.skins[s].joints.size() > model_.skins[size_t(largest)].joints.size())
+          largest = int(s);
+      if (skins_.empty() && largest >= 0)
+        skins_.push_back(largest);
     }
 
+    // Their joints, one entry per (node, inverse bind matrix): a node two skins bind alike is one
+    // joint, bound differently it is two.
     std::set<int> jointSet;
-    if (skin_ >= 0) {
-      const auto &skin = model_.skins[size_t(skin_)];
-      std::string ctx = "skin " + std::to_string(skin_);
+    std::map<std::pair<int, std::array<double, 16>>, size_t> entryOf;
+    skinEntries_.clear();
+    for (int s : skins_) {
+      const auto &skin = model_.skins[size_t(s)];
+      std::string ctx = "skin " + std::to_string(s);
       if (skin.joints.empty())
         fail(ctx + " has no joints");
+      std::set<int> listed;
       for (int j : skin.joints) {
         if (j < 0 || size_t(j) >= nodes.size())
           fail(ctx + ": joint node " + std::to_string(j) + " does not exist");
-        if (!jointSet.insert(j).second)
+        if (!listed.insert(j).second)
           fail(ctx + ": node " + std::to_string(j) + " is listed twice as a joint");
+        jointSet.insert(j);
       }
-      if (skin.joints.size() > limits::kJoints)
-        fail(ctx + ": " + std::to_string(skin.joints.size()) + " joints, over the limit of " +
-             std::to_string(limits::kJoints));
       std::shared_ptr<const std::vector<double>> ibm;
       if (skin.inverseBindMatrices >= 0) {
         if (accessorType(skin.inverseBindMatrices, ctx) != TINYGLTF_TYPE_MAT4 ||
@@ -477,10 +492,21 @@ private:
           fail(ctx + ": inverseBindMatrices must be MAT4 with one per joint");
         ibm = readAccessor(skin.inverseBindMatrices, ctx + " inverseBindMatrices");
       }
+      auto &entries = skinEntries_[s];
       for (size_t j = 0; j < skin.joints.size(); ++j) {
-        skinJoints_.push_back(skin.joints[j]);
-        skinIbm_.push_back(ibm ? glm::make_mat4(&(*ibm)[j * 16]) : glm::dmat4(1.0));
+        std::array<double, 16> m;
+        for (size_t k = 0; k < 16; ++k)
+          m[k] = ibm ? (*ibm)[j * 16 + k] : (k % 5 == 0 ? 1.0 : 0.0);
+        auto [it, fresh] = entryOf.try_emplace({skin.joints[j], m}, skinJoints_.size());
+        if (fresh) {
+          skinJoints_.push_back(skin.joints[j]);
+          skinIbm_.push_back(glm::make_mat4(m.data()));
+        }
+        entries.push_back(it->second);
       }
+      if (skinJoints_.size() > limits::kJoints)
+        fail("the skins bind " + std::to_string(skinJoints_.size()) +
+             " joints, over the limit of " + std::to_string(limits::kJoints));
     }
 
     for (size_t i = 0; i < nodes.size(); ++i) {
@@ -490,16 +516,16 @@ private:
       bool named = options.mesh.empty() || model_.meshes[size_t(nd.mesh)].name == options.mesh;
       if (!named)
         continue;
-      if (skin_ >= 0 && nd.skin == skin_) {
-        meshNodes_.push_back({int(i), -1});
-      } else if (nd.skin < 0 && (skin_ < 0 || hasAncestorIn(int(i), jointSet))) {
+      if (nd.skin >= 0 && skinEntries_.count(nd.skin)) {
+        meshNodes_.push_back({int(i), -1, 0, nd.skin});
+      } else if (nd.skin < 0 && (skins_.empty() || hasAncestorIn(int(i), jointSet))) {
         meshNodes_.push_back({int(i), int(i)}); // rigid: the node itself becomes a joint
       }
     }
     if (meshNodes_.empty())
       fail("no mesh to bake (no node uses a mesh with the chosen skin)");
 
-    out_.skinned = skin_ >= 0;
+    out_.skinned = !skins_.empty();
     // Joints in parent-before-child order so the pack's skeleton can require parent < index.
     std::vector<int> jointNodes = skinJoints_;
     std::vector<glm::dmat4> ibms = skinIbm_;
@@ -610,7 +636,8 @@ private:
         // Influences: every JOINTS_n/WEIGHTS_n pair, largest 4 kept.
         std::vector<std::vector<std::pair<double, int>>> infl(vc);
         if (fresh && mn.rigid < 0) {
-          size_t jointCount = skinJoints_.size();
+          const std::vector<size_t> &entries = skinEntries_.at(mn.skin);
+          const size_t jointCount = entries.size();
           for (int set = 0;; ++set) {
             int ja = attr("JOINTS_" + std::to_string(set)),
                 wa = attr("WEIGHTS_" + std::to_string(set));
@@ -636,7 +663,7 @@ private:
                   fail(ctx + " JOINTS_" + std::to_string(set) + ": vertex " + std::to_string(v) +
                        " uses joint " + std::to_string(int64_t(j)) + " but the skin has " +
                        std::to_string(jointCount));
-                infl[v].push_back({w, int(j)});
+                infl[v].push_back({w, int(entries[size_t(j)])});
               }
           }
           if (attr("JOINTS_0") < 0)
@@ -808,10 +835,10 @@ private:
     }
   }
 
-  // What identifies a primitive's vertices: its vertex attributes' accessors and, for a rigid
-  // part, its joint.
+  // What identifies a primitive's vertices: its vertex attributes' accessors and its joint (a
+  // rigid part) or its skin (one mesh bound by two skins is two sets of vertices).
   static std::string vertexKeyOf(const tinygltf::Primitive &prim, const MeshNode &mn) {
-    std::string key = std::to_string(mn.rigid >= 0 ? int(mn.rigidJoint) : -1);
+    std::string key = mn.rigid >= 0 ? std::to_string(mn.rigidJoint) : "s" + std::to_string(mn.skin);
     for (const auto &[name, accessor] : prim.attributes)
       key += ";" + name + "=" + std::to_string(accessor);
     return key;
@@ -1015,7 +1042,8 @@ private:
   std::map<std::pair<int, bool>, std::shared_ptr<const std::vector<double>>> accessorCache_;
   Model model_;
   Character out_;
-  int skin_ = -1;
+  std::vector<int> skins_;                         // the skins baked
+  std::map<int, std::vector<size_t>> skinEntries_; // per skin, its joints' entries in skinJoints_
   std::vector<int> skinJoints_;
   std::vector<glm::dmat4> skinIbm_;
   std::vector<uint16_t> oldToNew_;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <initializer_list>
 #include <map>
 
@@ -512,6 +513,20 @@ LodTriangles lodTriangles(const SkinnedMesh &in) {
     lt.indices.insert(lt.indices.end(), &in.indices[3 * t], &in.indices[3 * t] + 3);
     for (uint32_t k : v)
       lt.group[k] = partOf[t];
+  }
+  // Vertices weld only within a sub-mesh and a skin binding: two at one rest position bound to
+  // other joints or weights part when the character moves (one mesh under several skins).
+  std::map<std::vector<uint32_t>, uint32_t> groupOf;
+  for (size_t k = 0; k < lt.group.size(); ++k) {
+    std::vector<uint32_t> key{lt.group[k]};
+    for (int i = 0; i < 4; ++i) {
+      uint32_t bits;
+      const float w = in.weights[k][i];
+      std::memcpy(&bits, &w, sizeof bits);
+      key.push_back(w > 0 ? in.joints[k][size_t(i)] : 0);
+      key.push_back(bits);
+    }
+    lt.group[k] = groupOf.try_emplace(std::move(key), uint32_t(groupOf.size())).first->second;
   }
   return lt;
 }

@@ -9,6 +9,9 @@
 #   crawler.glb     a six-legged creature in metres, flat-shaded everywhere, no texture, up to 8
 #                   influences a vertex (JOINTS_1/WEIGHTS_1), three clips
 #   robot.glb       rigid parts only: every part parented to a bone, no skin at all, two clips
+#   morph_biped.gltf  (+ .bin, .png) shape keys, one animated, beside a skin; a second mesh on the
+#                   same armature; Bezier keys exported as CUBICSPLINE
+#   two_rigs.glb    two armatures, each skinning its own mesh: two skins in one file
 # The files are committed (tests must not need Blender); rerun this script to remake them (the
 # same characters; the bytes may differ from run to run).
 import math
@@ -177,9 +180,9 @@ def plain_material(name, rgb):
 
 
 def export(path, **options):
-    bpy.ops.export_scene.gltf(filepath=path, export_format='GLB', export_animations=True,
-                              export_nla_strips=True, export_skins=True, export_apply=False,
-                              **options)
+    options.setdefault('export_format', 'GLB')
+    bpy.ops.export_scene.gltf(filepath=path, export_animations=True, export_nla_strips=True,
+                              export_skins=True, export_apply=False, **options)
     print('wrote', path)
 
 
@@ -287,6 +290,63 @@ def robot():
     export(os.path.join(HERE, 'robot.glb'))
 
 
+def morph_biped():
+    """Shape keys (one animated), a second mesh on the same armature, keys kept as Blender's
+    Bezier curves (CUBICSPLINE), written as .gltf + .bin + .png."""
+    reset()
+    bones = [('root', None, (0, 0, 0.0), (0, 0, 0.9)), ('spine', 'root', (0, 0, 0.9), (0, 0, 1.4)),
+             ('head', 'spine', (0, 0, 1.4), (0, 0, 1.8))]
+    rig = armature('MorphRig', bones)
+    bm = bmesh.new()
+    add_part(bm, 'cylinder', (0, 0, 0.7), (0.4, 0.4, 1.4), segments=16)
+    add_part(bm, 'sphere', (0, 0, 1.6), (0.4, 0.4, 0.4), segments=16)
+    body = mesh_object('MorphBody', bm, rig, texture_material('Skin'))
+    bm = bmesh.new()
+    add_part(bm, 'box', (0, -0.25, 1.0), (0.3, 0.1, 0.3), flat=True)
+    backpack = mesh_object('Backpack', bm, rig, plain_material('Pack', (0.1, 0.2, 0.6)))
+    skin(body, rig, 4)
+    skin(backpack, rig, 2)
+    body.shape_key_add(name='Basis')
+    bulge = body.shape_key_add(name='bulge')
+    for v in bulge.data:
+        if 0.3 < v.co.z < 1.3:
+            v.co.x *= 1.3
+            v.co.y *= 1.3
+    squash = body.shape_key_add(name='squash')
+    for v in squash.data:
+        v.co.z *= 0.9
+    keys = body.data.shape_keys
+    keys.animation_data_create()
+    keys.animation_data.action = bpy.data.actions.new('breathe')
+    for t, w in ((0, 0.0), (1, 1.0), (2, 0.0)):
+        bulge.value = w
+        bulge.keyframe_insert('value', frame=1 + t * 24)
+    action(rig, 'sway', 2.0, {'spine': cycle(0.3, 2.0, 0.0, 1, 8),
+                              'head': cycle(0.4, 2.0, 1.0, 2, 8)})
+    export(os.path.join(HERE, 'morph_biped.gltf'), export_format='GLTF_SEPARATE',
+           export_morph=True, export_force_sampling=False)
+
+
+def two_rigs():
+    """Two armatures, each skinning its own tube: two skins in one file."""
+    reset()
+    rigs = [armature('RigA', [('a0', None, (0, 0, 0), (0, 0, 0.5)),
+                              ('a1', 'a0', (0, 0, 0.5), (0, 0, 1.0))]),
+            armature('RigB', [('b0', None, (1, 0, 0), (1, 0, 0.5)),
+                              ('b1', 'b0', (1, 0, 0.5), (1, 0, 1.0))])]
+    for x, rig in enumerate(rigs):
+        bm = bmesh.new()
+        add_part(bm, 'cylinder', (x, 0, 0.5), (0.2, 0.2, 1.0), segments=8)
+        tube = mesh_object('Tube' + rig.name, bm, rig,
+                           plain_material('M' + rig.name, (0.5, 0.5, 0.2 + x * 0.5)))
+        skin(tube, rig, 4)
+    action(rigs[0], 'bendA', 1.0, {'a1': cycle(0.8, 1.0, 0.0, 0, 8)})
+    action(rigs[1], 'bendB', 1.0, {'b1': cycle(0.8, 1.0, 0.0, 1, 8)})
+    export(os.path.join(HERE, 'two_rigs.glb'))
+
+
 trooper()
 crawler()
 robot()
+morph_biped()
+two_rigs()

@@ -45,11 +45,12 @@ struct SkinnedMesh;
 // collapsed once (the LOD mesh would drop a repeat as a duplicate face and leave the copy
 // empty) and its repeats follow it. Sub-meshes weld separately: where two touch (a sleeve on an
 // arm) welding them would make edges with four faces; apart, each keeps its own border. A vertex's
-// welding group is the sub-mesh of its last distinct triangle (a repeat does not move it).
+// welding group is the sub-mesh of its last distinct triangle (a repeat does not move it) and its
+// skin binding (joints and weights).
 struct LodTriangles {
   std::vector<uint32_t> indices;               // the distinct triangles, in input order
   std::vector<std::vector<uint32_t>> inputsOf; // per distinct triangle, its input triangles
-  std::vector<uint32_t> group;                 // per vertex, its welding group
+  std::vector<uint32_t> group;                 // per vertex: its sub-mesh and skin binding
 };
 LodTriangles lodTriangles(const SkinnedMesh &mesh);
 // Per triangle, the sub-mesh holding it (0 for a triangle in none).

@@ -16,7 +16,8 @@ namespace crowd {
 // LOD collapses on flat arrays, non-manifold vertices split per fan, its cost the worst pose's
 // (another collapse order), flat-shaded copies welded (normals stored as zero). 0.4.0: impostor
 // planes fitted to the silhouette and tilted (IMPO version 4). 0.5.0: unclothed packs keep each
-// sub-mesh's material colour and texture flag (LOOK).
+// sub-mesh's material colour and texture flag (LOOK); every skin a mesh uses is baked, not the
+// largest alone.
 inline constexpr const char *kBakerVersion = "crowdbake 0.5.0";
 
 // The compiler and C library this crowdbake was built with and runs on: floats may round
