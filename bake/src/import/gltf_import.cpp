@@ -690,6 +690,11 @@ private:
             std::sort(list.begin(), list.end(), [](auto &a, auto &b) {
               return a.first != b.first ? a.first > b.first : a.second < b.second;
             });
+            double total = 0; // of every influence: dropping past the 4th is counted apart
+            for (auto &[w, j] : list)
+              total += w;
+            if (std::abs(total - 1.0) > 2e-3)
+              ++renormalised;
             if (list.size() > 4) {
               ++moreThan4;
               list.resize(4);
@@ -697,8 +702,6 @@ private:
             double sum = 0;
             for (auto &[w, j] : list)
               sum += w;
-            if (std::abs(sum - 1.0) > 2e-3)
-              ++renormalised;
             for (size_t k = 0; k < list.size(); ++k) {
               ids[k] = oldToNew_[size_t(list[k].second)];
               ws[int(k)] = float(list[k].first / sum);
