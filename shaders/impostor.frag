@@ -108,7 +108,7 @@ void main() {
   ivec3 chosen = ivec3(0);
   for (int k = 0; k < 3; ++k) {
     if (rz[k] == 0) continue;
-    ivec2 nearest = near[k].xy;
+    ivec2 nearest = near[k];
     int layer = v_layer[k] >> 1;
     uvec2 span = spans[v_rows[k] + (nearest.y >> 2) - (v_bounds[k].y >> 2)];
     uint block = span.x + uint(nearest.x >> 2) - span.y;
@@ -121,7 +121,8 @@ void main() {
   }
   if (u_shadow.w > 0.5) { o_colour = vec4(vec3(0.55), 1.0); return; }
   vec2 uv = texelFetch(u_uvs, chosen, 0).xy;
-  vec3 textured = u_hasTexture && u_hasUvs ? textureLod(u_diffuse, uv, v_diffuseLod).rgb : vec3(1.0);
+  vec3 textured =
+      u_hasTexture && u_hasUvs ? textureLod(u_diffuse, uv, v_diffuseLod).rgb : vec3(1.0);
   vec3 n = normalize(normal);
   n = normalize(vec3(dot(v_rows0, n), dot(v_rows1, n), dot(v_rows2, n)));
   float diffuse = max(dot(n, u_lightDirection), 0.0) * inLight(v_world);

@@ -477,6 +477,9 @@ private:
       std::string ctx = "skin " + std::to_string(s);
       if (skin.joints.empty())
         fail(ctx + " has no joints");
+      if (skin.joints.size() > limits::kJoints) // before its matrices are read
+        fail(ctx + ": " + std::to_string(skin.joints.size()) + " joints, over the limit of " +
+             std::to_string(limits::kJoints));
       std::set<int> listed;
       for (int j : skin.joints) {
         if (j < 0 || size_t(j) >= nodes.size())
