@@ -273,3 +273,36 @@ TEST(AnimBake, MillimetresAreAtA18MetreCharacter) {
   EXPECT_NEAR(f.mmPerUnit * f.diagonal, 1800.0, 1e-6);
 }
 } // namespace
+
+namespace {
+// A walk exported with root motion: its last frame is its first moved along. The player cannot
+// loop it (it moves no instance with a clip), so the bake says so, with the distance, instead of
+// leaving a crowd that walks one cycle and stops.
+TEST(AnimBake, ACycleThatTravelsIsNamedNotLooped) {
+  for (bool travels : {true, false}) {
+    test::GltfBuilder b;
+    b.skinnedQuad();
+    // Joint "a" (node 0) slides 2 units along x over a second (or out and back).
+    b.animation("walk", 0, "translation", {0, 0.5f, 1},
+                travels ? std::vector<float>{0, 0, 0, 1, 0, 0, 2, 0, 0}
+                        : std::vector<float>{0, 0, 0, 1, 0, 0, 0, 0, 0});
+    Reporter r;
+    r.quiet = true;
+    Character c = importGltf(b.write(test::tempDir("root_motion"), "q"), {}, r);
+    const AnimBakeResult res = bakeAnimation(c, {}, r);
+    ASSERT_EQ(res.pack.clips.size(), 1u);
+    EXPECT_EQ(res.pack.clips[0].loop, !travels);
+    std::string said;
+    for (const auto &w : r.warnings())
+      if (w.code == "root_motion")
+        said = w.message;
+    if (!travels) {
+      EXPECT_EQ(said, "");
+      continue;
+    }
+    // 2 units on a quad 1 unit tall, at 1.8 m: 3.6 m in a second.
+    EXPECT_NE(said.find("clip 'walk' is a cycle that travels 3.60 m (3.60 m/s"), std::string::npos)
+        << said;
+  }
+}
+} // namespace

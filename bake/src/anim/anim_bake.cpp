@@ -68,6 +68,34 @@ double millimetresPerUnit(const Character &c, bool *heightIsDiagonal) {
   return kReferenceHeightMm / (flat ? diagonal : extent.y);
 }
 
+namespace {
+
+// A clip whose last frame is its first moved along (a walk exported with root motion) is a cycle
+// the player cannot loop: it moves no instance with a clip, so it plays the clip once and holds.
+// Said, with how far and how fast it travels, so the clip can be exported in place.
+void warnRootMotion(const std::vector<glm::dvec3> &first, const std::vector<glm::dvec3> &last,
+                    const ClipFrames &clip, const AnimBakeResult &result, Reporter &reporter) {
+  glm::dvec3 travel(0);
+  for (size_t v = 0; v < first.size(); ++v)
+    travel += (last[v] - first[v]) / double(first.size());
+  double residual = 0;
+  for (size_t v = 0; v < first.size(); ++v)
+    residual = std::max(residual, glm::length(last[v] - first[v] - travel));
+  if (residual > 1e-3 * result.diagonal || glm::length(travel) < 1e-2 * result.diagonal)
+    return;
+  const double metres = glm::length(travel) * result.mmPerUnit / 1000;
+  const double seconds = double(clip.count - 1) / clip.fps;
+  char text[400];
+  std::snprintf(text, sizeof text,
+                "clip '%s' is a cycle that travels %.2f m (%.2f m/s at 1.8 m tall): it is not "
+                "looped, as the player moves no instance with a clip; export it in place (root "
+                "motion removed) to loop it",
+                clip.name.c_str(), metres, seconds > 0 ? metres / seconds : 0.0);
+  reporter.warn("root_motion", text);
+}
+
+} // namespace
+
 AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
                              Reporter &reporter) {
   options.validate();
@@ -171,6 +199,8 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
     for (size_t v = 0; v < c.mesh.vertexCount(); ++v)
       gap = std::max(gap, glm::length(reference[first][v] - reference[first + cf.count - 1][v]));
     clip.loop = cf.count > 2 && gap <= 1e-4 * result.diagonal;
+    if (cf.count > 2 && !clip.loop)
+      warnRootMotion(reference[first], reference[first + cf.count - 1], cf, result, reporter);
     pk.clips.push_back(clip);
     first += cf.count;
   }
