@@ -1,5 +1,3 @@
-#include <cmath>
-
 #include "crowd/formats/bytes.h"
 #include "crowd/formats/chunks.h"
 

@@ -167,6 +167,7 @@ struct Looks {
   std::vector<float> colours;    // per sub-mesh: base colour RGBA, each in 0..1
   std::vector<uint8_t> textured; // per sub-mesh: 1 when the diffuse texture applies
 };
+
 // Where each mesh vertex came from: the glTF file (0: the character's, k: its k-th outfit's),
 // node, mesh, primitive and vertex index it was read from. A vertex the bake made is all -1.
 struct VertexSource {
