@@ -1,21 +1,13 @@
 #include <cmath>
-#include <cstring>
 #include <map>
 
 #include "crowd/bake/character.h"
 #include "crowd/bake/lod_bake.h"
+#include "float_key.h"
 
 namespace crowd {
-namespace {
 
-void putBits(std::vector<uint32_t> &key, float f) {
-  f += 0.0f; // -0 -> +0
-  uint32_t b;
-  std::memcpy(&b, &f, sizeof b);
-  key.push_back(b);
-}
-
-} // namespace
+using lod::putBits;
 
 std::vector<uint32_t> weldFlatShading(SkinnedMesh &m, Reporter &reporter, double maxAngleDeg,
                                       const std::vector<uint32_t> &keep) {

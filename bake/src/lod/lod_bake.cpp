@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstring>
 #include <initializer_list>
 #include <map>
 
@@ -12,6 +11,7 @@
 #include "crowd/bake/evaluate.h"
 #include "crowd/formats/error.h"
 #include "fan_mesh.h"
+#include "float_key.h"
 
 // Why by hand, not OpenMesh's half-edge collapse: on flat arrays the whole collapse order runs
 // 2.2 times faster on the sample humanoid in the bind pose, 1.7 times with 16 poses (OpenMesh's
@@ -520,11 +520,8 @@ LodTriangles lodTriangles(const SkinnedMesh &in) {
   for (size_t k = 0; k < lt.group.size(); ++k) {
     std::vector<uint32_t> key{lt.group[k]};
     for (int i = 0; i < 4; ++i) {
-      uint32_t bits;
-      const float w = in.weights[k][i];
-      std::memcpy(&bits, &w, sizeof bits);
-      key.push_back(w > 0 ? in.joints[k][size_t(i)] : 0);
-      key.push_back(bits);
+      key.push_back(in.weights[k][i] > 0 ? in.joints[k][size_t(i)] : 0);
+      lod::putBits(key, in.weights[k][i]);
     }
     lt.group[k] = groupOf.try_emplace(std::move(key), uint32_t(groupOf.size())).first->second;
   }
