@@ -194,6 +194,69 @@ TEST(Import, ExternalBufferAndGlbGiveTheSameCharacter) {
   EXPECT_EQ(ext.mesh.indices, glb.mesh.indices);
 }
 
+// A quad drawn as a strip or a fan: two triangles covering it, each facing +z as the spec winds
+// them (a strip's second triangle turns round).
+TEST(Import, StripsAndFansBecomeTriangleListsWoundAsTheSpecDrawsThem) {
+  for (const auto &[mode, order] :
+       std::vector<std::pair<int, std::vector<uint16_t>>>{{5, {0, 1, 2, 3}}, {6, {0, 1, 3, 2}}}) {
+    GltfBuilder b;
+    b.skinnedQuad();
+    auto &prim = b.j["meshes"][0]["primitives"][0];
+    prim["indices"] = b.accessor(order, 5123, "SCALAR");
+    prim["mode"] = mode;
+    const Character c = load(b, "mode" + std::to_string(mode));
+    const auto &m = c.mesh;
+    ASSERT_EQ(m.indices.size(), 6u) << "mode " << mode;
+    float area = 0;
+    for (size_t t = 0; t < 6; t += 3) {
+      const glm::vec3 a = m.positions[m.indices[t]];
+      const glm::vec3 n =
+          glm::cross(m.positions[m.indices[t + 1]] - a, m.positions[m.indices[t + 2]] - a);
+      EXPECT_GT(n.z, 0.0f) << "mode " << mode << ", triangle " << t / 3;
+      area += 0.5f * glm::length(n);
+    }
+    EXPECT_FLOAT_EQ(area, 1.0f) << "mode " << mode;
+  }
+}
+
+// Points and lines (an exporter's hair guides, a rig's helper lines) draw no surface: skipped
+// with a warning; a mesh of nothing else is a clear error, as is a mode glTF does not define.
+TEST(Import, PointsAndLinesAreSkippedWithAWarning) {
+  GltfBuilder b;
+  b.skinnedQuad();
+  auto prims = b.j["meshes"][0]["primitives"];
+  nlohmann::json line = prims[0];
+  line["indices"] = b.accessor(std::vector<uint16_t>{0, 1, 1, 3}, 5123, "SCALAR");
+  line["mode"] = 1;
+  nlohmann::json points = prims[0];
+  points.erase("indices");
+  points["mode"] = 0;
+  b.j["meshes"][0]["primitives"] = {line, prims[0], points};
+  Reporter r;
+  r.quiet = true;
+  const Character c = load(b, "lines", &r);
+  EXPECT_EQ(c.mesh.indices.size(), 6u);
+  size_t skipped = 0;
+  for (const auto &w : r.warnings())
+    if (w.code == "points_or_lines_skipped")
+      skipped = w.count;
+  EXPECT_EQ(skipped, 2u);
+
+  const auto failure = [](GltfBuilder g, const std::string &name) {
+    try {
+      load(g, name);
+    } catch (const Error &e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  b.j["meshes"][0]["primitives"] = {line, points};
+  EXPECT_NE(failure(b, "only_lines").find("no triangles"), std::string::npos);
+  line["mode"] = 7;
+  b.j["meshes"][0]["primitives"] = {line, prims[0]};
+  EXPECT_NE(failure(b, "mode7").find("mode 7 is not a glTF primitive mode"), std::string::npos);
+}
+
 TEST(Import, MeshByNameAndAClearErrorForAnUnknownOne) {
   GltfBuilder b;
   b.skinnedQuad();

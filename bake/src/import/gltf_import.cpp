@@ -18,6 +18,7 @@
 #include "crowd/formats/error.h"
 #include "crowd/runtime/json_checker.h"
 #include "gltf_schema.h"
+#include "triangle_list.h"
 
 namespace crowd {
 namespace {
@@ -568,7 +569,8 @@ private:
     std::vector<std::vector<uint32_t>> partTriangles;
     std::vector<SkinnedMesh::Part> partLooks; // material look of each part
     auto &mesh = out_.mesh;
-    size_t moreThan4 = 0, renormalised = 0, missingNormals = 0, duplicatePrimitives = 0;
+    size_t moreThan4 = 0, renormalised = 0, missingNormals = 0, duplicatePrimitives = 0,
+           pointsOrLines = 0;
     std::map<std::string, uint32_t> vertexBases; // first vertex of each distinct vertex set
     std::set<std::string> seenPrimitives;
     checkMeshSize();
@@ -577,9 +579,12 @@ private:
       for (size_t pi = 0; pi < gm.primitives.size(); ++pi) {
         const auto &prim = gm.primitives[pi];
         std::string ctx = "mesh '" + gm.name + "', primitive " + std::to_string(pi);
-        if (prim.mode != -1 && prim.mode != TINYGLTF_MODE_TRIANGLES)
-          fail(ctx + ": mode " + std::to_string(prim.mode) +
-               " is not supported (only triangle lists)");
+        if (prim.mode < -1 || prim.mode > gltf::kTriangleFan)
+          fail(ctx + ": mode " + std::to_string(prim.mode) + " is not a glTF primitive mode");
+        if (!gltf::drawsTriangles(prim.mode)) {
+          ++pointsOrLines;
+          continue;
+        }
         auto attr = [&](const std::string &name) {
           auto it = prim.attributes.find(name);
           return it == prim.attributes.end() ? -1 : it->second;
@@ -633,6 +638,7 @@ private:
           for (size_t k = 0; k < vc; ++k)
             idx.push_back(uint32_t(k));
         }
+        idx = gltf::asTriangleList(prim.mode, std::move(idx));
         if (idx.size() % 3 != 0)
           fail(ctx + ": index count " + std::to_string(idx.size()) + " is not a multiple of 3");
 
@@ -754,6 +760,11 @@ private:
       mesh.parts.push_back(part);
       mesh.indices.insert(mesh.indices.end(), partTriangles[p].begin(), partTriangles[p].end());
     }
+    if (pointsOrLines)
+      reporter_.warn("points_or_lines_skipped",
+                     std::to_string(pointsOrLines) +
+                         " primitives draw points or lines, not triangles: skipped",
+                     pointsOrLines);
     if (mesh.indices.empty())
       fail("mesh has no triangles");
     if (!hasUvs_)
@@ -854,13 +865,13 @@ private:
   // once), checked against the limits before any primitive is read.
   void checkMeshSize() const {
     std::set<std::string> vertexSets, primitives;
-    uint64_t vertices = 0, indices = 0;
+    uint64_t vertices = 0, triangles = 0;
     for (const auto &mn : meshNodes_)
       for (const auto &prim :
            model_.meshes[size_t(model_.nodes[size_t(mn.node)].mesh)].primitives) {
         auto pos = prim.attributes.find("POSITION");
-        if (pos == prim.attributes.end())
-          continue; // the reading loop names it
+        if (pos == prim.attributes.end() || !gltf::drawsTriangles(prim.mode))
+          continue; // the reading loop names it or skips it
         const std::string key = vertexKeyOf(prim, mn);
         const uint64_t vc = accessorCount(pos->second);
         if (!primitives
@@ -870,13 +881,14 @@ private:
           continue;
         if (vertexSets.insert(key).second)
           vertices += vc;
-        indices += prim.indices >= 0 ? accessorCount(prim.indices) : vc;
+        triangles +=
+            gltf::triangleCount(prim.mode, prim.indices >= 0 ? accessorCount(prim.indices) : vc);
       }
     if (vertices > limits::kVertices)
       fail("the meshes hold " + std::to_string(vertices) + " vertices, over the limit of " +
            std::to_string(limits::kVertices));
-    if (indices / 3 > limits::kTriangles)
-      fail("the meshes hold " + std::to_string(indices / 3) + " triangles, over the limit of " +
+    if (triangles > limits::kTriangles)
+      fail("the meshes hold " + std::to_string(triangles) + " triangles, over the limit of " +
            std::to_string(limits::kTriangles));
   }
 
