@@ -107,14 +107,19 @@ struct Candidate {
 // Why a collapse is not allowed (kNone: it is).
 enum class Block { kNone, kNoEdge, kSeam, kManifold, kNormal };
 
-// A vertex's neighbours, each with the number of live faces it shares with the vertex (1: an
-// open edge between them).
+// A vertex's neighbour w: the live faces it shares with the vertex (1: an open edge between
+// them), and the render vertices of both ends in the first of them; `special` once the ring is
+// built: the edge is open, or a seam (the first two faces use other render vertices for an end).
+struct Neighbour {
+  uint32_t v, faces, renderSelf, renderOther;
+  bool special;
+};
 struct Ring {
-  std::vector<std::pair<uint32_t, uint32_t>> around;
+  std::vector<Neighbour> around;
   uint32_t count(uint32_t w) const {
-    for (const auto &[v, n] : around)
-      if (v == w)
-        return n;
+    for (const Neighbour &n : around)
+      if (n.v == w)
+        return n.faces;
     return 0;
   }
 };
@@ -212,22 +217,27 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
     return m.render[f[0]][corner(f[0], a)] != m.render[f[1]][corner(f[1], a)] ||
            m.render[f[0]][corner(f[0], b)] != m.render[f[1]][corner(f[1], b)];
   };
+  // v's neighbours, with what special(v, w) would say of each edge, from one pass over v's faces.
   auto ringOf = [&](uint32_t v, Ring &ring) {
     ring.around.clear();
     for (uint32_t f : facesOf[v]) {
       if (!alive[f])
         continue;
-      for (uint32_t w : m.vertex[f]) {
+      const uint32_t self = m.render[f][corner(f, v)];
+      for (uint32_t k = 0; k < 3; ++k) {
+        const uint32_t w = m.vertex[f][k];
         if (w == v)
           continue;
         auto it = std::find_if(ring.around.begin(), ring.around.end(),
-                               [&](const auto &e) { return e.first == w; });
+                               [&](const Neighbour &e) { return e.v == w; });
         if (it == ring.around.end())
-          ring.around.push_back({w, 1});
-        else
-          ++it->second;
+          ring.around.push_back({w, 1, self, m.render[f][k], false});
+        else if (++it->faces == 2)
+          it->special = it->renderSelf != self || it->renderOther != m.render[f][k];
       }
     }
+    for (Neighbour &n : ring.around)
+      n.special |= n.faces == 1;
   };
   // Boundaries and seams also hold their shape: each special edge adds, to both ends, a heavily
   // weighted plane through it, perpendicular to its face, so moving a corner or cutting across
@@ -264,10 +274,10 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
     // this one of them.
     int specials = 0;
     bool along = false;
-    for (const auto &[w, n] : ringA.around)
-      if (special(a, w)) {
+    for (const Neighbour &n : ringA.around)
+      if (n.special) {
         ++specials;
-        along |= w == b;
+        along |= n.v == b;
       }
     if (specials != 0 && !(specials == 2 && along))
       return Block::kSeam;
@@ -279,8 +289,8 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
         if (w != a && w != b)
           apex[s] = w;
     uint32_t common = 0;
-    for (const auto &[w, n] : ringA.around)
-      if (ringB.count(w)) {
+    for (const Neighbour &n : ringA.around)
+      if (const uint32_t w = n.v; ringB.count(w)) {
         if (w != apex[0] && w != apex[1])
           return Block::kManifold;
         ++common;
@@ -288,8 +298,8 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
     if (common != sides)
       return Block::kManifold;
     auto onBoundary = [](const Ring &ring) {
-      for (const auto &[w, n] : ring.around)
-        if (n == 1)
+      for (const Neighbour &n : ring.around)
+        if (n.faces == 1)
           return true;
       return false;
     };
@@ -397,9 +407,9 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
       fb.erase(std::remove_if(fb.begin(), fb.end(), [&](uint32_t f) { return !alive[f]; }),
                fb.end());
       ringOf(b, ringB);
-      for (const auto &[w, n] : ringB.around) {
-        push(b, w);
-        push(w, b);
+      for (const Neighbour &n : ringB.around) {
+        push(b, n.v);
+        push(n.v, b);
       }
     }
     queue.clear();
@@ -469,15 +479,17 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
 
   // Triangles: those that survive to the floor first, then the rest, last deleted first (the
   // lower its killer's new index, the later a triangle goes).
-  std::vector<uint32_t> faces(F);
-  for (uint32_t f = 0; f < F; ++f)
-    faces[f] = f;
   auto death = [&](uint32_t f) {
     return killer[f] < 0 ? uint32_t(UINT32_MAX) : newIndex[size_t(killer[f])];
   };
-  auto rank = [&](uint32_t f) { return killer[f] < 0 ? 0 : uint64_t(death(f)) + 1; };
-  std::stable_sort(faces.begin(), faces.end(),
-                   [&](uint32_t a, uint32_t b) { return rank(a) < rank(b); });
+  auto rank = [&](uint32_t f) { return killer[f] < 0 ? size_t(0) : size_t(death(f)) + 1; };
+  std::vector<uint32_t> faces(F), start(V + 2, 0); // sorted by rank, stable: a counting sort
+  for (uint32_t f = 0; f < F; ++f)
+    ++start[rank(f) + 1];
+  for (size_t k = 1; k < start.size(); ++k)
+    start[k] += start[k - 1];
+  for (uint32_t f = 0; f < F; ++f)
+    faces[start[rank(f)]++] = f;
   // A face is alive at v vertices while its killer (new index d) is < v.
   r.triangleCount.assign(r.order.size() + 1, 0);
   for (uint32_t f : faces) {
