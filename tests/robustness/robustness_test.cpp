@@ -162,11 +162,17 @@ const std::vector<Case> kCases = {
        b.j["nodes"][1]["children"] = {0};
        return b.write(d, "c");
      }},
-    {"lines_primitive", "mode 1 is not supported",
+    {"lines_primitive", "mesh has no triangles: its primitives draw points or lines",
      [](const std::string &d) {
        auto b = quad();
        b.j["meshes"][0]["primitives"][0]["mode"] = 1;
        return b.write(d, "l");
+     }},
+    {"undefined_primitive_mode", "mode 9 is not a glTF primitive mode",
+     [](const std::string &d) {
+       auto b = quad();
+       b.j["meshes"][0]["primitives"][0]["mode"] = 9;
+       return b.write(d, "m");
      }},
     {"empty_mesh", "mesh has no triangles",
      [](const std::string &d) {

@@ -251,7 +251,8 @@ TEST(Import, PointsAndLinesAreSkippedWithAWarning) {
     return std::string("no error");
   };
   b.j["meshes"][0]["primitives"] = {line, points};
-  EXPECT_NE(failure(b, "only_lines").find("no triangles"), std::string::npos);
+  EXPECT_NE(failure(b, "only_lines").find("no triangles: its primitives draw points or lines"),
+            std::string::npos);
   line["mode"] = 7;
   b.j["meshes"][0]["primitives"] = {line, prims[0]};
   EXPECT_NE(failure(b, "mode7").find("mode 7 is not a glTF primitive mode"), std::string::npos);

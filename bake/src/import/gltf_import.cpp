@@ -766,7 +766,8 @@ private:
                          " primitives draw points or lines, not triangles: skipped",
                      pointsOrLines);
     if (mesh.indices.empty())
-      fail("mesh has no triangles");
+      fail(pointsOrLines ? "mesh has no triangles: its primitives draw points or lines"
+                         : "mesh has no triangles");
     if (!hasUvs_)
       mesh.uvs.clear();
     if (moreThan4)
