@@ -149,6 +149,30 @@ TEST(Lod, FailureModesAreRepairedAndReported) {
 // copies are one vertex each (normal zero: drawn with the face's) and the grid simplifies.
 // One mesh bound twice (RecursiveSkeletons binds one mesh with 84 skins): the copies share rest
 // positions but not joints, so they never weld and neither is dropped as the other's duplicate.
+// A character whose armature carries a scale (modelled in cm under a 0.01 armature, as Blender
+// writes one) collapses as it does unscaled: every pose, the rest pose too, is costed as drawn,
+// not the rest in the mesh's own units. A scale of 1/16 scales every cost by exactly 2^-16, so the
+// order must be the same to the bit.
+TEST(Lod, AnArmatureScaleChangesNoCollapse) {
+  Character plain = test::sampleHumanoid(), scaled = plain;
+  Node root;
+  root.name = "unit_root";
+  root.scale = glm::dvec3(1.0 / 16);
+  const int rootIndex = int(scaled.nodes.size());
+  for (Node &n : scaled.nodes)
+    if (n.parent < 0)
+      n.parent = rootIndex;
+  scaled.nodes.push_back(root);
+  scaled.nodeOrder.insert(scaled.nodeOrder.begin(), rootIndex);
+  Reporter rep;
+  rep.quiet = true;
+  const pack::Lod a = applyLod(plain, {}, rep), b = applyLod(scaled, {}, rep);
+  EXPECT_EQ(a.floorVertices, b.floorVertices);
+  EXPECT_EQ(a.collapse, b.collapse);
+  EXPECT_EQ(a.triangleCounts, b.triangleCounts);
+  EXPECT_EQ(plain.mesh.indices, scaled.mesh.indices);
+}
+
 TEST(Lod, CopiesBoundToOtherJointsStaySeparate) {
   std::vector<glm::vec3> p;
   std::vector<uint32_t> idx;

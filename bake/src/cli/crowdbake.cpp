@@ -51,6 +51,11 @@ example:
   crowdbake samples --out s && crowdbake anim s/humanoid.glb -o h.crowdpack --report r.json
 )";
 
+// What --mesh bakes when it is not given (ImportOptions::mesh).
+const char *const kEveryMesh =
+    "every skinned mesh with every skin it uses, merged into one skeleton, and the meshes "
+    "rigidly parented to its joints";
+
 const char *const kSamplesHelp = R"(Writes humanoid.glb, outfit_dress.glb, outfit_jumper_skirt.glb
 and outfit_shirt_trousers.glb into DIR, the environment village.glb (for crowdbake terrain) with its agents' images village_behaviour.png and village_callbacks.png, and the cloth caches of the dress's garment "dress" (PC2,
 30 fps, every vertex in the glTF's order; simulated, about 5 s): skirt_walk.pc2 and
@@ -67,10 +72,10 @@ const char *const kLodHelp = R"(Bakes what crowdbake anim bakes, with the mesh o
 continuous LOD: the full edge-collapse sequence down to a floor, so a renderer can draw any
 vertex count v by taking each sub-mesh's first triangles (their count for v is stored) and
 following indices through the collapse map until they are below v. Collapses run on a welded
-mesh, cheapest quadric cost first, the cost the largest over the bind pose and poses sampled from
-every clip (skinning-aware); a UV or normal seam vertex collapses only along its seam, a boundary
-vertex only along its boundary; no cut has a degenerate triangle or one turned more than 75
-degrees from its full-detail normal. No new vertices. Non-manifold edges are cut open (a vertex
+mesh, cheapest quadric cost first, the cost the largest over the rest pose and poses sampled from
+every clip, each as drawn (skinning-aware); a UV or normal seam vertex collapses only along its
+seam, a boundary vertex only along its boundary; no cut has a degenerate triangle or one turned
+more than 75 degrees from its full-detail normal. No new vertices. Non-manifold edges are cut open (a vertex
 where several fans meet becomes one per fan); duplicate and zero-area triangles are dropped;
 each repair is reported. A flat-shaded mesh's copies that differ only by their normal are welded
 and drawn with their face's normal (stored as zero). Where the LOD stops above the floor, a
@@ -123,8 +128,7 @@ int cmdAnim(int argc, char **argv, const std::string &command) {
   std::string clip, mesh;
   bool lodFlag = false;
   app.add_option("--clip", clip, "bake only this clip (default: every clip)");
-  app.add_option("--mesh", mesh,
-                 "bake only this mesh (default: every mesh bound to the largest skin)");
+  app.add_option("--mesh", mesh, std::string("bake only this mesh (default: ") + kEveryMesh + ")");
   addAnimOptions(app, opt);
   addThreads(app, opt.threads);
   CLI::Option *lodOption = nullptr;
@@ -139,7 +143,7 @@ int cmdAnim(int argc, char **argv, const std::string &command) {
           ->group(lodGroup);
   auto *posesOpt = app.add_option("--poses", lodOpt.poses,
                                   "animation poses in the collapse cost, spread over all clips; 0: "
-                                  "the bind pose alone")
+                                  "the rest pose alone")
                        ->capture_default_str()
                        ->group(lodGroup);
   if (lodOption) {
@@ -172,7 +176,7 @@ int cmdImpostor(int argc, char **argv) {
   std::string clip, mesh,
       views = std::to_string(opt.azimuths) + "x" + std::to_string(opt.elevations);
   app.add_option("--clip", clip, "clip to sample (default: the first)");
-  app.add_option("--mesh", mesh, "mesh to bake (default: every mesh bound to the largest skin)");
+  app.add_option("--mesh", mesh, std::string("mesh to bake (default: ") + kEveryMesh + ")");
   app.add_option("--frames", opt.frames, "frames sampled evenly over the clip")
       ->capture_default_str();
   app.add_option("--views", views, "azimuths x elevations")->capture_default_str();

@@ -159,7 +159,7 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
 
   const size_t V = m.source.size(), F = m.vertex.size(), N = m.position.size();
   const std::vector<std::array<uint32_t, 3>> initialCorner = m.render;
-  // Each topological vertex in the bind pose and every pose, and one quadric per vertex per pose:
+  // Each topological vertex in the rest pose and every pose, and one quadric per vertex per pose:
   // a collapse costs what it moves the surface in every pose, each measured where the vertex is
   // in that pose.
   const size_t P = 1 + poses.size();
@@ -582,7 +582,12 @@ LodResult bakeWithRepeats(const Character &c, const LodOptions &o, Reporter &rep
   const uint32_t triangles = uint32_t(in.indices.size() / 3);
   const LodTriangles lt = lodTriangles(in);
   const auto &inputsOf = lt.inputsOf;
-  LodResult r = bakeLod(in.positions, lt.indices, o, reporter, lt.group, samplePoses(c, o.poses));
+  // The rest pose as drawn, not the mesh's own coordinates: those are in another unit where the
+  // armature carries a scale (a trooper modelled in cm under a 0.01 armature: its bind-pose cost
+  // outweighed every other pose's 10^7 times), and a rigid part's sit in its node's frame.
+  const std::vector<glm::dvec3> rest = posedPositions(c, nullptr, 0);
+  LodResult r = bakeLod(std::vector<glm::vec3>(rest.begin(), rest.end()), lt.indices, o, reporter,
+                        lt.group, samplePoses(c, o.poses));
   const std::vector<uint32_t> source = std::move(r.source), killedBy = std::move(r.killedBy),
                               indices = std::move(r.indices);
   r.source.clear(), r.killedBy.clear(), r.indices.clear();

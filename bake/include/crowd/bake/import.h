@@ -12,8 +12,9 @@
 namespace crowd {
 
 struct ImportOptions {
-  // Mesh to bake, by name. Empty: every mesh bound to the largest skin, merged, plus meshes
-  // rigidly parented to its joints (or, without skins, every mesh as a rigid part).
+  // Mesh to bake, by name. Empty: every skinned mesh with every skin it uses, merged into one
+  // skeleton, plus meshes rigidly parented to its joints (or, without skins, every mesh as a
+  // rigid part).
   std::string mesh;
   // Where external buffers and images may resolve, and how large an input may be.
   InputPolicy input;

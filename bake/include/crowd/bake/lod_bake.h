@@ -77,9 +77,10 @@ pack::Lod applyLod(Character &character, const LodOptions &options, Reporter &re
 
 // Seams are where input vertices share a position but not their other attributes (UV, normal):
 // such copies weld into one topological vertex, unless `group` (per vertex, optional) differs.
-// `poses` (optional): the vertices skinned into other poses; a collapse then costs its quadric
-// error in the worst of the bind pose and every pose, so the order suits the animation, not just
-// the rest.
+// `positions`: the rest pose, in the poses' units (applyLod gives the character as drawn without
+// a clip). `poses` (optional): the vertices skinned into other poses; a collapse then costs its
+// quadric error in the worst of the rest pose and every pose, so the order suits the animation,
+// not just the rest.
 LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uint32_t> &indices,
                   const LodOptions &options, Reporter &reporter,
                   const std::vector<uint32_t> &group = {},
