@@ -75,9 +75,9 @@ following indices through the collapse map until they are below v. Collapses run
 mesh, cheapest quadric cost first, the cost the largest over the rest pose and poses sampled from
 every clip, each as drawn (skinning-aware); a UV or normal seam vertex collapses only along its
 seam, a boundary vertex only along its boundary; no cut has a degenerate triangle or one turned
-more than 75 degrees from its full-detail normal. No new vertices. Non-manifold edges are cut open (a vertex
-where several fans meet becomes one per fan); duplicate and zero-area triangles are dropped;
-each repair is reported. A flat-shaded mesh's copies that differ only by their normal are welded
+more than 75 degrees from its full-detail normal. No new vertices. Non-manifold edges are cut
+open (a vertex where several fans meet becomes one per fan); duplicate and zero-area triangles
+are dropped; each repair is reported. A flat-shaded mesh's copies that differ only by their normal are welded
 and drawn with their face's normal (stored as zero). Where the LOD stops above the floor, a
 warning says what blocks it.)";
 
