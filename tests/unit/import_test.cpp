@@ -258,6 +258,33 @@ TEST(Import, PointsAndLinesAreSkippedWithAWarning) {
   EXPECT_NE(failure(b, "mode7").find("mode 7 is not a glTF primitive mode"), std::string::npos);
 }
 
+// Joints are matched by name (an outfit to its body) and clips chosen by name: a name repeated
+// (two armatures' default bone names, a clip exported twice) is made unique, the same way every
+// time, and said; "b_2" taken already goes on to "b_3".
+TEST(Import, RepeatedNodeAndClipNamesAreMadeUnique) {
+  GltfBuilder b;
+  b.skinnedQuad();
+  b.j["nodes"][0]["name"] = "b";
+  b.j["nodes"][2]["name"] = "b_2";
+  b.animation("walk", 1, "rotation", {0, 1}, {0, 0, 0, 1, 0, 0, 0.7071f, 0.7071f});
+  b.animation("walk", 1, "rotation", {0, 2}, {0, 0, 0, 1, 0, 0, 0.7071f, 0.7071f});
+  Reporter r;
+  r.quiet = true;
+  const Character c = load(b, "names", &r);
+  EXPECT_EQ(c.nodes[0].name, "b");
+  EXPECT_EQ(c.nodes[1].name, "b_3");
+  EXPECT_EQ(c.nodes[2].name, "b_2");
+  ASSERT_EQ(c.clips.size(), 2u);
+  EXPECT_EQ(c.clips[0].name, "walk");
+  EXPECT_EQ(c.clips[1].name, "walk_2");
+  EXPECT_EQ(c.clips[1].end, 2.0);
+  std::map<std::string, size_t> counts;
+  for (const auto &w : r.warnings())
+    counts[w.code] = w.count;
+  EXPECT_EQ(counts["duplicate_node_names"], 1u);
+  EXPECT_EQ(counts["duplicate_clip_names"], 1u);
+}
+
 TEST(Import, MeshByNameAndAClearErrorForAnUnknownOne) {
   GltfBuilder b;
   b.skinnedQuad();

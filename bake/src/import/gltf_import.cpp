@@ -19,6 +19,7 @@
 #include "crowd/runtime/json_checker.h"
 #include "gltf_schema.h"
 #include "triangle_list.h"
+#include "unique_names.h"
 
 namespace crowd {
 namespace {
@@ -413,6 +414,15 @@ private:
     }
     if (out_.nodeOrder.size() != n)
       fail("node graph has a cycle");
+    std::vector<std::string *> names;
+    for (Node &node : out_.nodes)
+      names.push_back(&node.name);
+    if (const size_t renamed = gltf::makeUnique(names))
+      reporter_.warn("duplicate_node_names",
+                     std::to_string(renamed) +
+                         " nodes repeat an earlier node's name: renamed NAME_2, NAME_3, ... "
+                         "(outfits match joints by name)",
+                     renamed);
   }
 
   bool hasAncestorIn(int node, const std::set<int> &set) const {
@@ -1047,6 +1057,15 @@ private:
       if (!clip.channels.empty())
         out_.clips.push_back(std::move(clip));
     }
+    std::vector<std::string *> names;
+    for (AnimationClip &clip : out_.clips)
+      names.push_back(&clip.name);
+    if (const size_t renamed = gltf::makeUnique(names))
+      reporter_.warn("duplicate_clip_names",
+                     std::to_string(renamed) +
+                         " clips repeat an earlier clip's name: renamed NAME_2, NAME_3, ... "
+                         "(clips are chosen by name)",
+                     renamed);
     if (strayWeightChannels)
       reporter_.warn("morph_weights_without_targets",
                      std::to_string(strayWeightChannels) +
