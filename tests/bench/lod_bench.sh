@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # LOD benchmark: ours (skinning-aware, 16 poses), ours pose-agnostic (bind pose only) and
 # meshopt_simplify at 50/25/10/5% of the triangles, and the full mesh (0 by construction), for the
-# sample humanoid, every model of ../shared/assets/gltf and the Blender exports (tests/data/blender):
+# sample humanoid, every model of ../shared/assets/gltf, the Blender exports (tests/data/blender)
+# and gltfpack's copies (tests/data/gltfpack):
 # rest-pose Hausdorff distance and its
 # max and mean over every frame (% of the rest pose's diagonal, tests/bench/lod_distance.h), and
 # sequence time against meshopt's four calls (each the fastest of 5 runs; the 1M-triangle grid once). Writes OUT/lod_bench.csv, OUT/lod_times.csv and one
@@ -17,7 +18,8 @@ mkdir -p "$out/lod"
 }
 build/bin/crowdbake samples --no-cloth --out "$out/lod" > /dev/null
 assets=("$out/lod/humanoid.glb")
-for f in ../shared/assets/gltf/*/*.glb ../shared/assets/gltf/*/*.gltf tests/data/blender/*.glb; do
+for f in ../shared/assets/gltf/*/*.glb ../shared/assets/gltf/*/*.gltf tests/data/blender/*.glb \
+  tests/data/gltfpack/*.glb; do
   [ -f "$f" ] && assets+=("$f")
 done
 build/bin/lod_bench "$out/lod_bench.csv" "$out/lod_times.csv" "${assets[@]}" 2>/dev/null

@@ -189,6 +189,18 @@ const std::vector<Case> kCases = {
        b.j["extensionsRequired"] = {"KHR_draco_mesh_compression"};
        return b.write(d, "x");
      }},
+    {"compressed_geometry",
+     "unsupported required extension EXT_meshopt_compression (compressed geometry: export without "
+     "compression, e.g. gltfpack without -c)",
+     [](const std::string &d) {
+       auto b = quad();
+       b.j["extensionsUsed"] = {"EXT_meshopt_compression"};
+       b.j["extensionsRequired"] = {"EXT_meshopt_compression"};
+       // gltfpack -c's placeholder: a buffer with no data, longer than the file's (tinygltf
+       // failed on it first, naming byteLength).
+       b.j["buffers"].push_back({{"byteLength", 1 << 20}});
+       return b.write(d, "mo");
+     }},
     {"absurd_count", "over the limit of",
      [](const std::string &d) {
        auto b = quad();

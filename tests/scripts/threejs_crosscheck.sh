@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# The three.js cross-check: every model of ../shared/assets/gltf and tests/data/blender (Blender
-# exports: a scaled armature, rigid parts, 8 influences) is baked twice (crowdbake anim
-# as float matrices, so frame times test the reading alone, and crowdbake lod at the error
+# The three.js cross-check: every model of ../shared/assets/gltf, tests/data/blender (Blender
+# exports: a scaled armature, rigid parts, 8 influences) and tests/data/gltfpack (gltfpack's
+# quantized copies) is baked twice (crowdbake anim
+# as float matrices, so frame times test the reading and float32 rounding alone, and crowdbake lod at the error
 # budget's choice, whose vertices leave import order) and, for every clip,
 # three.js's pose of the glTF is compared vertex by vertex with crowdbake pose at every frame,
 # every mid-frame and the bake's 64 random times (threejs_pose.mjs). Skips (exit 77) where node or
@@ -17,7 +18,8 @@ status=0 models=0
 check() { # check MODEL PACK REPORT
   node "$root/tests/scripts/threejs_pose.mjs" "$bin/crowdbake" "$three" "$@" "$work" || status=1
 }
-for model in "$assets"/*/*.glb "$assets"/*/*.gltf "$root"/tests/data/blender/*.glb "$root"/tests/data/blender/*.gltf; do
+for model in "$assets"/*/*.glb "$assets"/*/*.gltf "$root"/tests/data/blender/*.glb \
+  "$root"/tests/data/blender/*.gltf "$root"/tests/data/gltfpack/*.glb; do
   [ -f "$model" ] || continue
   name=$(basename "${model%.*}")
   "$bin/crowdbake" anim "$model" -o "$work/$name.crowdpack" --report "$work/$name.json" -q \

@@ -80,6 +80,19 @@ TEST(Import, RotationsSlerpAlongTheShortArc) {
   EXPECT_NEAR(std::atan2(x.y, x.x), glm::radians(45.0), 1e-7); // keys are single precision
 }
 
+// Quantized rotation keys (gltfpack's 16-bit) are off unit length: slerp between them as they
+// are turns the wrong amount (here 54.5 degrees, not 45, for keys 1.5 long); they are normalized.
+TEST(Import, RotationKeysOffUnitLengthAreNormalized) {
+  GltfBuilder b;
+  b.skinnedQuad();
+  float s = 1.5f * float(std::sqrt(0.5));
+  b.animation("turn", 0, "rotation", {0, 1}, {0, 0, 0, 1.5f, 0, 0, s, s});
+  Character c = load(b, "long_keys");
+  auto g = nodeGlobals(c, &c.clips[0], 0.5);
+  glm::dvec3 x = glm::normalize(glm::dvec3(g[0][0]));
+  EXPECT_NEAR(std::atan2(x.y, x.x), glm::radians(45.0), 1e-7);
+}
+
 TEST(Import, ChannelsOfDifferentLengthsSpanTheLongest) {
   GltfBuilder b;
   b.skinnedQuad();
@@ -346,6 +359,69 @@ TEST(Import, AnUndecodableTextureIsAWarningNotAFailure) {
   for (const auto &w : r.warnings())
     warned |= w.code == "diffuse_texture_skipped";
   EXPECT_TRUE(warned);
+}
+
+// The base-colour texture's own coordinates: its texCoord set and KHR_texture_transform (offset,
+// rotation, scale, as gltfpack writes to dequantize UVs) applied to the UVs the pack stores, which
+// were the untransformed TEXCOORD_0 before.
+TEST(Import, TheBaseColourTexturesSetAndTransformGiveTheUvs) {
+  GltfBuilder b;
+  b.skinnedQuad();
+  auto &prim = b.j["meshes"][0]["primitives"][0];
+  prim["attributes"]["TEXCOORD_0"] = b.floats({9, 9, 9, 9, 9, 9, 9, 9}, "VEC2");
+  prim["attributes"]["TEXCOORD_1"] = b.floats({0, 0, 1, 0, 0, 1, 1, 1}, "VEC2");
+  prim["material"] = 0;
+  const nlohmann::json transform = {
+      {"offset", {0.5, 0.25}}, {"rotation", M_PI / 2}, {"scale", {0.5, 0.5}}, {"texCoord", 1}};
+  b.j["materials"] = {
+      {{"pbrMetallicRoughness",
+        {{"baseColorTexture",
+          {{"index", 0}, {"extensions", {{"KHR_texture_transform", transform}}}}}}}}};
+  b.j["extensionsUsed"] = {"KHR_texture_transform"};
+  b.j["extensionsRequired"] = {"KHR_texture_transform"};
+  b.j["textures"] = {{{"source", 0}}};
+  int bogus = b.accessor(std::vector<uint8_t>{1, 2, 3, 4, 5, 6, 7, 8}, 5121, "SCALAR");
+  b.j["images"] = {
+      {{"bufferView", b.j["accessors"][size_t(bogus)]["bufferView"]}, {"mimeType", "image/png"}}};
+  const Character c = load(b, "uv_transform");
+  ASSERT_EQ(c.mesh.uvs.size(), 4u);
+  // Scaled by 0.5, turned a quarter (u, v) -> (v, -u), moved by (0.5, 0.25).
+  const glm::vec2 expected[4] = {{0.5f, 0.25f}, {0.5f, -0.25f}, {1.0f, 0.25f}, {1.0f, -0.25f}};
+  for (size_t v = 0; v < 4; ++v) {
+    EXPECT_NEAR(c.mesh.uvs[v].x, expected[v].x, 1e-6) << "vertex " << v;
+    EXPECT_NEAR(c.mesh.uvs[v].y, expected[v].y, 1e-6) << "vertex " << v;
+  }
+}
+
+// gltfpack's copy of the Blender trooper (tests/data/gltfpack) quantizes its UVs and undoes that
+// with a texture transform of scale 16: every textured vertex keeps its UV within the 12-bit
+// quantization (1/4096) of the original's at the same rest position (before, they were 16 times
+// too small, the whole texture squeezed into one corner).
+TEST(Import, AGltfpackCopyKeepsItsTextureCoordinates) {
+  const std::string data = std::string(CROWD_SOURCE_DIR) + "/tests/data/";
+  Reporter r;
+  r.quiet = true;
+  const Character original = importGltf(data + "blender/trooper_cm.glb", {}, r);
+  const Character packed = importGltf(data + "gltfpack/trooper_cm_packed.glb", {}, r);
+  const auto at = posedPositions(original, nullptr, 0),
+             packedAt = posedPositions(packed, nullptr, 0);
+  ASSERT_FALSE(packed.mesh.uvs.empty());
+  size_t checked = 0;
+  for (const auto &part : packed.mesh.parts)
+    for (uint32_t k = part.firstIndex; part.textured && k < part.firstIndex + part.indexCount;
+         ++k) {
+      const uint32_t v = packed.mesh.indices[k];
+      // The original's vertices within a centimetre (positions are quantized too; corners of
+      // seams hold several UVs): the nearest UV among them.
+      double nearest = 1e30;
+      for (size_t w = 0; w < at.size(); ++w)
+        if (glm::distance(at[w], packedAt[v]) < 0.01)
+          nearest =
+              std::min(nearest, double(glm::distance(original.mesh.uvs[w], packed.mesh.uvs[v])));
+      ASSERT_LT(nearest, 1.0 / 2048) << "vertex " << v;
+      ++checked;
+    }
+  EXPECT_GT(checked, 1000u);
 }
 } // namespace
 

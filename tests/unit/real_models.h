@@ -1,5 +1,6 @@
 // Real glTF characters, written by real exporters: ../shared/assets/gltf's (when that folder is
-// beside the checkout) and the Blender exports in tests/data/blender (always: they are committed).
+// beside the checkout), the Blender exports in tests/data/blender and gltfpack's quantized copies
+// of two of them in tests/data/gltfpack (always: they are committed).
 #pragma once
 #include <algorithm>
 #include <filesystem>
@@ -11,7 +12,8 @@ namespace crowd::test {
 inline std::vector<std::string> realModels() {
   std::vector<std::string> files;
   for (const std::string &dir :
-       {std::string(CROWD_SHARED_ASSETS), std::string(CROWD_SOURCE_DIR) + "/tests/data/blender"}) {
+       {std::string(CROWD_SHARED_ASSETS), std::string(CROWD_SOURCE_DIR) + "/tests/data/blender",
+        std::string(CROWD_SOURCE_DIR) + "/tests/data/gltfpack"}) {
     if (!std::filesystem::exists(dir))
       continue;
     for (const auto &e : std::filesystem::recursive_directory_iterator(dir))

@@ -14,6 +14,7 @@
 #include <glm/gtc/type_ptr.hpp>
 #include <tiny_gltf.h>
 
+#include "base_colour_uv.h"
 #include "crowd/bake/input_files.h"
 #include "crowd/formats/error.h"
 #include "crowd/runtime/json_checker.h"
@@ -25,11 +26,6 @@ namespace crowd {
 namespace {
 
 using tinygltf::Model;
-
-// Extensions that change nothing the bakes read, or that the accessor reader already covers.
-const std::set<std::string> kSupportedRequired = {"KHR_mesh_quantization", "KHR_texture_transform",
-                                                  "KHR_materials_emissive_strength",
-                                                  "KHR_materials_unlit"};
 
 std::string oneLine(std::string s) {
   while (!s.empty() && (s.back() == '\n' || s.back() == ' '))
@@ -173,9 +169,6 @@ private:
       throw Error(confinement.problem);
     if (!ok)
       fail("not a readable glTF: " + oneLine(err.empty() ? warn : err));
-    for (const auto &ext : model_.extensionsRequired)
-      if (!kSupportedRequired.count(ext))
-        fail("unsupported required extension " + ext);
     out_.sourceFiles.push_back(path_);
     for (const auto &file : confinement.read)
       out_.sourceFiles.push_back(file);
@@ -630,9 +623,16 @@ private:
         } else {
           missingNormals += fresh;
         }
-        if (int a = attr("TEXCOORD_0"); a >= 0) {
-          sameCount(a, "TEXCOORD_0", TINYGLTF_TYPE_VEC2);
-          uv = *readAccessor(a, ctx + " TEXCOORD_0");
+        // The set the base-colour texture reads, through its KHR_texture_transform.
+        const gltf::BaseColourUv uvMap = gltf::baseColourUv(model_, prim.material);
+        const std::string uvName = "TEXCOORD_" + std::to_string(uvMap.set);
+        if (int a = attr(uvName); a >= 0) {
+          sameCount(a, uvName.c_str(), TINYGLTF_TYPE_VEC2);
+          uv = *readAccessor(a, ctx + " " + uvName);
+          for (size_t k = 0; !uvMap.identity && k + 1 < uv.size(); k += 2) {
+            const glm::dvec3 t = uvMap.transform * glm::dvec3(uv[k], uv[k + 1], 1);
+            uv[k] = t.x, uv[k + 1] = t.y;
+          }
         }
         std::vector<uint32_t> idx;
         if (prim.indices >= 0) {
@@ -863,13 +863,14 @@ private:
     }
   }
 
-  // What identifies a primitive's vertices: its vertex attributes' accessors and its joint (a
-  // rigid part) or its skin (one mesh bound by two skins is two sets of vertices).
-  static std::string vertexKeyOf(const tinygltf::Primitive &prim, const MeshNode &mn) {
+  // What identifies a primitive's vertices: its vertex attributes' accessors, how its material
+  // maps their UVs (base_colour_uv.h), and its joint (a rigid part) or its skin (one mesh bound by
+  // two skins is two sets of vertices).
+  std::string vertexKeyOf(const tinygltf::Primitive &prim, const MeshNode &mn) const {
     std::string key = mn.rigid >= 0 ? std::to_string(mn.rigidJoint) : "s" + std::to_string(mn.skin);
     for (const auto &[name, accessor] : prim.attributes)
       key += ";" + name + "=" + std::to_string(accessor);
-    return key;
+    return key + ";uv=" + gltf::baseColourUv(model_, prim.material).key();
   }
 
   // Vertex and triangle totals from the accessors' declared counts (each distinct primitive
@@ -1049,6 +1050,17 @@ private:
         if (out.values.size() != out.times.size() * comps * per)
           fail(ctx + " output: " + std::to_string(out.values.size()) + " values for " +
                std::to_string(out.times.size()) + " keys of " + std::to_string(comps * per));
+        // Rotation keys are unit quaternions; quantized ones (gltfpack's 16-bit) are off by up to
+        // 3e-5, and slerp between keys as they are turns the wrong amount: normalized here (keys
+        // within 1e-6 are left as they are; a cubic spline's values hold tangents).
+        for (size_t k = 0; out.path == ChannelPath::Rotation && per == 1 && k < out.times.size();
+             ++k) {
+          double *q = &out.values[k * 4];
+          const double n = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+          if (n > 0 && std::abs(n - 1) > 1e-6)
+            for (int c = 0; c < 4; ++c)
+              q[c] /= n;
+        }
         clip.start = first ? out.times.front() : std::min(clip.start, out.times.front());
         clip.end = first ? out.times.back() : std::max(clip.end, out.times.back());
         first = false;
