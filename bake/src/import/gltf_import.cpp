@@ -407,14 +407,20 @@ private:
     }
     if (out_.nodeOrder.size() != n)
       fail("node graph has a cycle");
+    makeNamesUnique(out_.nodes, "duplicate_node_names", "nodes", "outfits match joints by name");
+  }
+
+  // Renames what repeats an earlier name in `items` (unique_names.h), saying so under `code`.
+  template <class T>
+  void makeNamesUnique(std::vector<T> &items, const std::string &code, const std::string &what,
+                       const std::string &why) {
     std::vector<std::string *> names;
-    for (Node &node : out_.nodes)
-      names.push_back(&node.name);
+    for (T &item : items)
+      names.push_back(&item.name);
     if (const size_t renamed = gltf::makeUnique(names))
-      reporter_.warn("duplicate_node_names",
-                     std::to_string(renamed) +
-                         " nodes repeat an earlier node's name: renamed NAME_2, NAME_3, ... "
-                         "(outfits match joints by name)",
+      reporter_.warn(code,
+                     std::to_string(renamed) + " " + what +
+                         " repeat an earlier one's name: renamed NAME_2, NAME_3, ... (" + why + ")",
                      renamed);
   }
 
@@ -1069,15 +1075,7 @@ private:
       if (!clip.channels.empty())
         out_.clips.push_back(std::move(clip));
     }
-    std::vector<std::string *> names;
-    for (AnimationClip &clip : out_.clips)
-      names.push_back(&clip.name);
-    if (const size_t renamed = gltf::makeUnique(names))
-      reporter_.warn("duplicate_clip_names",
-                     std::to_string(renamed) +
-                         " clips repeat an earlier clip's name: renamed NAME_2, NAME_3, ... "
-                         "(clips are chosen by name)",
-                     renamed);
+    makeNamesUnique(out_.clips, "duplicate_clip_names", "clips", "clips are chosen by name");
     if (strayWeightChannels)
       reporter_.warn("morph_weights_without_targets",
                      std::to_string(strayWeightChannels) +
