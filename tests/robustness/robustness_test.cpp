@@ -143,10 +143,11 @@ const std::vector<Case> kCases = {
        poke(b, 2, 1, -0.5f);
        return b.write(d, "w");
      }},
-    {"all_zero_weights", "vertex 0 has all-zero weights",
+    {"all_zero_weights", "no vertex has a joint weight (vertex 0 has all-zero weights)",
      [](const std::string &d) {
        auto b = quad();
-       poke(b, 2, 0, 0.0f);
+       for (int k : {0, 4, 8, 9, 12, 13}) // every vertex's (one weighted vertex repairs the rest)
+         poke(b, 2, k, 0.0f);
        return b.write(d, "z");
      }},
     {"skin_without_joints", "skin 0 has no joints",

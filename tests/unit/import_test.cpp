@@ -162,6 +162,29 @@ TEST(Import, FiveInfluencesKeepTheLargestFourAndWarn) {
   EXPECT_EQ(c.mesh.weights[1], glm::vec4(1, 0, 0, 0));
 }
 
+// A vertex no joint weighs (an unpainted button) takes the nearest weighted vertex's influences,
+// with a warning, instead of failing the character: vertex 3, moved to (1, 0.9), is nearest vertex
+// 1 (1, 0), which only joint "b" weighs.
+TEST(Import, AnUnweightedVertexTakesItsNearestWeightedNeighboursInfluences) {
+  GltfBuilder b;
+  b.skinnedQuad();
+  auto &attrs = b.j["meshes"][0]["primitives"][0]["attributes"];
+  attrs["POSITION"] = b.floats({0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 0.9f, 0}, "VEC3");
+  b.j["accessors"][size_t(int(attrs["POSITION"]))]["min"] = {0, 0, 0};
+  b.j["accessors"][size_t(int(attrs["POSITION"]))]["max"] = {1, 1, 0};
+  attrs["WEIGHTS_0"] = b.floats({1, 0, 0, 0, 0, 1, 0, 0, 0.5f, 0.5f, 0, 0, 0, 0, 0, 0}, "VEC4");
+  Reporter r;
+  r.quiet = true;
+  const Character c = load(b, "unweighted", &r);
+  EXPECT_EQ(c.mesh.weights[3], glm::vec4(1, 0, 0, 0));
+  EXPECT_EQ(c.jointName(c.mesh.joints[3][0]), "b");
+  size_t repaired = 0;
+  for (const auto &w : r.warnings())
+    if (w.code == "unweighted_vertices")
+      repaired = w.count;
+  EXPECT_EQ(repaired, 1u);
+}
+
 TEST(Import, NormalizedByteWeights) {
   GltfBuilder b;
   b.skinnedQuad();

@@ -19,6 +19,7 @@
 #include "crowd/formats/error.h"
 #include "crowd/runtime/json_checker.h"
 #include "gltf_schema.h"
+#include "nearest_influences.h"
 #include "triangle_list.h"
 #include "unique_names.h"
 
@@ -579,7 +580,7 @@ private:
     std::vector<SkinnedMesh::Part> partLooks; // material look of each part
     auto &mesh = out_.mesh;
     size_t moreThan4 = 0, renormalised = 0, missingNormals = 0, duplicatePrimitives = 0,
-           pointsOrLines = 0;
+           pointsOrLines = 0, unweighted = 0;
     std::map<std::string, uint32_t> vertexBases; // first vertex of each distinct vertex set
     std::set<std::string> seenPrimitives;
     checkMeshSize();
@@ -693,6 +694,7 @@ private:
           }
           if (attr("JOINTS_0") < 0)
             fail(ctx + ": skinned node without JOINTS_0/WEIGHTS_0");
+          unweighted += gltf::borrowNearestInfluences(infl, pos);
         }
 
         const uint32_t base = known->second;
@@ -711,7 +713,8 @@ private:
           } else {
             auto &list = infl[v];
             if (list.empty())
-              fail(ctx + ": vertex " + std::to_string(v) + " has all-zero weights");
+              fail(ctx + ": no vertex has a joint weight (vertex " + std::to_string(v) +
+                   " has all-zero weights)");
             std::sort(list.begin(), list.end(), [](auto &a, auto &b) {
               return a.first != b.first ? a.first > b.first : a.second < b.second;
             });
@@ -776,6 +779,12 @@ private:
       mesh.parts.push_back(part);
       mesh.indices.insert(mesh.indices.end(), partTriangles[p].begin(), partTriangles[p].end());
     }
+    if (unweighted)
+      reporter_.warn("unweighted_vertices",
+                     std::to_string(unweighted) +
+                         " skinned vertices had all-zero weights: each takes the influences of "
+                         "the nearest weighted vertex of its primitive",
+                     unweighted);
     if (pointsOrLines)
       reporter_.warn("points_or_lines_skipped",
                      std::to_string(pointsOrLines) +

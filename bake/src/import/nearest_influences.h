@@ -1,0 +1,58 @@
+// A skinned vertex no joint weighs (an exporter's unpainted button or eye) is repaired, not
+// refused: it takes the influences of the nearest weighted vertex of its primitive, which is what
+// a painter's "transfer weights from nearest" would give it. three.js would draw it at the origin
+// and Blender unskinned; neither follows the character.
+#pragma once
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+namespace crowd::gltf {
+
+// For every vertex whose list is empty, a copy of the list of the nearest vertex (positions xyz,
+// ties to the lower index) whose list was not. Returns how many were filled; none are where no
+// list has anything (the caller's error).
+template <class List>
+size_t borrowNearestInfluences(std::vector<List> &lists, const std::vector<double> &xyz) {
+  std::vector<uint32_t> weighted; // by x, then index
+  for (uint32_t v = 0; v < lists.size(); ++v)
+    if (!lists[v].empty())
+      weighted.push_back(v);
+  if (weighted.empty() || weighted.size() == lists.size())
+    return 0;
+  std::sort(weighted.begin(), weighted.end(), [&](uint32_t a, uint32_t b) {
+    return xyz[3 * a] != xyz[3 * b] ? xyz[3 * a] < xyz[3 * b] : a < b;
+  });
+  const std::vector<List> before = lists;
+  size_t filled = 0;
+  for (uint32_t v = 0; v < lists.size(); ++v) {
+    if (!before[v].empty())
+      continue;
+    auto distance2 = [&](uint32_t w) {
+      double d = 0;
+      for (int k = 0; k < 3; ++k)
+        d += (xyz[3 * w + k] - xyz[3 * v + k]) * (xyz[3 * w + k] - xyz[3 * v + k]);
+      return d;
+    };
+    // Outwards from v's x in both directions, while the x gap alone is under the best distance.
+    const auto at = std::lower_bound(weighted.begin(), weighted.end(), xyz[3 * v],
+                                     [&](uint32_t w, double x) { return xyz[3 * w] < x; });
+    double best = -1;
+    uint32_t nearest = 0;
+    auto consider = [&](uint32_t w) {
+      const double d = distance2(w);
+      if (best < 0 || d < best || (d == best && w < nearest))
+        best = d, nearest = w;
+    };
+    auto gap2 = [&](uint32_t w) { return (xyz[3 * w] - xyz[3 * v]) * (xyz[3 * w] - xyz[3 * v]); };
+    for (auto it = at; it != weighted.end() && (best < 0 || gap2(*it) <= best); ++it)
+      consider(*it);
+    for (auto it = at; it != weighted.begin() && (best < 0 || gap2(*(it - 1)) <= best); --it)
+      consider(*(it - 1));
+    lists[v] = before[nearest];
+    ++filled;
+  }
+  return filled;
+}
+
+} // namespace crowd::gltf
