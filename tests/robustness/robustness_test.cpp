@@ -202,6 +202,23 @@ const std::vector<Case> kCases = {
        b.j["buffers"].push_back({{"byteLength", 1 << 20}});
        return b.write(d, "mo");
      }},
+    {"uv_transform_overflow", "UV past the range of a number",
+     [](const std::string &d) {
+       auto b = quad();
+       auto &prim = b.j["meshes"][0]["primitives"][0];
+       prim["attributes"]["TEXCOORD_0"] = b.floats({0, 0, 2, 0, 0, 2, 2, 2}, "VEC2");
+       prim["material"] = 0;
+       const nlohmann::json huge = {{"scale", {1e308, 1e308}}};
+       b.j["materials"] = {
+           {{"pbrMetallicRoughness",
+             {{"baseColorTexture",
+               {{"index", 0}, {"extensions", {{"KHR_texture_transform", huge}}}}}}}}};
+       b.j["textures"] = {{{"source", 0}}};
+       const int bytes = b.accessor(std::vector<uint8_t>{1, 2, 3, 4}, 5121, "SCALAR");
+       b.j["images"] = {{{"bufferView", b.j["accessors"][size_t(bytes)]["bufferView"]},
+                         {"mimeType", "image/png"}}};
+       return b.write(d, "uvt");
+     }},
     {"absurd_count", "over the limit of",
      [](const std::string &d) {
        auto b = quad();

@@ -418,11 +418,14 @@ private:
     std::vector<std::string *> names;
     for (T &item : items)
       names.push_back(&item.name);
-    if (const size_t renamed = gltf::makeUnique(names))
-      reporter_.warn(code,
-                     std::to_string(renamed) + " " + what +
-                         " repeat an earlier one's name: renamed NAME_2, NAME_3, ... (" + why + ")",
-                     renamed);
+    warnCount(code, gltf::makeUnique(names),
+              what + " repeat an earlier one's name: renamed NAME_2, NAME_3, ... (" + why + ")");
+  }
+
+  // A warning under `code` that starts with how many (`count` things `what`), where any were.
+  void warnCount(const std::string &code, size_t count, const std::string &what) {
+    if (count)
+      reporter_.warn(code, std::to_string(count) + " " + what, count);
   }
 
   bool hasAncestorIn(int node, const std::set<int> &set) const {
@@ -638,6 +641,9 @@ private:
           uv = *readAccessor(a, ctx + " " + uvName);
           for (size_t k = 0; !uvMap.identity && k + 1 < uv.size(); k += 2) {
             const glm::dvec3 t = uvMap.transform * glm::dvec3(uv[k], uv[k + 1], 1);
+            if (!std::isfinite(t.x) || !std::isfinite(t.y))
+              fail(ctx + " " + uvName + ": KHR_texture_transform takes vertex " +
+                   std::to_string(k / 2) + "'s UV past the range of a number");
             uv[k] = t.x, uv[k + 1] = t.y;
           }
         }
@@ -779,43 +785,23 @@ private:
       mesh.parts.push_back(part);
       mesh.indices.insert(mesh.indices.end(), partTriangles[p].begin(), partTriangles[p].end());
     }
-    if (unweighted)
-      reporter_.warn("unweighted_vertices",
-                     std::to_string(unweighted) +
-                         " skinned vertices had all-zero weights: each takes the influences of "
-                         "the nearest weighted vertex of its primitive",
-                     unweighted);
-    if (pointsOrLines)
-      reporter_.warn("points_or_lines_skipped",
-                     std::to_string(pointsOrLines) +
-                         " primitives draw points or lines, not triangles: skipped",
-                     pointsOrLines);
+    warnCount("unweighted_vertices", unweighted,
+              "skinned vertices had all-zero weights: each takes the influences of the nearest "
+              "weighted vertex of its primitive");
+    warnCount("points_or_lines_skipped", pointsOrLines,
+              "primitives draw points or lines, not triangles: skipped");
     if (mesh.indices.empty())
       fail(pointsOrLines ? "mesh has no triangles: its primitives draw points or lines"
                          : "mesh has no triangles");
     if (!hasUvs_)
       mesh.uvs.clear();
-    if (moreThan4)
-      reporter_.warn(
-          "more_than_4_influences",
-          std::to_string(moreThan4) +
-              " vertices had more than 4 joint influences: kept the 4 largest, renormalised",
-          moreThan4);
-    if (renormalised)
-      reporter_.warn("weights_renormalised",
-                     std::to_string(renormalised) +
-                         " vertices had weights not summing to 1: renormalised",
-                     renormalised);
-    if (duplicatePrimitives)
-      reporter_.warn("duplicate_primitives_dropped",
-                     std::to_string(duplicatePrimitives) +
-                         " primitives repeated another's vertices, indices and material: dropped",
-                     duplicatePrimitives);
-    if (missingNormals)
-      reporter_.warn("normals_computed",
-                     std::to_string(missingNormals) +
-                         " primitives had no NORMAL: computed from faces",
-                     missingNormals);
+    warnCount("more_than_4_influences", moreThan4,
+              "vertices had more than 4 joint influences: kept the 4 largest, renormalised");
+    warnCount("weights_renormalised", renormalised,
+              "vertices had weights not summing to 1: renormalised");
+    warnCount("duplicate_primitives_dropped", duplicatePrimitives,
+              "primitives repeated another's vertices, indices and material: dropped");
+    warnCount("normals_computed", missingNormals, "primitives had no NORMAL: computed from faces");
   }
 
   // The morph targets of a primitive whose vertices were just appended at `base`: the node's
@@ -1085,12 +1071,8 @@ private:
         out_.clips.push_back(std::move(clip));
     }
     makeNamesUnique(out_.clips, "duplicate_clip_names", "clips", "clips are chosen by name");
-    if (strayWeightChannels)
-      reporter_.warn("morph_weights_without_targets",
-                     std::to_string(strayWeightChannels) +
-                         " morph-weight channels animate nodes whose baked mesh has no morph "
-                         "targets: ignored",
-                     strayWeightChannels);
+    warnCount("morph_weights_without_targets", strayWeightChannels,
+              "morph-weight channels animate nodes whose baked mesh has no morph targets: ignored");
   }
 
   std::string path_;
