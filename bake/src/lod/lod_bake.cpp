@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <initializer_list>
 #include <map>
 
 #include "cost_queue.h"
@@ -12,6 +11,7 @@
 #include "crowd/formats/error.h"
 #include "fan_mesh.h"
 #include "float_key.h"
+#include "pose_quadrics.h"
 
 // Why by hand, not OpenMesh's half-edge collapse: on flat arrays the whole collapse order runs
 // 2.2 times faster on the sample humanoid in the bind pose, 1.7 times with 16 poses (OpenMesh's
@@ -20,83 +20,6 @@
 // stores.
 namespace crowd {
 namespace {
-
-// Every vertex's quadric (symmetric 4x4: xx xy xz xw yy yz yw zz zw ww) in every pose, pose-
-// minor: coefficient k of vertex v in pose p at (v * 10 + k) * stride + p, the poses padded with
-// zeros to an even count, so the compiler evaluates two poses at once. A collapse of a into b
-// costs (Qa + Qb) at b's position in the pose where that is largest: the worst frame is what the
-// player shows (the mean over poses let a collapse that tears one pose win over one moderate in
-// all, and came out worse than the bind pose alone on CesiumMan and RiggedSimple). Qa at b plus
-// Qb at b, which changes only when b does and is kept per vertex and pose (self).
-class PoseQuadrics {
-public:
-  PoseQuadrics(size_t vertices, size_t poses, const std::vector<glm::dvec3> &posed)
-      : poses_(poses), stride_(poses + poses % 2), build_(vertices * poses * 10, 0.0),
-        q_(vertices * 10 * stride_, 0.0), at_(vertices * 3 * stride_, 0.0),
-        self_(vertices * stride_, 0.0), term_(stride_, 0.0) {
-    for (size_t v = 0; v < vertices; ++v)
-      for (size_t p = 0; p < poses; ++p)
-        for (size_t k = 0; k < 3; ++k)
-          at_[(v * 3 + k) * stride_ + p] = posed[v * poses + p][int(k)];
-  }
-  // Adds w times the plane n.x + d = 0 to the quadrics of `vertices` in `pose`.
-  void addPlane(std::initializer_list<uint32_t> vertices, size_t pose, glm::dvec3 n, double d,
-                double w) {
-    const double e[4] = {n.x, n.y, n.z, d};
-    double plane[10];
-    for (int i = 0, k = 0; i < 4; ++i)
-      for (int j = i; j < 4; ++j)
-        plane[k++] = w * e[i] * e[j];
-    for (uint32_t v : vertices) {
-      double *q = &build_[(v * poses_ + pose) * 10]; // gathered pose-major, turned at finish
-      for (int k = 0; k < 10; ++k)
-        q[k] += plane[k];
-    }
-  }
-  void finish() { // after the last addPlane
-    for (size_t v = 0; v < self_.size() / stride_; ++v)
-      for (size_t p = 0; p < poses_; ++p)
-        for (size_t k = 0; k < 10; ++k)
-          q_[(v * 10 + k) * stride_ + p] = build_[(v * poses_ + p) * 10 + k];
-    build_ = {};
-    for (uint32_t v = 0; v < self_.size() / stride_; ++v)
-      selfAt(v);
-  }
-  void selfAt(uint32_t v) {
-    terms(v, v);
-    std::copy(term_.begin(), term_.end(), self_.begin() + long(v * stride_));
-  }
-  void merge(uint32_t into, uint32_t from) {
-    double *a = &q_[into * 10 * stride_];
-    const double *b = &q_[from * 10 * stride_];
-    for (size_t i = 0; i < 10 * stride_; ++i)
-      a[i] += b[i];
-    selfAt(into);
-  }
-  // The most surface moved, over the poses, when a goes to b.
-  double cost(uint32_t a, uint32_t b) const {
-    terms(a, b);
-    double worst = 0;
-    for (size_t p = 0; p < stride_; ++p)
-      worst = std::max(worst, term_[p] + self_[b * stride_ + p]);
-    return worst;
-  }
-
-private:
-  // Per pose, v's quadric at w's position (into term_).
-  void terms(uint32_t v, uint32_t w) const {
-    const size_t S = stride_;
-    const double *q = &q_[v * 10 * S], *x = &at_[w * 3 * S], *y = x + S, *z = y + S;
-    double *t = term_.data();
-    for (size_t p = 0; p < S; ++p) // one pose a lane: vectorized
-      t[p] = x[p] * (q[p] * x[p] + 2 * (q[S + p] * y[p] + q[2 * S + p] * z[p] + q[3 * S + p])) +
-             y[p] * (q[4 * S + p] * y[p] + 2 * (q[5 * S + p] * z[p] + q[6 * S + p])) +
-             z[p] * (q[7 * S + p] * z[p] + 2 * q[8 * S + p]) + q[9 * S + p];
-  }
-  size_t poses_, stride_;
-  std::vector<double> build_, q_, at_, self_;
-  mutable std::vector<double> term_;
-};
 
 // A collapse of `from` into `to`, valid while neither vertex has changed since (their stamps).
 struct Candidate {
@@ -169,7 +92,7 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
     for (size_t p = 1; p < P; ++p)
       posed[v * P + p] = glm::dvec3(poses[p - 1][m.inputOf[v]]);
   }
-  PoseQuadrics quadric(N, P, posed);
+  lod::PoseQuadrics quadric(N, P, posed);
   std::vector<std::vector<uint32_t>> facesOf(N);
   std::vector<glm::dvec3> originalNormal(F);
   auto normalOf = [&](const std::array<uint32_t, 3> &f, size_t p) {
@@ -181,15 +104,7 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
     originalNormal[f] = glm::normalize(normalOf(fv, 0));
     for (uint32_t v : fv)
       facesOf[v].push_back(f);
-    for (size_t p = 0; p < P; ++p) {
-      glm::dvec3 n = normalOf(fv, p);
-      const double area = glm::length(n) * 0.5;
-      if (area == 0)
-        continue;
-      n /= 2 * area;
-      const double d = -glm::dot(n, posed[fv[0] * P + p]);
-      quadric.addPlane({fv[0], fv[1], fv[2]}, p, n, d, area);
-    }
+    quadric.addFace(fv);
   }
   std::vector<uint8_t> alive(F, 1);
   auto corner = [&](uint32_t f, uint32_t v) -> uint32_t {
@@ -249,15 +164,7 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
       const uint32_t n = edgeFaces(a, b, sides);
       if ((n == 2 && sides[0] != f) || !special(a, b))
         continue; // each special edge once, from its first face
-      for (size_t p = 0; p < P; ++p) {
-        const glm::dvec3 pa = posed[a * P + p], pb = posed[b * P + p];
-        glm::dvec3 d = glm::cross(pb - pa, glm::cross(pb - pa, posed[c * P + p] - pa));
-        if (glm::length(d) == 0)
-          continue;
-        d = glm::normalize(d);
-        const double w = 100.0 * glm::dot(pb - pa, pb - pa);
-        quadric.addPlane({a, b}, p, d, -glm::dot(d, pa), w);
-      }
+      quadric.addBorder(a, b, c);
     }
 
   quadric.finish();

@@ -1,0 +1,56 @@
+// The LOD's error quadrics, one per vertex per pose. A collapse of a into b costs (Qa + Qb) at
+// b's position in the pose where that is largest: the worst frame is what the player shows (the
+// mean over poses let a collapse that tears one pose win over one moderate in all, and came out
+// worse than the bind pose alone on CesiumMan and RiggedSimple).
+#pragma once
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+namespace crowd::lod {
+
+// Every vertex's quadric (symmetric 4x4: xx xy xz xw yy yz yw zz zw ww) in every pose, pose-
+// minor: coefficient k of vertex v in pose p at (v * 10 + k) * stride + p, the poses padded with
+// zeros to an even count. Every loop runs over the poses, one a lane, so that the compiler
+// evaluates two or more poses at once; each pose's arithmetic is the same as one at a time.
+class PoseQuadrics {
+public:
+  // posed[v * poses + p]: vertex v in pose p.
+  PoseQuadrics(size_t vertices, size_t poses, const std::vector<glm::dvec3> &posed);
+  // Adds the face's plane, weighted by its area, to its corners' quadrics in every pose where it
+  // has an area.
+  void addFace(const std::array<uint32_t, 3> &f);
+  // Adds, to the ends of the open or seam edge ab of face abc in every pose, a plane through the
+  // edge perpendicular to the face, weighted 100 times the edge's squared length: moving a
+  // corner or cutting across the line costs what moving off the surface would.
+  void addBorder(uint32_t a, uint32_t b, uint32_t c);
+  void finish(); // after the last plane
+  // b takes on a's quadric as a collapses into it.
+  void merge(uint32_t into, uint32_t from);
+  // The most surface moved, over the poses, when a goes to b.
+  double cost(uint32_t a, uint32_t b) const;
+
+  // The loops over the poses, for this stride (pose_quadrics.cpp).
+  struct Kernels {
+    void (*facePlanes)(const double *, const double *, const double *, double *, size_t);
+    void (*borderPlanes)(const double *, const double *, const double *, double *, size_t);
+    void (*addPlane)(double *, const double *, size_t);
+    void (*terms)(const double *, const double *, const double *, double *, size_t);
+  };
+
+private:
+  void selfAt(uint32_t v);
+  size_t stride_;
+  Kernels k_;
+  // Quadrics, positions (x y z) and each quadric at its own vertex (Qb at b, which changes only
+  // when b does), all pose-minor.
+  std::vector<double> q_, at_, self_;
+  std::vector<double> plane_ = std::vector<double>(5 * stride_); // x y z d weight
+  std::vector<double> zero_ = std::vector<double>(stride_);
+  mutable std::vector<double> term_ = std::vector<double>(stride_);
+};
+
+} // namespace crowd::lod
