@@ -247,6 +247,7 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
   // Removal record, in render vertices: who goes, into whom, at what cost; and for each face,
   // the render vertex whose removal deletes it.
   std::vector<uint32_t> removed, target(V, UINT32_MAX);
+  removed.reserve(V); // each render vertex goes at most once
   std::vector<float> cost(V, 0.0f);
   std::vector<int64_t> killer(F, -1);
   size_t aliveFaces = F;
