@@ -154,9 +154,8 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
     for (Neighbour &n : ring.around)
       n.special |= n.faces == 1;
   };
-  // Boundaries and seams also hold their shape: each special edge adds, to both ends, a heavily
-  // weighted plane through it, perpendicular to its face, so moving a corner or cutting across
-  // the line costs what moving off the surface would.
+  // Boundaries and seams also hold their shape: each special edge adds, to both ends, a plane
+  // through it, perpendicular to its face (PoseQuadrics::addBorder).
   for (uint32_t f = 0; f < F; ++f)
     for (uint32_t e = 0; e < 3; ++e) {
       const uint32_t a = m.vertex[f][e], b = m.vertex[f][(e + 1) % 3], c = m.vertex[f][(e + 2) % 3];

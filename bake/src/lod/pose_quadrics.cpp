@@ -37,8 +37,8 @@ void facePlanes(const double *__restrict a, const double *__restrict b, const do
   }
 }
 
-// Per pose, the plane through edge ab perpendicular to triangle abc, weighted 100 |ab|^2 (0
-// where it has no direction).
+// Per pose, the plane through edge ab perpendicular to triangle abc, weighted |ab|^2 (0 where it
+// has no direction).
 template <class Stride>
 void borderPlanes(const double *__restrict a, const double *__restrict b,
                   const double *__restrict c, double *__restrict plane, Stride S) {
@@ -53,7 +53,7 @@ void borderPlanes(const double *__restrict a, const double *__restrict b,
     const double x = ex * inverse, y = ey * inverse, z = ez * inverse;
     plane[kX * S + p] = x, plane[kY * S + p] = y, plane[kZ * S + p] = z;
     plane[kD * S + p] = -(x * a[p] + y * a[S + p] + z * a[2 * S + p]);
-    plane[kWeight * S + p] = some * 100.0 * (ux * ux + uy * uy + uz * uz);
+    plane[kWeight * S + p] = some * (ux * ux + uy * uy + uz * uz);
   }
 }
 
@@ -126,10 +126,16 @@ PoseQuadrics::PoseQuadrics(size_t vertices, size_t poses, const std::vector<glm:
   k_ = stride_ == kDefaultStride ? kernels<std::integral_constant<size_t, kDefaultStride>>()
        : stride_ == kBindStride  ? kernels<std::integral_constant<size_t, kBindStride>>()
                                  : kernels<size_t>();
-  for (size_t v = 0; v < vertices; ++v)
+  glm::dvec3 low(0.0), high(0.0);
+  for (size_t v = 0; v < vertices; ++v) {
+    const glm::dvec3 &rest = posed[v * poses];
+    low = v == 0 ? rest : glm::min(low, rest), high = v == 0 ? rest : glm::max(high, rest);
     for (size_t p = 0; p < poses; ++p)
       for (size_t k = 0; k < 3; ++k)
         at_[(v * 3 + k) * stride_ + p] = posed[v * poses + p][int(k)];
+  }
+  const double diagonal = glm::length(high - low);
+  noise_ = kNoise * kNoise * diagonal * diagonal * diagonal * diagonal;
 }
 
 void PoseQuadrics::addFace(const std::array<uint32_t, 3> &f) {
@@ -170,7 +176,7 @@ double PoseQuadrics::cost(uint32_t a, uint32_t b) const {
   double worst = 0;
   for (double t : term_)
     worst = std::max(worst, t);
-  return worst;
+  return worst < noise_ ? 0.0 : worst;
 }
 
 } // namespace crowd::lod
