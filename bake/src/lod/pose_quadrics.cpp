@@ -17,7 +17,7 @@ namespace crowd::lod {
 namespace {
 
 // Plane rows, each one value per pose: the plane n.x + d = 0 (unit n) and its weight.
-enum Row { kX, kY, kZ, kD, kWeight, kRows };
+enum Row { kX, kY, kZ, kD, kWeight };
 
 // Per pose, the plane of triangle abc, weighted by its area (0, with a unit divisor, where it
 // has none: a padding lane).
