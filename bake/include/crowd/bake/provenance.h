@@ -19,7 +19,7 @@ namespace crowd {
 // sub-mesh's material colour and texture flag (LOOK); every skin a mesh uses is baked, not the
 // largest alone. 0.6.0: the LOD costs its rest pose as drawn (an armature's scale and rigid parts'
 // nodes applied), not in the mesh's own units. 0.7.0: the LOD weights border and seam planes as
-// faces (another collapse order).
+// faces and counts costs below rounding's as 0 (another collapse order).
 inline constexpr const char *kBakerVersion = "crowdbake 0.7.0";
 
 // The compiler and C library this crowdbake was built with and runs on: floats may round
