@@ -32,10 +32,10 @@ size_t borrowNearestInfluences(std::vector<List> &lists, const std::vector<doubl
   std::sort(weighted.begin(), weighted.end(), [&](uint32_t a, uint32_t b) {
     return along(a) != along(b) ? along(a) < along(b) : a < b;
   });
-  const std::vector<List> before = lists;
+  // Only empty lists are filled and only `weighted` ones read: no copy of the lists is needed.
   size_t filled = 0;
   for (uint32_t v = 0; v < lists.size(); ++v) {
-    if (!before[v].empty())
+    if (!lists[v].empty())
       continue;
     auto distance2 = [&](uint32_t w) {
       double d = 0;
@@ -58,7 +58,7 @@ size_t borrowNearestInfluences(std::vector<List> &lists, const std::vector<doubl
       consider(*it);
     for (auto it = at; it != weighted.begin() && (best < 0 || gap2(*(it - 1)) <= best); --it)
       consider(*(it - 1));
-    lists[v] = before[nearest];
+    lists[v] = lists[nearest];
     ++filled;
   }
   return filled;
