@@ -17,7 +17,7 @@ flat in ivec3 v_layer;
 flat in ivec3 v_rows;
 flat in vec3 v_weight;
 flat in int v_level;
-flat in float v_diffuseLod;
+flat in int v_diffuseLevel;
 flat in vec3 v_rows0, v_rows1, v_rows2;
 flat in float v_palette;
 
@@ -121,8 +121,14 @@ void main() {
   }
   if (u_shadow.w > 0.5) { o_colour = vec4(vec3(0.55), 1.0); return; }
   vec2 uv = texelFetch(u_uvs, chosen, 0).xy;
-  vec3 textured =
-      u_hasTexture && u_hasUvs ? textureLod(u_diffuse, uv, v_diffuseLod).rgb : vec3(1.0);
+  // The diffuse texel nearest the UV at the nearest mip level, fetched: the impostor's own texels
+  // are fetched too, and llvmpipe filters a level given per pixel (textureLod) 7x slower.
+  vec3 textured = vec3(1.0);
+  if (u_hasTexture && u_hasUvs) {
+    int level = clamp(v_diffuseLevel, 0, textureQueryLevels(u_diffuse) - 1);
+    ivec2 size = textureSize(u_diffuse, level);
+    textured = texelFetch(u_diffuse, min(ivec2(uv * vec2(size)), size - 1), level).rgb;
+  }
   vec3 n = normalize(normal);
   n = normalize(vec3(dot(v_rows0, n), dot(v_rows1, n), dot(v_rows2, n)));
   float diffuse = max(dot(n, u_lightDirection), 0.0) * inLight(v_world);

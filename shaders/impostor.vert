@@ -47,7 +47,7 @@ flat out ivec3 v_layer;        // the views' atlas layers * 2 + flip
 flat out ivec3 v_rows;         // the views' first rows in Spans at this level
 flat out vec3 v_weight;        // the views' weights, heaviest first (0: unused)
 flat out int v_level;
-flat out float v_diffuseLod;   // the diffuse texture's mip level
+flat out int v_diffuseLevel;   // the diffuse texture's mip level (impostor.frag clamps it)
 flat out vec3 v_rows0, v_rows1, v_rows2;
 flat out float v_palette;
 out vec3 v_world;
@@ -87,8 +87,9 @@ void main() {
   float texelsPerPixel = length(u_eye - centre) / u_oneToOne;
   v_level = clamp(int(floor(log2(max(texelsPerPixel, 1.0)))), 0, u_maxLevel);
   // The diffuse texture's level for the whole impostor, from its texels per pixel (an impostor is
-  // far: one level for all its pixels is what the geometry's derivatives would give, near enough).
-  v_diffuseLod = log2(max(texelsPerPixel * u_diffusePerTexel, 1e-6));
+  // far: one level for all its pixels is what the geometry's derivatives would give, near enough),
+  // the nearest whole level.
+  v_diffuseLevel = int(round(log2(max(texelsPerPixel * u_diffusePerTexel, 1e-6))));
 
   int A = u_layout.x, E = u_layout.y, stored = u_layout.z, F = u_layout.w;
   vec4 clip = clips[int(params.x)];
