@@ -199,6 +199,46 @@ TEST(Lod, ARigidlyMovingMeshCollapsesAsInItsBindPose) {
   EXPECT_EQ(still.triangleCount, moving.triangleCount);
 }
 
+// Flat in its rest pose, folded in two in its one pose: the rest pose alone prices every collapse
+// at 0, so a collapse must cost what it moves the folded surface. bakeLod queues each candidate at
+// its rest-pose bound and works out the cost over the poses when the bound comes up; were the
+// bound taken for the cost, every recorded cost would be 0 and the fold's crease, which no
+// collapse can keep flat, would go as freely as the flat halves.
+TEST(Lod, AFoldInAPoseCostsThoughTheRestPoseIsFlat) {
+  std::vector<glm::vec3> p;
+  std::vector<uint32_t> idx;
+  grid(8, 8, p, idx);
+  for (glm::vec3 &q : p)
+    q.y = 0;
+  std::vector<glm::vec3> folded;
+  for (const glm::vec3 &q : p) // the half past x = 4 stands up about the crease
+    folded.push_back(q.x > 4 ? glm::vec3(4, q.x - 4, q.z) : q);
+  Reporter rep;
+  rep.quiet = true;
+  LodOptions o;
+  o.floorFraction = 0;
+  const LodResult flat = bakeLod(p, idx, o, rep), posed = bakeLod(p, idx, o, rep, {}, {folded});
+  EXPECT_EQ(*std::max_element(flat.error.begin(), flat.error.end()), 0.0f);
+  EXPECT_GT(*std::max_element(posed.error.begin(), posed.error.end()), 0.0f);
+  // The free collapses, first to last, keep the fold exact: no triangle left then spans the
+  // crease (the rest pose alone would let them go on down to two triangles).
+  uint32_t v = uint32_t(posed.order.size());
+  while (v > posed.floorVertices && posed.error[v - 1] == 0)
+    --v;
+  EXPECT_LE(posed.triangleCount[v], 16u) << "the free collapses stopped early";
+  for (uint32_t t = 0; t < posed.triangleCount[v]; ++t) {
+    bool left = false, right = false;
+    for (uint32_t c = 0; c < 3; ++c) {
+      uint32_t i = posed.indices[3 * t + c];
+      while (i >= v)
+        i = posed.collapse[i];
+      left |= p[posed.order[i]].x<4, right |= p[posed.order[i]].x> 4;
+    }
+    EXPECT_FALSE(left && right) << "triangle " << t << " of " << posed.triangleCount[v]
+                                << " spans the crease";
+  }
+}
+
 TEST(Lod, CopiesBoundToOtherJointsStaySeparate) {
   std::vector<glm::vec3> p;
   std::vector<uint32_t> idx;

@@ -5,6 +5,8 @@
 // cost share a bucket and pop last pushed first: the order stays deterministic, and no collapse
 // is taken before one costing under half as much.
 #pragma once
+#include <algorithm>
+#include <bit>
 #include <cstdint>
 #include <cstring>
 #include <vector>
@@ -18,21 +20,34 @@ public:
     if (buckets_[b].capacity() == 0) // a bucket's first growth steps took 5% of the bake
       buckets_[b].reserve(16);
     buckets_[b].push_back(item);
+    occupied_[b >> 6] |= uint64_t(1) << (b & 63);
     lowest_ = b < lowest_ ? b : lowest_;
     ++size_;
   }
   bool empty() const { return size_ == 0; }
-  T pop() { // the queue must not be empty
-    while (buckets_[lowest_].empty())
-      ++lowest_;
-    T item = buckets_[lowest_].back();
-    buckets_[lowest_].pop_back();
+  T pop() {                          // the queue must not be empty
+    if (buckets_[lowest_].empty()) { // the next occupied bucket, 64 at a time
+      uint32_t word = lowest_ >> 6;
+      uint64_t bits = occupied_[word] & (~uint64_t(0) << (lowest_ & 63));
+      while (bits == 0)
+        bits = occupied_[++word];
+      lowest_ = word * 64 + uint32_t(std::countr_zero(bits));
+    }
+    std::vector<T> &bucket = buckets_[lowest_];
+    T item = bucket.back();
+    bucket.pop_back();
+    if (bucket.empty())
+      occupied_[lowest_ >> 6] &= ~(uint64_t(1) << (lowest_ & 63));
     --size_;
     return item;
   }
+  // Whether an item of this cost would come up after the last one popped's bucket.
+  bool later(double cost) const { return bucketOf(cost) > lowest_; }
   void clear() {
-    for (auto &b : buckets_)
-      b.clear();
+    for (uint32_t word = 0; word < occupied_.size(); ++word)
+      for (uint64_t bits = occupied_[word]; bits != 0; bits &= bits - 1)
+        buckets_[word * 64 + uint32_t(std::countr_zero(bits))].clear();
+    std::fill(occupied_.begin(), occupied_.end(), 0);
     lowest_ = kBuckets - 1, size_ = 0;
   }
 
@@ -47,6 +62,7 @@ private:
     return bits >> 16;
   }
   std::vector<std::vector<T>> buckets_ = std::vector<std::vector<T>>(kBuckets);
+  std::vector<uint64_t> occupied_ = std::vector<uint64_t>((kBuckets + 63) / 64); // a bit a bucket
   uint32_t lowest_ = kBuckets - 1;
   size_t size_ = 0;
 };

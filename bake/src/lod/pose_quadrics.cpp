@@ -121,7 +121,7 @@ constexpr size_t kDefaultStride = (LodOptions{}.poses + 2) / 2 * 2, kBindStride 
 } // namespace
 
 PoseQuadrics::PoseQuadrics(size_t vertices, size_t poses, const std::vector<glm::dvec3> &posed)
-    : stride_(poses + poses % 2), q_(vertices * 10 * stride_, 0.0),
+    : poses_(poses), stride_(poses + poses % 2), q_(vertices * 10 * stride_, 0.0),
       at_(vertices * 3 * stride_, 0.0), self_(vertices * stride_, 0.0) {
   k_ = stride_ == kDefaultStride ? kernels<std::integral_constant<size_t, kDefaultStride>>()
        : stride_ == kBindStride  ? kernels<std::integral_constant<size_t, kBindStride>>()
@@ -153,13 +153,20 @@ void PoseQuadrics::addBorder(uint32_t a, uint32_t b, uint32_t c) {
 }
 
 void PoseQuadrics::finish() {
-  for (uint32_t v = 0; v < self_.size() / stride_; ++v)
+  rest_.resize(self_.size() / stride_ * kRest);
+  for (uint32_t v = 0; v < self_.size() / stride_; ++v) {
     selfAt(v);
+    for (size_t k = 0; k < 3; ++k)
+      rest_[v * kRest + 10 + k] = at_[(v * 3 + k) * stride_];
+  }
 }
 
 void PoseQuadrics::selfAt(uint32_t v) {
   k_.terms(&q_[v * 10 * stride_], &at_[v * 3 * stride_], zero_.data(), &self_[v * stride_],
            stride_);
+  for (size_t k = 0; k < 10; ++k)
+    rest_[v * kRest + k] = q_[(v * 10 + k) * stride_];
+  rest_[v * kRest + 13] = self_[v * stride_];
 }
 
 void PoseQuadrics::merge(uint32_t into, uint32_t from) {
@@ -177,6 +184,13 @@ double PoseQuadrics::cost(uint32_t a, uint32_t b) const {
   for (double t : term_)
     worst = std::max(worst, t);
   return worst < noise_ ? 0.0 : worst;
+}
+
+double PoseQuadrics::bound(uint32_t a, uint32_t b) const {
+  double rest;
+  const double *qa = &rest_[a * kRest], *b0 = &rest_[b * kRest];
+  terms(qa, b0 + 10, b0 + 13, &rest, std::integral_constant<size_t, 1>());
+  return rest < noise_ ? 0.0 : rest;
 }
 
 } // namespace crowd::lod

@@ -19,8 +19,10 @@ namespace crowd {
 // sub-mesh's material colour and texture flag (LOOK); every skin a mesh uses is baked, not the
 // largest alone. 0.6.0: the LOD costs its rest pose as drawn (an armature's scale and rigid parts'
 // nodes applied), not in the mesh's own units. 0.7.0: the LOD weights border and seam planes as
-// faces and counts costs below rounding's as 0 (another collapse order).
-inline constexpr const char *kBakerVersion = "crowdbake 0.7.0";
+// faces and counts costs below rounding's as 0 (another collapse order). 0.8.0: the LOD queues
+// each candidate at its rest-pose bound and costs it over the poses when that comes up (ties
+// within a bucket of the queue pop in another order).
+inline constexpr const char *kBakerVersion = "crowdbake 0.8.0";
 
 // The compiler and C library this crowdbake was built with and runs on: floats may round
 // differently under another, so byte-identical goldens hold only on the same toolchain
