@@ -199,11 +199,11 @@ TEST(Lod, ARigidlyMovingMeshCollapsesAsInItsBindPose) {
   EXPECT_EQ(still.triangleCount, moving.triangleCount);
 }
 
-// Flat in its rest pose, folded in two in its one pose: the rest pose alone prices every collapse
-// at 0, so a collapse must cost what it moves the folded surface. bakeLod queues each candidate at
-// its rest-pose bound and works out the cost over the poses when the bound comes up; were the
-// bound taken for the cost, every recorded cost would be 0 and the fold's crease, which no
-// collapse can keep flat, would go as freely as the flat halves.
+// Flat in its rest pose, folded in two in its one pose: the rest pose alone lets every collapse
+// down to two triangles go free, so the fold must price them. bakeLod queues each candidate at its
+// rest-pose bound and works out the cost over the poses when the bound comes up; were the bound
+// taken for the cost, the crease, which no collapse can keep flat, would go as freely as the flat
+// halves.
 TEST(Lod, AFoldInAPoseCostsThoughTheRestPoseIsFlat) {
   std::vector<glm::vec3> p;
   std::vector<uint32_t> idx;
@@ -218,13 +218,16 @@ TEST(Lod, AFoldInAPoseCostsThoughTheRestPoseIsFlat) {
   LodOptions o;
   o.floorFraction = 0;
   const LodResult flat = bakeLod(p, idx, o, rep), posed = bakeLod(p, idx, o, rep, {}, {folded});
-  EXPECT_EQ(*std::max_element(flat.error.begin(), flat.error.end()), 0.0f);
-  EXPECT_GT(*std::max_element(posed.error.begin(), posed.error.end()), 0.0f);
-  // The free collapses, first to last, keep the fold exact: no triangle left then spans the
-  // crease (the rest pose alone would let them go on down to two triangles).
-  uint32_t v = uint32_t(posed.order.size());
-  while (v > posed.floorVertices && posed.error[v - 1] == 0)
-    --v;
+  auto freeUntil = [](const LodResult &r) { // vertices left when the first costly one goes
+    uint32_t v = uint32_t(r.order.size());
+    while (v > r.floorVertices && r.error[v - 1] == 0)
+      --v;
+    return v;
+  };
+  EXPECT_EQ(flat.triangleCount[freeUntil(flat)], 2u);
+  // Folded, the free collapses keep the fold exact: no triangle left then spans the crease.
+  const uint32_t v = freeUntil(posed);
+  EXPECT_GT(posed.triangleCount[v], 2u);
   EXPECT_LE(posed.triangleCount[v], 16u) << "the free collapses stopped early";
   for (uint32_t t = 0; t < posed.triangleCount[v]; ++t) {
     bool left = false, right = false;
@@ -232,11 +235,41 @@ TEST(Lod, AFoldInAPoseCostsThoughTheRestPoseIsFlat) {
       uint32_t i = posed.indices[3 * t + c];
       while (i >= v)
         i = posed.collapse[i];
-      left |= p[posed.order[i]].x<4, right |= p[posed.order[i]].x> 4;
+      left |= p[posed.order[i]].x < 4;
+      right |= p[posed.order[i]].x > 4;
     }
     EXPECT_FALSE(left && right) << "triangle " << t << " of " << posed.triangleCount[v]
                                 << " spans the crease";
   }
+}
+
+// Every collapse of a flat grid is free. Taken last pushed first, each went into the vertex the
+// last one went into: its ring grew with every collapse, an 80,000-triangle grid took 15 s, and
+// the coarse grid was a fan around one vertex. Free collapses go by octaves of their edge's
+// length, shortest first (PoseQuadrics::freeKey): the rings stay small and the triangles even.
+TEST(Lod, AFlatGridsFreeCollapsesSpreadOverIt) {
+  std::vector<glm::vec3> p;
+  std::vector<uint32_t> idx;
+  grid(40, 40, p, idx);
+  for (glm::vec3 &q : p)
+    q.y = 0;
+  Reporter rep;
+  rep.quiet = true;
+  const LodResult r = bakeLod(p, idx, {}, rep);
+  EXPECT_EQ(*std::max_element(r.error.begin(), r.error.end()), 0.0f);
+  uint32_t v = uint32_t(r.order.size());
+  while (v > r.floorVertices && r.triangleCount[v - 1] >= idx.size() / 3 / 4)
+    --v;
+  std::vector<uint32_t> valence(v, 0);
+  for (uint32_t t = 0; t < r.triangleCount[v]; ++t)
+    for (uint32_t c = 0; c < 3; ++c) {
+      uint32_t i = r.indices[3 * t + c];
+      while (i >= v)
+        i = r.collapse[i];
+      ++valence[i];
+    }
+  EXPECT_LE(*std::max_element(valence.begin(), valence.end()), 12u)
+      << "at " << r.triangleCount[v] << " triangles";
 }
 
 TEST(Lod, CopiesBoundToOtherJointsStaySeparate) {

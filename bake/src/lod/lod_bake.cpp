@@ -246,7 +246,8 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
   const bool boundIsCost = quadric.boundIsCost();
   auto push = [&](uint32_t from, uint32_t to) {
     const double bound = quadric.bound(from, to);
-    queue.push(bound, {bound, from, to, stamp[from], stamp[to], boundIsCost});
+    queue.push(bound > 0 ? bound : quadric.freeKey(from, to),
+               {bound, from, to, stamp[from], stamp[to], boundIsCost});
   };
 
   // Removal record, in render vertices: who goes, into whom, at what cost; and for each face,

@@ -136,6 +136,7 @@ PoseQuadrics::PoseQuadrics(size_t vertices, size_t poses, const std::vector<glm:
   }
   const double diagonal = glm::length(high - low);
   noise_ = kNoise * kNoise * diagonal * diagonal * diagonal * diagonal;
+  diagonal2_ = diagonal * diagonal;
 }
 
 void PoseQuadrics::addFace(const std::array<uint32_t, 3> &f) {
@@ -191,6 +192,16 @@ double PoseQuadrics::bound(uint32_t a, uint32_t b) const {
   const double *qa = &rest_[a * kRest], *b0 = &rest_[b * kRest];
   terms(qa, b0 + 10, b0 + 13, &rest, std::integral_constant<size_t, 1>());
   return rest < noise_ ? 0.0 : rest;
+}
+
+double PoseQuadrics::freeKey(uint32_t a, uint32_t b) const {
+  const double *pa = &rest_[a * kRest + 10], *pb = &rest_[b * kRest + 10];
+  const double length2 = (pa[0] - pb[0]) * (pa[0] - pb[0]) + (pa[1] - pb[1]) * (pa[1] - pb[1]) +
+                         (pa[2] - pb[2]) * (pa[2] - pb[2]);
+  int octave = kShortest; // of the length squared over the diagonal's
+  if (length2 > 0)
+    std::frexp(std::min(length2 / diagonal2_, 1.0), &octave);
+  return std::ldexp(0.25 * noise_, std::max(octave, kShortest));
 }
 
 } // namespace crowd::lod

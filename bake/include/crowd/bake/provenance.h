@@ -21,8 +21,9 @@ namespace crowd {
 // nodes applied), not in the mesh's own units. 0.7.0: the LOD weights border and seam planes as
 // faces and counts costs below rounding's as 0 (another collapse order). 0.8.0: the LOD queues
 // each candidate at its rest-pose bound and costs it over the poses when that comes up (ties
-// within a bucket of the queue pop in another order).
-inline constexpr const char *kBakerVersion = "crowdbake 0.8.0";
+// within a bucket of the queue pop in another order). 0.8.1: the LOD's free collapses queue by
+// the octave of their edge's length, shortest first (they all went last pushed first).
+inline constexpr const char *kBakerVersion = "crowdbake 0.8.1";
 
 // The compiler and C library this crowdbake was built with and runs on: floats may round
 // differently under another, so byte-identical goldens hold only on the same toolchain
