@@ -116,6 +116,15 @@ void grid(int w, int h, std::vector<glm::vec3> &p, std::vector<uint32_t> &idx) {
     }
 }
 
+// Corner c of triangle t at the level of v vertices, as the player cuts it: each removed vertex
+// followed into the one it collapsed into.
+uint32_t cornerAt(const LodResult &r, uint32_t t, uint32_t c, uint32_t v) {
+  uint32_t i = r.indices[3 * t + c];
+  while (i >= v)
+    i = r.collapse[i];
+  return i;
+}
+
 TEST(Lod, FailureModesAreRepairedAndReported) {
   std::vector<glm::vec3> p;
   std::vector<uint32_t> idx;
@@ -232,11 +241,9 @@ TEST(Lod, AFoldInAPoseCostsThoughTheRestPoseIsFlat) {
   for (uint32_t t = 0; t < posed.triangleCount[v]; ++t) {
     bool left = false, right = false;
     for (uint32_t c = 0; c < 3; ++c) {
-      uint32_t i = posed.indices[3 * t + c];
-      while (i >= v)
-        i = posed.collapse[i];
-      left |= p[posed.order[i]].x < 4;
-      right |= p[posed.order[i]].x > 4;
+      const glm::vec3 &at = p[posed.order[cornerAt(posed, t, c, v)]];
+      left |= at.x < 4;
+      right |= at.x > 4;
     }
     EXPECT_FALSE(left && right) << "triangle " << t << " of " << posed.triangleCount[v]
                                 << " spans the crease";
@@ -262,12 +269,8 @@ TEST(Lod, AFlatGridsFreeCollapsesSpreadOverIt) {
     --v;
   std::vector<uint32_t> valence(v, 0);
   for (uint32_t t = 0; t < r.triangleCount[v]; ++t)
-    for (uint32_t c = 0; c < 3; ++c) {
-      uint32_t i = r.indices[3 * t + c];
-      while (i >= v)
-        i = r.collapse[i];
-      ++valence[i];
-    }
+    for (uint32_t c = 0; c < 3; ++c)
+      ++valence[cornerAt(r, t, c, v)];
   EXPECT_LE(*std::max_element(valence.begin(), valence.end()), 12u)
       << "at " << r.triangleCount[v] << " triangles";
 }

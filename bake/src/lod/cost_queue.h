@@ -25,8 +25,10 @@ public:
     ++size_;
   }
   bool empty() const { return size_ == 0; }
-  T pop() {                          // the queue must not be empty
-    if (buckets_[lowest_].empty()) { // the next occupied bucket, 64 at a time
+  // The cheapest item (the queue must not be empty). Where the last bucket popped from is
+  // empty, the next occupied one is found in occupied_, 64 buckets a step.
+  T pop() {
+    if (buckets_[lowest_].empty()) {
       uint32_t word = lowest_ >> 6;
       uint64_t bits = occupied_[word] & (~uint64_t(0) << (lowest_ & 63));
       while (bits == 0)
