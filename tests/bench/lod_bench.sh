@@ -5,7 +5,7 @@
 # and gltfpack's copies (tests/data/gltfpack):
 # rest-pose Hausdorff distance and its
 # max and mean over every frame (% of the rest pose's diagonal, tests/bench/lod_distance.h), and
-# sequence time against meshopt's four calls (each the fastest of 5 runs; the 1M-triangle grid once). Writes OUT/lod_bench.csv, OUT/lod_times.csv and one
+# sequence time against meshopt's four calls (each the fastest of 5 runs; the 1M-triangle grids, bumpy and flat, once). Writes OUT/lod_bench.csv, OUT/lod_times.csv and one
 # SVG chart per asset and figure. Needs libmeshoptimizer-dev and libcgal-dev (then ./run build
 # builds build/bin/lod_bench). Usage: tests/bench/lod_bench.sh [OUT]
 set -euo pipefail
