@@ -105,10 +105,11 @@ TEST(Lod, EveryRealModelWalksCleanly) {
 }
 
 // A w x h grid of quads in the XZ plane (open boundary), two triangles each.
-void grid(int w, int h, std::vector<glm::vec3> &p, std::vector<uint32_t> &idx) {
+void grid(int w, int h, std::vector<glm::vec3> &p, std::vector<uint32_t> &idx,
+          float bumps = 0.05f) {
   for (int y = 0; y <= h; ++y)
     for (int x = 0; x <= w; ++x)
-      p.push_back({float(x), 0.05f * float((x * 7 + y * 3) % 5), float(y)});
+      p.push_back({float(x), bumps * float((x * 7 + y * 3) % 5), float(y)});
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       uint32_t a = uint32_t(y * (w + 1) + x), b = a + 1, c = a + uint32_t(w + 1), d = c + 1;
@@ -216,9 +217,7 @@ TEST(Lod, ARigidlyMovingMeshCollapsesAsInItsBindPose) {
 TEST(Lod, AFoldInAPoseCostsThoughTheRestPoseIsFlat) {
   std::vector<glm::vec3> p;
   std::vector<uint32_t> idx;
-  grid(8, 8, p, idx);
-  for (glm::vec3 &q : p)
-    q.y = 0;
+  grid(8, 8, p, idx, 0);
   std::vector<glm::vec3> folded;
   for (const glm::vec3 &q : p) // the half past x = 4 stands up about the crease
     folded.push_back(q.x > 4 ? glm::vec3(4, q.x - 4, q.z) : q);
@@ -257,9 +256,7 @@ TEST(Lod, AFoldInAPoseCostsThoughTheRestPoseIsFlat) {
 TEST(Lod, AFlatGridsFreeCollapsesSpreadOverIt) {
   std::vector<glm::vec3> p;
   std::vector<uint32_t> idx;
-  grid(40, 40, p, idx);
-  for (glm::vec3 &q : p)
-    q.y = 0;
+  grid(40, 40, p, idx, 0);
   Reporter rep;
   rep.quiet = true;
   const LodResult r = bakeLod(p, idx, {}, rep);
