@@ -24,7 +24,7 @@ namespace {
 // A collapse of `from` into `to`, valid while neither vertex has changed since (their stamps);
 // its cost, or until `exact` a lower bound of it (PoseQuadrics::bound).
 struct Candidate {
-  double cost;
+  float cost; // as the pack stores it; the queue's buckets hold fewer bits
   uint32_t from, to, fromStamp, toStamp;
   bool exact;
 };
@@ -84,26 +84,29 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
 
   const size_t V = m.source.size(), F = m.vertex.size(), N = m.position.size();
   const std::vector<std::array<uint32_t, 3>> initialCorner = m.render;
-  // Each topological vertex in the rest pose and every pose, and one quadric per vertex per pose:
-  // a collapse costs what it moves the surface in every pose, each measured where the vertex is
-  // in that pose.
-  const size_t P = 1 + poses.size();
-  std::vector<glm::dvec3> posed(N * P);
-  for (size_t v = 0; v < N; ++v) {
-    posed[v * P] = m.position[v];
-    for (size_t p = 1; p < P; ++p)
-      posed[v * P + p] = glm::dvec3(poses[p - 1][m.inputOf[v]]);
-  }
-  lod::PoseQuadrics quadric(N, P, posed);
+  // One quadric per vertex per pose (the rest pose and each of `poses`): a collapse costs what it
+  // moves the surface in every pose, each measured where the vertex is in that pose. The rest of
+  // the bake (normals, legality) looks at the rest pose alone.
+  lod::PoseQuadrics quadric(m.position, poses, m.inputOf);
+  const std::vector<glm::dvec3> &rest = m.position;
   std::vector<std::vector<uint32_t>> facesOf(N);
+  {
+    std::vector<uint32_t> valence(N,
+                                  0); // each list allocated once, not grown
+    for (const auto &fv : m.vertex)
+      for (uint32_t v : fv)
+        ++valence[v];
+    for (size_t v = 0; v < N; ++v)
+      facesOf[v].reserve(valence[v]);
+  }
   std::vector<glm::dvec3> originalNormal(F);
-  auto normalOf = [&](const std::array<uint32_t, 3> &f, size_t p) {
-    const glm::dvec3 &a = posed[f[0] * P + p];
-    return glm::cross(posed[f[1] * P + p] - a, posed[f[2] * P + p] - a);
+  auto normalOf = [&](const std::array<uint32_t, 3> &f) { // in the rest pose
+    const glm::dvec3 &a = rest[f[0]];
+    return glm::cross(rest[f[1]] - a, rest[f[2]] - a);
   };
   for (uint32_t f = 0; f < F; ++f) {
     const auto &fv = m.vertex[f];
-    originalNormal[f] = glm::normalize(normalOf(fv, 0));
+    originalNormal[f] = glm::normalize(normalOf(fv));
     for (uint32_t v : fv)
       facesOf[v].push_back(f);
     quadric.addFace(fv);
@@ -127,9 +130,8 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
   };
   // An edge is special when it is open or a seam (the faces on its two sides use different
   // render vertices for an end).
-  auto special = [&](uint32_t a, uint32_t b) {
-    uint32_t f[2];
-    if (edgeFaces(a, b, f) != 2)
+  auto special = [&](uint32_t a, uint32_t b, uint32_t sides, const uint32_t f[2]) {
+    if (sides != 2)
       return true;
     return m.render[f[0]][corner(f[0], a)] != m.render[f[1]][corner(f[1], a)] ||
            m.render[f[0]][corner(f[0], b)] != m.render[f[1]][corner(f[1], b)];
@@ -157,13 +159,16 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
       n.special |= n.faces == 1;
   };
   // Boundaries and seams also hold their shape: each special edge adds, to both ends, a plane
-  // through it, perpendicular to its face (PoseQuadrics::addBorder).
+  // through it, perpendicular to its face (PoseQuadrics::addBorder). open[f]: a bit for each of
+  // the face's open edges, for the first pass over the edges below.
+  std::vector<uint8_t> open(F, 0);
   for (uint32_t f = 0; f < F; ++f)
     for (uint32_t e = 0; e < 3; ++e) {
       const uint32_t a = m.vertex[f][e], b = m.vertex[f][(e + 1) % 3], c = m.vertex[f][(e + 2) % 3];
       uint32_t sides[2];
       const uint32_t n = edgeFaces(a, b, sides);
-      if ((n == 2 && sides[0] != f) || !special(a, b))
+      open[f] |= uint8_t(n == 1) << e;
+      if ((n == 2 && sides[0] != f) || !special(a, b, n, sides))
         continue; // each special edge once, from its first face
       quadric.addBorder(a, b, c);
     }
@@ -216,17 +221,17 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
     for (uint32_t s = 0; s < sides; ++s) // a face with two open edges would leave a dangling one
       if (ringA.count(apex[s]) == 1 && ringB.count(apex[s]) == 1)
         return Block::kManifold;
-    const glm::dvec3 target = posed[b * P];
+    const glm::dvec3 target = rest[b];
     for (uint32_t f : facesOf[a]) {
       if (!alive[f] || has(f, b))
         continue; // this face disappears
       if (sides == 2 && has(f, apex[0]) && has(f, apex[1]))
         return Block::kManifold; // a tetrahedron: the faces left would be one triangle twice
       std::array<uint32_t, 3> fv = m.vertex[f];
-      const glm::dvec3 before = normalOf(fv, 0);
+      const glm::dvec3 before = normalOf(fv);
       glm::dvec3 p[3];
       for (int k = 0; k < 3; ++k)
-        p[k] = fv[size_t(k)] == a ? target : posed[fv[size_t(k)] * P];
+        p[k] = fv[size_t(k)] == a ? target : rest[fv[size_t(k)]];
       const glm::dvec3 n = glm::cross(p[1] - p[0], p[2] - p[0]);
       const double len = glm::length(n);
       if (len <= 1e-12 * glm::dot(target, target) + 1e-30)
@@ -247,7 +252,7 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
   auto push = [&](uint32_t from, uint32_t to) {
     const double bound = quadric.bound(from, to);
     queue.push(bound > 0 ? bound : quadric.freeKey(from, to),
-               {bound, from, to, stamp[from], stamp[to], boundIsCost});
+               {float(bound), from, to, stamp[from], stamp[to], boundIsCost});
   };
 
   // Removal record, in render vertices: who goes, into whom, at what cost; and for each face,
@@ -258,12 +263,11 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
   std::vector<int64_t> killer(F, -1);
   size_t aliveFaces = F;
   const size_t floorFaces = size_t(std::ceil(o.floorFraction * double(F)));
-  bool progress = true;
+  bool progress = true, first = true; // first: the first pass over the edges
   while (aliveFaces > floorFaces && progress) {
     // Costs change only around a collapse, but legality can change one ring further out: when
     // the queue runs dry, every remaining edge gets another chance until none is legal. Each
     // face pushes its edges as wound; an open edge is pushed both ways.
-    progress = false;
     for (uint32_t f = 0; f < F; ++f) {
       if (!alive[f])
         continue;
@@ -271,17 +275,18 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
         const uint32_t a = m.vertex[f][e], b = m.vertex[f][(e + 1) % 3];
         uint32_t sides[2];
         push(a, b);
-        if (edgeFaces(a, b, sides) == 1)
+        if (first ? open[f] >> e & 1 : edgeFaces(a, b, sides) == 1)
           push(b, a);
       }
     }
+    progress = first = false;
     while (!queue.empty() && aliveFaces > floorFaces) {
       Candidate c = queue.pop();
       const uint32_t a = c.from, b = c.to;
       if (gone[a] || gone[b] || stamp[a] != c.fromStamp || stamp[b] != c.toStamp)
         continue;
       if (!c.exact) { // its cost, now; if that comes up later, it waits its turn there
-        c.cost = quadric.cost(a, b), c.exact = true;
+        c.cost = float(quadric.cost(a, b)), c.exact = true;
         if (queue.later(c.cost)) {
           queue.push(c.cost, c);
           continue;
@@ -318,7 +323,7 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
       for (size_t q = 0; q < pairCount; ++q) {
         removed.push_back(pairs[q].first);
         target[pairs[q].first] = pairs[q].second;
-        cost[pairs[q].first] = float(c.cost);
+        cost[pairs[q].first] = c.cost;
       }
       quadric.merge(b, a);
       facesOf[a].clear();

@@ -120,19 +120,24 @@ constexpr size_t kDefaultStride = (LodOptions{}.poses + 2) / 2 * 2, kBindStride 
 
 } // namespace
 
-PoseQuadrics::PoseQuadrics(size_t vertices, size_t poses, const std::vector<glm::dvec3> &posed)
-    : poses_(poses), stride_(poses + poses % 2), q_(vertices * 10 * stride_, 0.0),
-      at_(vertices * 3 * stride_, 0.0), self_(vertices * stride_, 0.0) {
+PoseQuadrics::PoseQuadrics(const std::vector<glm::dvec3> &rest,
+                           const std::vector<std::vector<glm::vec3>> &poses,
+                           const std::vector<uint32_t> &inputOf)
+    : poses_(1 + poses.size()), stride_(poses_ + poses_ % 2), q_(rest.size() * 10 * stride_, 0.0),
+      at_(rest.size() * 3 * stride_, 0.0), self_(rest.size() * stride_, 0.0) {
   k_ = stride_ == kDefaultStride ? kernels<std::integral_constant<size_t, kDefaultStride>>()
        : stride_ == kBindStride  ? kernels<std::integral_constant<size_t, kBindStride>>()
                                  : kernels<size_t>();
   glm::dvec3 low(0.0), high(0.0);
-  for (size_t v = 0; v < vertices; ++v) {
-    const glm::dvec3 &rest = posed[v * poses];
-    low = v == 0 ? rest : glm::min(low, rest), high = v == 0 ? rest : glm::max(high, rest);
-    for (size_t p = 0; p < poses; ++p)
-      for (size_t k = 0; k < 3; ++k)
-        at_[(v * 3 + k) * stride_ + p] = posed[v * poses + p][int(k)];
+  for (size_t v = 0; v < rest.size(); ++v) {
+    low = v == 0 ? rest[v] : glm::min(low, rest[v]),
+    high = v == 0 ? rest[v] : glm::max(high, rest[v]);
+    for (size_t k = 0; k < 3; ++k) {
+      double *at = &at_[(v * 3 + k) * stride_];
+      at[0] = rest[v][int(k)];
+      for (size_t p = 0; p < poses.size(); ++p)
+        at[1 + p] = double(poses[p][inputOf[v]][int(k)]);
+    }
   }
   const double diagonal = glm::length(high - low);
   noise_ = kNoise * kNoise * diagonal * diagonal * diagonal * diagonal;

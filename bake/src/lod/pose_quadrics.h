@@ -18,8 +18,10 @@ namespace crowd::lod {
 // evaluates two or more poses at once; each pose's arithmetic is the same as one at a time.
 class PoseQuadrics {
 public:
-  // posed[v * poses + p]: vertex v in pose p.
-  PoseQuadrics(size_t vertices, size_t poses, const std::vector<glm::dvec3> &posed);
+  // Vertex v at rest[v] in the rest pose, the first, and at poses[p][inputOf[v]] in pose p + 1.
+  PoseQuadrics(const std::vector<glm::dvec3> &rest,
+               const std::vector<std::vector<glm::vec3>> &poses,
+               const std::vector<uint32_t> &inputOf);
   // Adds the face's plane, weighted by its area, to its corners' quadrics in every pose where it
   // has an area.
   void addFace(const std::array<uint32_t, 3> &f);
