@@ -90,9 +90,8 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
   lod::PoseQuadrics quadric(m.position, poses, m.inputOf);
   const std::vector<glm::dvec3> &rest = m.position;
   std::vector<std::vector<uint32_t>> facesOf(N);
-  {
-    std::vector<uint32_t> valence(N,
-                                  0); // each list allocated once, not grown
+  { // each list allocated once, not grown
+    std::vector<uint32_t> valence(N, 0);
     for (const auto &fv : m.vertex)
       for (uint32_t v : fv)
         ++valence[v];
@@ -129,7 +128,7 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
     return n;
   };
   // An edge is special when it is open or a seam (the faces on its two sides use different
-  // render vertices for an end).
+  // render vertices for an end); `sides` and `f`: its live faces, from edgeFaces.
   auto special = [&](uint32_t a, uint32_t b, uint32_t sides, const uint32_t f[2]) {
     if (sides != 2)
       return true;

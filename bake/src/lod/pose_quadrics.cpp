@@ -130,7 +130,7 @@ PoseQuadrics::PoseQuadrics(const std::vector<glm::dvec3> &rest,
                                  : kernels<size_t>();
   glm::dvec3 low(0.0), high(0.0);
   for (size_t v = 0; v < rest.size(); ++v) {
-    low = v == 0 ? rest[v] : glm::min(low, rest[v]),
+    low = v == 0 ? rest[v] : glm::min(low, rest[v]);
     high = v == 0 ? rest[v] : glm::max(high, rest[v]);
     for (size_t k = 0; k < 3; ++k) {
       double *at = &at_[(v * 3 + k) * stride_];
