@@ -8,17 +8,22 @@
 // (lod_distance.h); and the time of our full sequence against meshopt's four calls, in the same
 // process.
 // Usage: lod_bench OUT.csv TIMES.csv FILE.glb...
+//        lod_bench --times-only TIMES.csv FILE.glb...   (the times alone: no distances, no grids;
+//        what tests/bench/lod_speed.sh runs, alternating with a baseline's lod_bench)
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <optional>
+#include <string>
 
 #include <sys/resource.h>
 
 #include <meshoptimizer.h>
 
+#include "crowd/bake/evaluate.h"
 #include "crowd/bake/import.h"
 #include "crowd/bake/lod_bake.h"
 #include "lod_distance.h"
@@ -44,7 +49,7 @@ std::vector<uint32_t> cut(const crowd::LodResult &r, size_t triangles) {
 // The time and memory bound: a 708 x 708 grid, 1,002,528 triangles with no skin (the bind pose
 // alone), ours against meshopt's four calls; how far the bake raises the process's peak memory,
 // in MB (0 for a grid no larger than one before it). Bumpy, or
-// `flat`: there every collapse is free, the case that once went quadratic (PoseQuadrics::freeKey).
+// `flat`: there every collapse is free, the case that once went quadratic (PoseQuadrics::key).
 void bigMesh(std::ofstream &times, bool flat) {
   const char *name = flat ? "flat_1M" : "grid_1M";
   const float bumps = flat ? 0.0f : 0.02f;
@@ -100,11 +105,13 @@ template <class Work> double fastest(Work work) {
 } // namespace
 
 int main(int argc, char **argv) {
+  const bool timesOnly = argc > 1 && std::string(argv[1]) == "--times-only";
   if (argc < 4) {
-    std::fprintf(stderr, "usage: lod_bench OUT.csv TIMES.csv FILE.glb...\n");
+    std::fprintf(stderr, "usage: lod_bench OUT.csv TIMES.csv FILE.glb...\n"
+                         "       lod_bench --times-only TIMES.csv FILE.glb...\n");
     return 2;
   }
-  std::ofstream csv(argv[1]), times(argv[2]);
+  std::ofstream csv(timesOnly ? "/dev/null" : argv[1]), times(argv[2]);
   csv << "asset,method,share,triangles,rest_hausdorff_pct,animated_max_hausdorff_pct,"
          "animated_mean_hausdorff_pct\n";
   times << "asset,triangles,ours_s,ours_bind_only_s,meshopt_4_calls_s,ours_mtris_per_s,"
@@ -119,9 +126,11 @@ int main(int argc, char **argv) {
     const size_t T = m.indices.size() / 3;
     const auto lt = crowd::lodTriangles(m); // as applyLod collapses them
     const auto poses = crowd::samplePoses(c, crowd::LodOptions{}.poses); // as crowdbake lod does
-    const crowd::bench::LodDistanceMeasure distance(c);
-    std::vector<glm::vec3> rest;
-    for (const auto &p : distance.rest())
+    std::optional<crowd::bench::LodDistanceMeasure> distance;            // every frame posed: slow
+    if (!timesOnly)
+      distance.emplace(c);
+    std::vector<glm::vec3> rest; // as the player draws it (and as the measure poses it)
+    for (const auto &p : crowd::posedPositions(c, nullptr, 0.0))
       rest.push_back(glm::vec3(p));
     // Each timing is the fastest of kRepeats runs (a steady figure, caches warm), in seconds.
     crowd::LodResult ours, agnostic;
@@ -158,9 +167,11 @@ int main(int argc, char **argv) {
     }
     times << asset << "," << T << "," << oursS << "," << agnosticS << "," << meshoptS << ","
           << double(T) / oursS / 1e6 << "," << double(T) / agnosticS / 1e6 << "\n";
+    if (timesOnly)
+      continue;
 
     const auto row = [&](const char *method, double share, const std::vector<uint32_t> &idx) {
-      const crowd::bench::LodDistance d = distance.measure(idx);
+      const crowd::bench::LodDistance d = distance->measure(idx);
       csv << asset << "," << method << "," << share << "," << idx.size() / 3 << "," << d.restPct
           << "," << d.animatedMaxPct << "," << d.animatedMeanPct << "\n";
       std::fprintf(stderr, "%s %s %.0f%%: %zu triangles\n", asset.c_str(), method, share * 100,
@@ -173,7 +184,9 @@ int main(int argc, char **argv) {
       row("meshopt", shares[k], meshopt[k]);
     }
   }
-  bigMesh(times, false);
-  bigMesh(times, true);
+  if (!timesOnly) {
+    bigMesh(times, false);
+    bigMesh(times, true);
+  }
   return 0;
 }

@@ -1,27 +1,21 @@
 #!/usr/bin/env bash
 # LOD benchmark: ours (skinning-aware, 16 poses), ours pose-agnostic (bind pose only) and
-# meshopt_simplify at 50/25/10/5% of the triangles, and the full mesh (0 by construction), for the
-# sample humanoid, every model of ../shared/assets/gltf, the Blender exports (tests/data/blender)
-# and gltfpack's copies (tests/data/gltfpack):
-# rest-pose Hausdorff distance and its
-# max and mean over every frame (% of the rest pose's diagonal, tests/bench/lod_distance.h), and
-# sequence time against meshopt's four calls (each the fastest of 5 runs; the 1M-triangle grids, bumpy and flat, once). Writes OUT/lod_bench.csv, OUT/lod_times.csv and one
-# SVG chart per asset and figure. Needs libmeshoptimizer-dev and libcgal-dev (then ./run build
-# builds build/bin/lod_bench). Usage: tests/bench/lod_bench.sh [OUT]
+# meshopt_simplify at 50/25/10/5% of the triangles, and the full mesh (0 by construction), on the
+# models of lod_assets.sh: the rest-pose Hausdorff distance and its max and mean over every frame
+# (% of the rest pose's diagonal, tests/bench/lod_distance.h), and the time of our sequence
+# against meshopt's four calls (each the fastest of 5 runs; the 1M-triangle grids, bumpy and
+# flat, once). Writes OUT/lod_bench.csv, OUT/lod_times.csv and one SVG chart per asset and
+# figure. For speed against an earlier commit, see lod_speed.sh. Needs libmeshoptimizer-dev and
+# libcgal-dev (then ./run build builds build/bin/lod_bench).
+# Usage: tests/bench/lod_bench.sh [OUT]
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 out=${1:-out/bench}
-mkdir -p "$out/lod"
 [ -x build/bin/lod_bench ] || {
   echo "build/bin/lod_bench is missing: apt-get install libmeshoptimizer-dev libcgal-dev, then ./run build" >&2
   exit 1
 }
-build/bin/crowdbake samples --no-cloth --out "$out/lod" > /dev/null
-assets=("$out/lod/humanoid.glb")
-for f in ../shared/assets/gltf/*/*.glb ../shared/assets/gltf/*/*.gltf tests/data/blender/*.glb \
-  tests/data/gltfpack/*.glb; do
-  [ -f "$f" ] && assets+=("$f")
-done
+source tests/bench/lod_assets.sh "$out"
 build/bin/lod_bench "$out/lod_bench.csv" "$out/lod_times.csv" "${assets[@]}" 2>/dev/null
 for a in "${assets[@]}"; do
   name=$(basename "${a%.*}")

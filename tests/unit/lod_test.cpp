@@ -252,7 +252,7 @@ TEST(Lod, AFoldInAPoseCostsThoughTheRestPoseIsFlat) {
 // Every collapse of a flat grid is free. Taken last pushed first, each went into the vertex the
 // last one went into: its ring grew with every collapse, an 80,000-triangle grid took 15 s, and
 // the coarse grid was a fan around one vertex. Free collapses go by octaves of their edge's
-// length, shortest first (PoseQuadrics::freeKey): the rings stay small and the triangles even.
+// length, shortest first (PoseQuadrics::key): the rings stay small and the triangles even.
 TEST(Lod, AFlatGridsFreeCollapsesSpreadOverIt) {
   std::vector<glm::vec3> p;
   std::vector<uint32_t> idx;

@@ -250,7 +250,7 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
   const bool boundIsCost = quadric.boundIsCost();
   auto push = [&](uint32_t from, uint32_t to) {
     const double bound = quadric.bound(from, to);
-    queue.push(bound > 0 ? bound : quadric.freeKey(from, to),
+    queue.push(quadric.key(from, to, bound),
                {float(bound), from, to, stamp[from], stamp[to], boundIsCost});
   };
 

@@ -199,7 +199,9 @@ double PoseQuadrics::bound(uint32_t a, uint32_t b) const {
   return rest < noise_ ? 0.0 : rest;
 }
 
-double PoseQuadrics::freeKey(uint32_t a, uint32_t b) const {
+double PoseQuadrics::key(uint32_t a, uint32_t b, double cost) const {
+  if (cost > 0)
+    return cost;
   const double *pa = &rest_[a * kRest + 10], *pb = &rest_[b * kRest + 10];
   const double length2 = (pa[0] - pb[0]) * (pa[0] - pb[0]) + (pa[1] - pb[1]) * (pa[1] - pb[1]) +
                          (pa[2] - pb[2]) * (pa[2] - pb[2]);

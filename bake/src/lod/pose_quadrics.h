@@ -44,13 +44,14 @@ public:
   // the default 16 poses; the cost itself where the rest pose is the only one.
   double bound(uint32_t a, uint32_t b) const;
   bool boundIsCost() const { return poses_ == 1; }
-  // Where a collapse costing 0 queues: below every cost above the noise floor, by the octave of
-  // its edge's length in the rest pose, shorter first. All in one bucket, last pushed first, a
-  // flat region's free collapses went into the vertex last collapsed into, its ring grew with
-  // each, and a flat grid of 80,000 triangles took 15 s. Within an octave they stay last pushed
-  // first, near each other: ordered by exact length they swept the mesh, and a nearly flat 1M-
-  // triangle grid took 2.33 s, against 1.57 s by octaves (2.04 s in one bucket).
-  double freeKey(uint32_t a, uint32_t b) const;
+  // Where a collapse of this cost (cost() or bound()) queues: at the cost itself, or where that is
+  // 0, below every cost above the noise floor, by the octave of its edge's length in the rest
+  // pose, shorter first. All in one bucket, last pushed first, a flat region's free collapses went
+  // into the vertex last collapsed into, its ring grew with each, and a flat grid of 80,000
+  // triangles took 15 s. Within an octave they stay last pushed first, near each other: ordered
+  // by exact length they swept the mesh, and a nearly flat 1M-triangle grid took 2.33 s, against
+  // 1.57 s by octaves (2.04 s in one bucket).
+  double key(uint32_t a, uint32_t b, double cost) const;
   static constexpr int kShortest = -200; // the octave of edges that short or shorter
   static constexpr double kNoise = 1e-6;
 
