@@ -5,10 +5,12 @@
 #include <set>
 
 #include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
 #include <gtest/gtest.h>
 
 #include "crowd/bake/evaluate.h"
 #include "crowd/bake/import.h"
+#include "crowd/bake/lod_bake.h"
 #include "crowd/formats/error.h"
 #include "gltf_writer.h"
 
@@ -228,6 +230,114 @@ TEST(Import, ExternalBufferAndGlbGiveTheSameCharacter) {
   EXPECT_EQ(std::filesystem::path(ext.sourceFiles[1]).filename(), "external.bin");
   EXPECT_EQ(glb.sourceFiles.size(), 1u);
   EXPECT_EQ(ext.mesh.indices, glb.mesh.indices);
+}
+
+// A closed cube with no normals (flat-shaded, by the spec) under nodes that mirror it or not:
+// glTF winds a mirrored node's triangles clockwise, so the importer turns them round. As drawn at
+// rest every face then faces out, as do the normals computed from the file's winding (in the
+// node's own frame), restMirrored says which faces disagree with their normals there, and a
+// flat-shaded copy (a normal per corner) still welds into 8 vertices.
+TEST(Import, AMirroringNodesTrianglesFaceOutAsDrawn) {
+  const std::vector<float> corner = {-1, -1, -1, 1, -1, -1, 1, 1, -1, -1, 1, -1,
+                                     -1, -1, 1,  1, -1, 1,  1, 1, 1,  -1, 1, 1};
+  const std::vector<uint16_t> cube = {0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4,
+                                      2, 3, 7, 2, 7, 6, 1, 2, 6, 1, 6, 5, 0, 4, 7, 0, 7, 3};
+  const nlohmann::json plain = nlohmann::json::object(), flip = {{"scale", {-1, 1, 1}}},
+                       matrix = {{"matrix", {1, 0, 0, 0, 0, -1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}}};
+  struct Case {
+    const char *name;
+    nlohmann::json parent, part;
+    bool mirrored;
+  };
+  for (const Case &k : {Case{"plain", plain, plain, false}, Case{"scaled", plain, flip, true},
+                        Case{"matrix", plain, matrix, true}, Case{"twice", flip, matrix, false}}) {
+    SCOPED_TRACE(k.name);
+    GltfBuilder b;
+    const int pos = b.floats(corner, "VEC3");
+    b.j["accessors"][size_t(pos)]["min"] = {-1, -1, -1};
+    b.j["accessors"][size_t(pos)]["max"] = {1, 1, 1};
+    const int idx = b.accessor(cube, 5123, "SCALAR");
+    const nlohmann::json prim = {{"attributes", {{"POSITION", pos}}}, {"indices", idx}};
+    b.j["meshes"] =
+        nlohmann::json::array({{{"name", "cube"}, {"primitives", nlohmann::json::array({prim})}}});
+    nlohmann::json parent = k.parent, part = k.part;
+    parent["name"] = "parent", parent["children"] = {1};
+    part["name"] = "part", part["mesh"] = 0, part["translation"] = {3, 0, 0};
+    b.j["nodes"] = {parent, part};
+    b.j["scenes"][0]["nodes"] = {0};
+    Reporter r;
+    r.quiet = true;
+    const Character c = load(b, std::string("mirror_") + k.name, &r);
+    size_t said = 0;
+    for (const auto &w : r.warnings())
+      said += w.code == "mirrored_winding";
+    EXPECT_EQ(said, k.mirrored ? 1u : 0u);
+    const std::vector<glm::dvec3> drawn = posedPositions(c, nullptr, 0);
+    const auto &m = c.mesh;
+    glm::dvec3 centre(0.0);
+    for (const auto &p : drawn)
+      centre += p / double(drawn.size());
+    for (size_t t = 0; t < m.indices.size(); t += 3) {
+      const glm::dvec3 a = drawn[m.indices[t]], b1 = drawn[m.indices[t + 1]],
+                       c1 = drawn[m.indices[t + 2]];
+      EXPECT_GT(glm::dot(glm::cross(b1 - a, c1 - a), (a + b1 + c1) / 3.0 - centre), 0) << t / 3;
+    }
+    for (size_t v = 0; v < m.vertexCount(); ++v) // the node's frame: centred on 0
+      EXPECT_GT(glm::dot(glm::dvec3(m.normals[v]), glm::dvec3(m.positions[v])), 0) << v;
+    // What the outfit and cloth bakes hold a face's winding against its normals by: there, in
+    // the node's frame, a mirrored face's winding disagrees with its normals.
+    const std::vector<uint8_t> mirrored = restMirrored(c);
+    for (size_t t = 0; t < m.indices.size(); t += 3) {
+      const glm::dvec3 a(m.positions[m.indices[t]]), b1(m.positions[m.indices[t + 1]]),
+          c1(m.positions[m.indices[t + 2]]);
+      const bool disagree =
+          glm::dot(glm::cross(b1 - a, c1 - a), glm::dvec3(m.normals[m.indices[t]])) < 0;
+      EXPECT_EQ(disagree, bool(mirrored[m.indices[t]])) << t / 3;
+      EXPECT_EQ(disagree, k.mirrored) << t / 3;
+    }
+
+    // Flat-shaded: each triangle's corners their own vertices, with the face's normal.
+    GltfBuilder f = b;
+    std::vector<float> p, n;
+    for (size_t t = 0; t < cube.size(); t += 3) {
+      glm::vec3 q[3];
+      for (int i = 0; i < 3; ++i)
+        q[i] = glm::make_vec3(&corner[3 * cube[t + size_t(i)]]);
+      const glm::vec3 face = glm::normalize(glm::cross(q[1] - q[0], q[2] - q[0]));
+      for (const glm::vec3 &x : q)
+        p.insert(p.end(), {x.x, x.y, x.z}), n.insert(n.end(), {face.x, face.y, face.z});
+    }
+    const int fp = f.floats(p, "VEC3"), fn = f.floats(n, "VEC3");
+    f.j["accessors"][size_t(fp)]["min"] = {-1, -1, -1};
+    f.j["accessors"][size_t(fp)]["max"] = {1, 1, 1};
+    f.j["meshes"][0]["primitives"][0] = {{"attributes", {{"POSITION", fp}, {"NORMAL", fn}}}};
+    Character flat = load(f, std::string("mirror_flat_") + k.name);
+    weldFlatShading(flat.mesh, r);
+    EXPECT_EQ(flat.mesh.vertexCount(), 8u);
+  }
+}
+
+// Blender's export of a left leg mirrored from the right (tests/data/blender/mirrored.glb: scale
+// -1 on its node): as drawn, every face of both legs is wound the way its normals point (the
+// left leg's were all wound inward but for its flat boot, whose face normals came out inward).
+TEST(Import, BlendersMirroredLegIsWoundAsDrawn) {
+  Reporter r;
+  r.quiet = true;
+  const Character c =
+      importGltf(std::string(CROWD_SOURCE_DIR) + "/tests/data/blender/mirrored.glb", {}, r);
+  const std::vector<glm::dvec3> drawn = posedPositions(c, nullptr, 0);
+  const std::vector<glm::dmat4> joints = jointMatrices(c, nullptr, 0);
+  const auto &m = c.mesh;
+  auto normal = [&](uint32_t v) { // rigid parts: one joint, a rotation and a mirror at most
+    return glm::dmat3(joints[m.joints[v][0]]) * glm::dvec3(m.normals[v]);
+  };
+  size_t against = 0;
+  for (size_t t = 0; t < m.indices.size(); t += 3) {
+    const uint32_t *v = &m.indices[t];
+    const glm::dvec3 face = glm::cross(drawn[v[1]] - drawn[v[0]], drawn[v[2]] - drawn[v[0]]);
+    against += glm::dot(face, normal(v[0]) + normal(v[1]) + normal(v[2])) <= 0;
+  }
+  EXPECT_EQ(against, 0u) << "of " << m.indices.size() / 3 << " faces";
 }
 
 // A quad drawn as a strip or a fan: two triangles covering it, each facing +z as the spec winds

@@ -161,6 +161,20 @@ std::vector<glm::dvec3> posedPositions(const Character &c, const AnimationClip *
   return skinPositions(c, jointMatrices(c, clip, t), morphWeights(c, clip, t));
 }
 
+std::vector<uint8_t> restMirrored(const Character &c) {
+  const auto joints = jointMatrices(c, nullptr, 0);
+  const auto &m = c.mesh;
+  std::vector<uint8_t> out(m.vertexCount(), 0);
+  for (size_t v = 0; v < out.size(); ++v) {
+    glm::dmat3 blend(0.0);
+    for (int k = 0; k < 4; ++k)
+      if (m.weights[v][k] != 0)
+        blend += double(m.weights[v][k]) * glm::dmat3(joints[m.joints[v][size_t(k)]]);
+    out[v] = glm::determinant(blend) < 0;
+  }
+  return out;
+}
+
 glm::dvec3 restExtent(const Character &c) {
   auto p = posedPositions(c, nullptr, 0);
   glm::dvec3 lo(INFINITY), hi(-INFINITY);

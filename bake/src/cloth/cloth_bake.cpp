@@ -43,6 +43,7 @@ class PosedBody {
 public:
   PosedBody(const Character &body, const std::vector<glm::dvec3> &positions) {
     const auto &idx = body.mesh.indices;
+    const std::vector<uint8_t> mirrored = restMirrored(body);
     for (size_t t = 0; t + 2 < idx.size(); t += 3) {
       const glm::dvec3 a = positions[idx[t]], b = positions[idx[t + 1]], c = positions[idx[t + 2]];
       Triangle tri({a.x, a.y, a.z}, {b.x, b.y, b.z}, {c.x, c.y, c.z});
@@ -52,7 +53,8 @@ public:
                          body.mesh.normals[idx[t + 2]]);
       const glm::dvec3 restA(body.mesh.positions[idx[t]]), restB(body.mesh.positions[idx[t + 1]]),
           restC(body.mesh.positions[idx[t + 2]]);
-      outward_.push_back(glm::dot(glm::cross(restB - restA, restC - restA), n) < 0 ? -1.0 : 1.0);
+      const bool facesIn = glm::dot(glm::cross(restB - restA, restC - restA), n) < 0;
+      outward_.push_back(facesIn != bool(mirrored[idx[t]]) ? -1.0 : 1.0);
       soup_.push_back(tri);
     }
     tree_.insert(soup_.begin(), soup_.end());

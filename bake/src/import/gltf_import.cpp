@@ -428,6 +428,17 @@ private:
       reporter_.warn(code, std::to_string(count) + " " + what, count);
   }
 
+  // Whether the node's rest transform, with its ancestors', mirrors (a negative determinant).
+  bool mirrors(int node) const {
+    bool odd = false;
+    for (int n = node; n >= 0; n = out_.nodes[size_t(n)].parent) {
+      const Node &nd = out_.nodes[size_t(n)];
+      const glm::dvec3 &s = nd.scale;
+      odd ^= (nd.hasMatrix ? glm::determinant(nd.matrix) : s.x * s.y * s.z) < 0;
+    }
+    return odd;
+  }
+
   bool hasAncestorIn(int node, const std::set<int> &set) const {
     for (int p = out_.nodes[size_t(node)].parent; p >= 0; p = out_.nodes[size_t(p)].parent)
       if (set.count(p))
@@ -583,7 +594,7 @@ private:
     std::vector<SkinnedMesh::Part> partLooks; // material look of each part
     auto &mesh = out_.mesh;
     size_t moreThan4 = 0, renormalised = 0, missingNormals = 0, duplicatePrimitives = 0,
-           pointsOrLines = 0, unweighted = 0;
+           pointsOrLines = 0, unweighted = 0, mirroredPrimitives = 0;
     std::map<std::string, uint32_t> vertexBases; // first vertex of each distinct vertex set
     std::set<std::string> seenPrimitives;
     checkMeshSize();
@@ -773,8 +784,16 @@ private:
           look.textured = baseColorImage(prim.material) >= 0 && !uv.empty();
           partLooks.push_back(look);
         }
-        for (uint32_t i : idx)
-          partTriangles[part].push_back(base + i);
+        // Wound clockwise where the node's transform mirrors (glTF: its determinant sets the
+        // winding): reversed, so that every triangle is counter-clockwise as drawn and the face
+        // normals taken from the winding (flat shading, pose's files) face out. The normals
+        // computed above read the file's winding in the node's own frame, where it is right.
+        const bool mirrored = mirrors(mn.node);
+        for (size_t t = 0; t < idx.size(); t += 3)
+          partTriangles[part].insert(partTriangles[part].end(),
+                                     {base + idx[t], base + idx[t + (mirrored ? 2 : 1)],
+                                      base + idx[t + (mirrored ? 1 : 2)]});
+        mirroredPrimitives += mirrored;
       }
     }
     for (size_t p = 0; p < partOrder.size(); ++p) {
@@ -802,6 +821,9 @@ private:
     warnCount("duplicate_primitives_dropped", duplicatePrimitives,
               "primitives repeated another's vertices, indices and material: dropped");
     warnCount("normals_computed", missingNormals, "primitives had no NORMAL: computed from faces");
+    warnCount("mirrored_winding", mirroredPrimitives,
+              "primitives sit under a mirroring transform (a negative scale): their triangles, "
+              "clockwise in the file as glTF has it there, are stored counter-clockwise");
   }
 
   // The morph targets of a primitive whose vertices were just appended at `base`: the node's

@@ -16,7 +16,8 @@ std::vector<uint32_t> weldFlatShading(SkinnedMesh &m, Reporter &reporter, double
   for (uint32_t v = 0; v < V; ++v)
     kept[v] = v;
   // A vertex is faceted when, in every triangle using it, its normal is that face's; and it
-  // lies in one sub-mesh only.
+  // lies in one sub-mesh only. Either way round: under a mirroring node the triangles are stored
+  // turned to face out as drawn (the importer), so in the mesh's own frame they face in.
   const double cosLimit = std::cos(maxAngleDeg * 3.14159265358979323846 / 180);
   const std::vector<uint32_t> partOf = triangleParts(m);
   std::vector<uint8_t> faceted(V, 0); // 0 unused, 1 faceted so far, 2 not
@@ -29,8 +30,8 @@ std::vector<uint32_t> weldFlatShading(SkinnedMesh &m, Reporter &reporter, double
     for (int k = 0; k < 3; ++k) {
       const uint32_t v = c[k];
       const glm::dvec3 n(m.normals[v]);
-      const bool flat =
-          len > 0 && glm::length(n) > 0 && glm::dot(n / glm::length(n), face / len) >= cosLimit;
+      const bool flat = len > 0 && glm::length(n) > 0 &&
+                        std::abs(glm::dot(n / glm::length(n), face / len)) >= cosLimit;
       if (faceted[v] != 0 && partOfVertex[v] != partOf[t])
         faceted[v] = 2;
       partOfVertex[v] = partOf[t];

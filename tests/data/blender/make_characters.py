@@ -12,8 +12,11 @@
 #   morph_biped.gltf  (+ .bin, .png) shape keys, one animated, beside a skin; a second mesh on the
 #                   same armature; Bezier keys exported as CUBICSPLINE
 #   two_rigs.glb    two armatures, each skinning its own mesh: two skins in one file
+#   mirrored.glb    rigid legs, the left the right one's copy under a negative scale (as modellers
+#                   mirror a part): glTF winds its triangles clockwise; a flat-shaded boot each
 # The files are committed (tests must not need Blender); rerun this script to remake them (the
-# same characters; the bytes may differ from run to run).
+# same characters; the bytes may differ from run to run), or some of them by name:
+#   blender -b --factory-startup --python tests/data/blender/make_characters.py -- mirrored
 import math
 import os
 import sys
@@ -345,8 +348,30 @@ def two_rigs():
     export(os.path.join(HERE, 'two_rigs.glb'))
 
 
-trooper()
-crawler()
-robot()
-morph_biped()
-two_rigs()
+def mirrored():
+    """Two rigid legs on a hip bone: the left one the right one's mesh under a scale of -1 in x."""
+    reset()
+    bones = [('hips', None, (0, 0, 1.0), (0, 0, 1.2)),
+             ('leg_r', 'hips', (0.2, 0, 1.0), (0.2, 0, 0.1)),
+             ('leg_l', 'hips', (-0.2, 0, 1.0), (-0.2, 0, 0.1))]
+    rig = armature('MirrorRig', bones)
+    bm = bmesh.new()
+    add_part(bm, 'box', (0, 0, 1.1), (0.6, 0.3, 0.2), flat=True)
+    rigid(mesh_object('Hips', bm, None, plain_material('Hips', (0.3, 0.3, 0.3))), rig, 'hips')
+    for side, x, bone in (('R', 1, 'leg_r'), ('L', -1, 'leg_l')):
+        bm = bmesh.new()  # around the leg's own origin, the boot off-centre so that it mirrors
+        add_part(bm, 'cylinder', (0, 0, 0), (0.16, 0.16, 0.9), segments=10)
+        add_part(bm, 'box', (0.04, 0.08, -0.45), (0.2, 0.32, 0.12), flat=True)
+        leg = mesh_object('Leg' + side, bm, None, plain_material('Leg', (0.2, 0.3, 0.6)))
+        leg.location = (0.2 * x, 0, 0.55)
+        leg.scale = (x, 1, 1)
+        rigid(leg, rig, bone)
+    action(rig, 'walk', 1.0, {'leg_r': cycle(0.5, 1.0, 0.0, 0, 8),
+                              'leg_l': cycle(0.5, 1.0, math.pi, 0, 8)})
+    export(os.path.join(HERE, 'mirrored.glb'))
+
+
+MAKERS = {'trooper': trooper, 'crawler': crawler, 'robot': robot, 'morph_biped': morph_biped,
+          'two_rigs': two_rigs, 'mirrored': mirrored}
+for name in sys.argv[sys.argv.index('--') + 1:] if '--' in sys.argv else MAKERS:
+    MAKERS[name]()

@@ -22,8 +22,9 @@ namespace crowd {
 // faces and counts costs below rounding's as 0 (another collapse order). 0.8.0: the LOD queues
 // each candidate at its rest-pose bound and costs it over the poses when that comes up (ties
 // within a bucket of the queue pop in another order). 0.8.1: the LOD's free collapses queue by
-// the octave of their edge's length, shortest first (they all went last pushed first).
-inline constexpr const char *kBakerVersion = "crowdbake 0.8.1";
+// the octave of their edge's length, shortest first (they all went last pushed first). 0.8.2:
+// triangles under a mirroring node are turned round to face out as drawn (they faced in).
+inline constexpr const char *kBakerVersion = "crowdbake 0.8.2";
 
 // The compiler and C library this crowdbake was built with and runs on: floats may round
 // differently under another, so byte-identical goldens hold only on the same toolchain
