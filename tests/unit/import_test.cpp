@@ -235,7 +235,7 @@ TEST(Import, ExternalBufferAndGlbGiveTheSameCharacter) {
 // A closed cube with no normals (flat-shaded, by the spec) under nodes that mirror it or not:
 // glTF winds a mirrored node's triangles clockwise, so the importer turns them round. As drawn at
 // rest every face then faces out, as do the normals computed from the file's winding (in the
-// node's own frame), restMirrored says which faces disagree with their normals there, and a
+// node's own frame), outwardSides says every face's outward side is its winding's, and a
 // flat-shaded copy (a normal per corner) still welds into 8 vertices.
 TEST(Import, AMirroringNodesTrianglesFaceOutAsDrawn) {
   const std::vector<float> corner = {-1, -1, -1, 1, -1, -1, 1, 1, -1, -1, 1, -1,
@@ -284,16 +284,17 @@ TEST(Import, AMirroringNodesTrianglesFaceOutAsDrawn) {
     }
     for (size_t v = 0; v < m.vertexCount(); ++v) // the node's frame: centred on 0
       EXPECT_GT(glm::dot(glm::dvec3(m.normals[v]), glm::dvec3(m.positions[v])), 0) << v;
-    // What the outfit and cloth bakes hold a face's winding against its normals by: there, in
-    // the node's frame, a mirrored face's winding disagrees with its normals.
-    const std::vector<uint8_t> mirrored = restMirrored(c);
+    // In the node's frame, where the normals are stored, a mirrored face's winding disagrees
+    // with them; outwardSides (what the outfit and cloth bakes take a face's outward side from)
+    // counts that, and has every face of the cube facing out as drawn.
+    const std::vector<double> sides = outwardSides(c);
     for (size_t t = 0; t < m.indices.size(); t += 3) {
       const glm::dvec3 a(m.positions[m.indices[t]]), b1(m.positions[m.indices[t + 1]]),
           c1(m.positions[m.indices[t + 2]]);
       const bool disagree =
           glm::dot(glm::cross(b1 - a, c1 - a), glm::dvec3(m.normals[m.indices[t]])) < 0;
-      EXPECT_EQ(disagree, bool(mirrored[m.indices[t]])) << t / 3;
       EXPECT_EQ(disagree, k.mirrored) << t / 3;
+      EXPECT_EQ(sides[t / 3], 1.0) << t / 3;
     }
 
     // Flat-shaded: each triangle's corners their own vertices, with the face's normal.
@@ -317,9 +318,10 @@ TEST(Import, AMirroringNodesTrianglesFaceOutAsDrawn) {
   }
 }
 
-// Blender's export of a left leg mirrored from the right (tests/data/blender/mirrored.glb: scale
-// -1 on its node): as drawn, every face of both legs is wound the way its normals point (the
-// left leg's were all wound inward but for its flat boot, whose face normals came out inward).
+// Blender's export of a left leg mirrored from the right (tests/data/blender/mirrored.glb: its
+// node scaled [-1, -1, -1], with a rotation): as drawn, every face of both legs is wound the way
+// its normals point (the left leg's were all wound inward but for its flat boot, whose face normals
+// came out inward).
 TEST(Import, BlendersMirroredLegIsWoundAsDrawn) {
   Reporter r;
   r.quiet = true;

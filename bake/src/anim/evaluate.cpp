@@ -161,16 +161,24 @@ std::vector<glm::dvec3> posedPositions(const Character &c, const AnimationClip *
   return skinPositions(c, jointMatrices(c, clip, t), morphWeights(c, clip, t));
 }
 
-std::vector<uint8_t> restMirrored(const Character &c) {
+std::vector<double> outwardSides(const Character &c) {
   const auto joints = jointMatrices(c, nullptr, 0);
   const auto &m = c.mesh;
-  std::vector<uint8_t> out(m.vertexCount(), 0);
-  for (size_t v = 0; v < out.size(); ++v) {
+  // Whether the rest pose mirrors vertex v: its blended joint matrix has a negative determinant.
+  auto mirrored = [&](uint32_t v) {
     glm::dmat3 blend(0.0);
     for (int k = 0; k < 4; ++k)
       if (m.weights[v][k] != 0)
         blend += double(m.weights[v][k]) * glm::dmat3(joints[m.joints[v][size_t(k)]]);
-    out[v] = glm::determinant(blend) < 0;
+    return glm::determinant(blend) < 0;
+  };
+  std::vector<double> out(m.indices.size() / 3, 1.0);
+  for (size_t t = 0; t < out.size(); ++t) {
+    const uint32_t *f = &m.indices[3 * t];
+    const glm::dvec3 a(m.positions[f[0]]), b(m.positions[f[1]]), c3(m.positions[f[2]]);
+    const glm::dvec3 n(m.normals[f[0]] + m.normals[f[1]] + m.normals[f[2]]);
+    if ((glm::dot(glm::cross(b - a, c3 - a), n) < 0) != mirrored(f[0]))
+      out[t] = -1.0;
   }
   return out;
 }

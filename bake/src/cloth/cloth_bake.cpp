@@ -41,20 +41,16 @@ std::vector<uint32_t> cacheIndices(const Character &outfit, const std::string &n
 // its vertex normals point to, as the outfit bake's visibility decides it).
 class PosedBody {
 public:
-  PosedBody(const Character &body, const std::vector<glm::dvec3> &positions) {
+  // `sides`: outwardSides(body), the same at every frame.
+  PosedBody(const Character &body, const std::vector<glm::dvec3> &positions,
+            const std::vector<double> &sides) {
     const auto &idx = body.mesh.indices;
-    const std::vector<uint8_t> mirrored = restMirrored(body);
     for (size_t t = 0; t + 2 < idx.size(); t += 3) {
       const glm::dvec3 a = positions[idx[t]], b = positions[idx[t + 1]], c = positions[idx[t + 2]];
       Triangle tri({a.x, a.y, a.z}, {b.x, b.y, b.z}, {c.x, c.y, c.z});
       if (tri.is_degenerate())
         continue;
-      const glm::dvec3 n(body.mesh.normals[idx[t]] + body.mesh.normals[idx[t + 1]] +
-                         body.mesh.normals[idx[t + 2]]);
-      const glm::dvec3 restA(body.mesh.positions[idx[t]]), restB(body.mesh.positions[idx[t + 1]]),
-          restC(body.mesh.positions[idx[t + 2]]);
-      const bool facesIn = glm::dot(glm::cross(restB - restA, restC - restA), n) < 0;
-      outward_.push_back(facesIn != bool(mirrored[idx[t]]) ? -1.0 : 1.0);
+      outward_.push_back(sides[t / 3]);
       soup_.push_back(tri);
     }
     tree_.insert(soup_.begin(), soup_.end());
@@ -153,6 +149,7 @@ ClothBakeResult bakeClothLoop(const Character &body, const Character &outfit,
     frames(start - blend + i, 0, n, x[i]);
   std::vector<std::vector<glm::vec3>> loopFrames(x.begin() + blend, x.end());
   const double margin = options.pushMarginMm / r.mmPerUnit;
+  const std::vector<double> sides = outwardSides(body);
   for (uint32_t j = 0; j < blend; ++j) {
     const uint32_t f = length - blend + j;
     const float w = float(j + 1) / float(blend + 1);
@@ -166,7 +163,7 @@ ClothBakeResult bakeClothLoop(const Character &body, const Character &outfit,
     auto posed = posedPositions(body, &clip, cacheFrameTime(clip, cacheFrame, fps));
     for (auto &p : posed)
       p = glm::dvec3(toRoot * glm::dvec4(p, 1.0));
-    const PosedBody b(body, posed);
+    const PosedBody b(body, posed, sides);
     if (b.empty())
       continue;
     for (uint32_t v = 0; v < n; ++v) {

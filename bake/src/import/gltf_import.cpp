@@ -600,6 +600,7 @@ private:
     checkMeshSize();
     for (const auto &mn : meshNodes_) {
       const auto &gm = model_.meshes[size_t(model_.nodes[size_t(mn.node)].mesh)];
+      const bool mirrored = mirrors(mn.node); // its triangles are wound clockwise (below)
       for (size_t pi = 0; pi < gm.primitives.size(); ++pi) {
         const auto &prim = gm.primitives[pi];
         std::string ctx = "mesh '" + gm.name + "', primitive " + std::to_string(pi);
@@ -788,7 +789,6 @@ private:
         // winding): reversed, so that every triangle is counter-clockwise as drawn and the face
         // normals taken from the winding (flat shading, pose's files) face out. The normals
         // computed above read the file's winding in the node's own frame, where it is right.
-        const bool mirrored = mirrors(mn.node);
         for (size_t t = 0; t < idx.size(); t += 3)
           partTriangles[part].insert(partTriangles[part].end(),
                                      {base + idx[t], base + idx[t + (mirrored ? 2 : 1)],

@@ -122,16 +122,7 @@ std::vector<uint8_t> hiddenBodyFaces(const Character &merged, uint32_t bodyTrian
       occluders.push_back(t);
   }
   // Outward side of each body face as drawn: the side its vertex normals point to.
-  std::vector<double> side(bodyTriangles, 1.0);
-  const std::vector<uint8_t> mirrored = restMirrored(merged);
-  for (uint32_t t = 0; t < bodyTriangles; ++t) {
-    glm::dvec3 a(mesh.positions[idx[3 * t]]), b(mesh.positions[idx[3 * t + 1]]),
-        c(mesh.positions[idx[3 * t + 2]]);
-    glm::dvec3 n(mesh.normals[idx[3 * t]] + mesh.normals[idx[3 * t + 1]] +
-                 mesh.normals[idx[3 * t + 2]]);
-    if ((glm::dot(glm::cross(b - a, c - a), n) < 0) != bool(mirrored[idx[3 * t]]))
-      side[t] = -1.0;
-  }
+  const std::vector<double> side = outwardSides(merged);
   const auto directions = hemisphere(o.rays);
   const double nudge = 1e-4 * restDiagonal(merged);
   const glm::dvec3 weights[4] = {{1.0 / 3, 1.0 / 3, 1.0 / 3},

@@ -22,11 +22,11 @@ std::vector<glm::dvec3> skinPositions(const Character &c, const std::vector<glm:
 // figure is measured against.
 std::vector<glm::dvec3> posedPositions(const Character &c, const AnimationClip *clip, double t);
 
-// Per vertex: 1 where the rest pose mirrors it (the blend of its joint matrices has a negative
-// determinant: a rigid part under a negative scale). Its triangles are stored wound as drawn
-// (the importer turns a mirrored node's round), its normal in its own frame: where a face's
-// winding is held against its normals there, this says which way round it is as drawn.
-std::vector<uint8_t> restMirrored(const Character &c);
+// Per triangle, the sign that turns its winding as drawn (cross(b - a, c - a) of its posed
+// corners) to its outward side: the side its vertex normals point to. Normals are stored in the
+// mesh's own frame, where a face under a mirroring node (stored wound as drawn: the importer turns
+// it round) disagrees with them; the rest pose's skinning says which vertices it mirrors.
+std::vector<double> outwardSides(const Character &c);
 // Size of the bounding box of the rest-pose skinned mesh along x, y (glTF's up) and z.
 glm::dvec3 restExtent(const Character &c);
 // Its diagonal: the unit of relative errors.
