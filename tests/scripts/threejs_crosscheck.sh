@@ -1,12 +1,15 @@
 #!/usr/bin/env bash
 # The three.js cross-check: every model of ../shared/assets/gltf, tests/data/blender (Blender
 # exports: a scaled armature, rigid parts, 8 influences) and tests/data/gltfpack (gltfpack's
-# quantized copies) is baked twice (crowdbake anim
-# as float matrices, so frame times test the reading and float32 rounding alone, and crowdbake lod at the error
-# budget's choice, whose vertices leave import order) and, for every clip,
-# three.js's pose of the glTF is compared vertex by vertex with crowdbake pose at every frame,
-# every mid-frame and the bake's 64 random times (threejs_pose.mjs). Skips (exit 77) where node or
-# three (installed by ./run test into .tools) are absent; the shared models are used where present.
+# quantized copies) is baked twice (crowdbake anim as float matrices, so frame times test the
+# reading and float32 rounding alone, and crowdbake lod at the error budget's choice, whose
+# vertices leave import order) and, for every clip, three.js's pose of the glTF is compared vertex
+# by vertex with crowdbake pose at every frame, every mid-frame and the bake's 64 random times
+# (threejs_pose.mjs). Then the Blender crawler's variants as other exporters write files
+# (gltf_variants.py: a Z-up or centimetre root, matrices, no inverse bind matrices, root motion,
+# a skeleton root, loose weights) are baked as float matrices and compared the same way.
+# Skips (exit 77) where node or three (installed by ./run test into .tools) are absent; the shared
+# models are used where present.
 set -euo pipefail
 bin=$1 root=$2 work=$3 assets=$4
 three=$root/.tools/node_modules/three
@@ -30,5 +33,14 @@ for model in "$assets"/*/*.glb "$assets"/*/*.gltf "$root"/tests/data/blender/*.g
   models=$((models + 1))
 done
 [ $models -gt 0 ] || { echo "FAIL: no model found" >&2; exit 1; }
+mkdir -p "$work/variants"
+python3 "$root/tests/scripts/gltf_variants.py" "$root/tests/data/blender/crawler.glb" "$work/variants"
+for model in "$work"/variants/*.glb; do
+  name=$(basename "${model%.*}")
+  "$bin/crowdbake" anim "$model" -o "$work/$name.crowdpack" --report "$work/$name.json" -q \
+    --precision float
+  check "$model" "$work/$name.crowdpack" "$work/$name.json"
+  models=$((models + 1))
+done
 [ $status = 0 ] && echo "three.js agrees with crowdbake pose on all $models models"
 exit $status
