@@ -14,7 +14,8 @@ that follows the specification, but reached through what the original file does 
   loose_weights  float weights summing to 0.5, not 1 (readers normalize them; the validator
                reports them, exporters that skip normalizing write them)
 
-usage: gltf_variants.py IN.glb OUT_DIR   (writes OUT_DIR/<stem>_<variant>.glb)
+usage: gltf_variants.py IN.glb OUT_DIR   (writes OUT_DIR/<stem>_<variant>.glb for each variant that
+                                          applies: root_motion needs an animation)
 """
 import copy
 import math
@@ -75,6 +76,8 @@ def no_ibm(doc, binary):
 
 
 def root_motion(doc, binary):
+    if not doc.get('animations'):
+        return False  # nothing to add root motion to
     mover = under_new_root(doc, {'name': 'mover'})
     animation = doc['animations'][0]
     times = animation['samplers'][0]['input']
@@ -123,7 +126,8 @@ def main():
     doc, binary = read_glb(source)
     for variant in VARIANTS:
         d, b = copy.deepcopy(doc), bytearray(binary)
-        variant(d, b)
+        if variant(d, b) is False:
+            continue
         with open(os.path.join(out, f'{stem}_{variant.__name__}.glb'), 'wb') as f:
             f.write(glb_bytes(d, b))
 
