@@ -30,22 +30,6 @@
 
 namespace {
 
-// Our cut at the fewest vertices holding `triangles`, as indices into the input vertices.
-std::vector<uint32_t> cut(const crowd::LodResult &r, size_t triangles) {
-  uint32_t v = uint32_t(r.order.size());
-  while (v > r.floorVertices && r.triangleCount[v - 1] >= triangles)
-    --v;
-  std::vector<uint32_t> out;
-  for (uint32_t t = 0; t < r.triangleCount[v]; ++t)
-    for (int k = 0; k < 3; ++k) {
-      uint32_t i = r.indices[3 * t + uint32_t(k)];
-      while (i >= v)
-        i = r.collapse[i];
-      out.push_back(r.order[i]);
-    }
-  return out;
-}
-
 // The time and memory bound: a 708 x 708 grid, 1,002,528 triangles with no skin (the bind pose
 // alone), ours against meshopt's four calls; how far the bake raises the process's peak memory,
 // in MB (0 for a grid no larger than one before it). Bumpy, or
@@ -141,8 +125,8 @@ int main(int argc, char **argv) {
     const double shares[4] = {0.5, 0.25, 0.1, 0.05};
     std::vector<std::vector<uint32_t>> mine, blind, meshopt;
     for (double s : shares) {
-      mine.push_back(cut(ours, size_t(std::ceil(s * double(T)))));
-      blind.push_back(cut(agnostic, size_t(std::ceil(s * double(T)))));
+      mine.push_back(crowd::bench::lodCut(ours, size_t(std::ceil(s * double(T)))));
+      blind.push_back(crowd::bench::lodCut(agnostic, size_t(std::ceil(s * double(T)))));
     }
     const double meshoptS = fastest([&] {
       meshopt.clear();
@@ -161,9 +145,9 @@ int main(int argc, char **argv) {
     for (size_t k = 0; k < 4; ++k) {
       const size_t n = std::max({mine[k].size(), blind[k].size(), meshopt[k].size()}) / 3;
       if (mine[k].size() / 3 < n)
-        mine[k] = cut(ours, n);
+        mine[k] = crowd::bench::lodCut(ours, n);
       if (blind[k].size() / 3 < n)
-        blind[k] = cut(agnostic, n);
+        blind[k] = crowd::bench::lodCut(agnostic, n);
     }
     times << asset << "," << T << "," << oursS << "," << agnosticS << "," << meshoptS << ","
           << double(T) / oursS / 1e6 << "," << double(T) / agnosticS / 1e6 << "\n";

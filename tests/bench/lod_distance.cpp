@@ -87,4 +87,19 @@ LodDistance LodDistanceMeasure::measure(const std::vector<uint32_t> &lod) const 
   return d;
 }
 
+std::vector<uint32_t> lodCut(const LodResult &r, size_t triangles) {
+  uint32_t v = uint32_t(r.order.size());
+  while (v > r.floorVertices && r.triangleCount[v - 1] >= triangles)
+    --v;
+  std::vector<uint32_t> out;
+  for (uint32_t t = 0; t < r.triangleCount[v]; ++t)
+    for (int k = 0; k < 3; ++k) {
+      uint32_t i = r.indices[3 * t + uint32_t(k)];
+      while (i >= v)
+        i = r.collapse[i];
+      out.push_back(r.order[i]);
+    }
+  return out;
+}
+
 } // namespace crowd::bench

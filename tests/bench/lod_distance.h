@@ -14,6 +14,7 @@
 #include <glm/glm.hpp>
 
 #include "crowd/bake/character.h"
+#include "crowd/bake/lod_bake.h"
 
 namespace crowd::bench {
 
@@ -40,5 +41,9 @@ private:
   std::vector<glm::dvec3> rest_;
   std::vector<std::vector<glm::dvec3>> frames_;
 };
+
+// A LOD's cut at the fewest vertices holding `triangles` (its floor where it stops above), as
+// triangles on the input vertices: what measure() takes.
+std::vector<uint32_t> lodCut(const LodResult &r, size_t triangles);
 
 } // namespace crowd::bench
