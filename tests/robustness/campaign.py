@@ -356,7 +356,7 @@ def main():
                     help='each case through one command in turn (anim, lod, impostor, outfits): '
                          'a quarter of the runs, every command still covered (sanitizer builds)')
     ap.add_argument('--every', type=int, default=1,
-                    help='only every N-th case (sanitizer builds: 2, within CI\'s budget)')
+                    help='only every N-th case (sanitizer builds: 3, within CI\'s budget)')
     a = ap.parse_args()
     if not os.path.isdir(os.path.join(a.assets, 'RiggedSimple')):
         print(f'campaign: SKIPPED: the shared assets ({a.assets}) are not beside the checkout')
