@@ -8,7 +8,6 @@
 // Usage: lod_trace FILE.glb FROM TO   (FROM < TO triangles)
 #include <cstdio>
 #include <cstdlib>
-#include <string>
 
 #include "crowd/bake/evaluate.h"
 #include "crowd/bake/import.h"
