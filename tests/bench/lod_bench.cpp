@@ -23,8 +23,6 @@
 
 #include <meshoptimizer.h>
 
-#include "crowd/bake/evaluate.h"
-#include "crowd/bake/import.h"
 #include "crowd/bake/lod_bake.h"
 #include "lod_distance.h"
 
@@ -103,23 +101,19 @@ int main(int argc, char **argv) {
   for (int f = 3; f < argc; ++f) {
     crowd::Reporter rep;
     rep.quiet = true;
-    crowd::Character c = crowd::importGltf(argv[f], {}, rep);
-    crowd::weldFlatShading(c.mesh, rep); // as applyLod does
+    const crowd::bench::LodInput in = crowd::bench::loadLodInput(argv[f], rep);
     std::string asset = std::filesystem::path(argv[f]).stem().string();
-    const auto &m = c.mesh;
+    const auto &m = in.character.mesh;
     const size_t T = m.indices.size() / 3;
-    const auto lt = crowd::lodTriangles(m); // as applyLod collapses them
-    const auto poses = crowd::samplePoses(c, crowd::LodOptions{}.poses); // as crowdbake lod does
-    std::optional<crowd::bench::LodDistanceMeasure> distance;            // every frame posed: slow
+    const auto &lt = in.triangles;
+    const auto &rest = in.rest;
+    std::optional<crowd::bench::LodDistanceMeasure> distance; // every frame posed: slow
     if (!timesOnly)
-      distance.emplace(c);
-    std::vector<glm::vec3> rest; // as the player draws it (and as the measure poses it)
-    for (const auto &p : crowd::posedPositions(c, nullptr, 0.0))
-      rest.push_back(glm::vec3(p));
+      distance.emplace(in.character);
     // Each timing is the fastest of kRepeats runs (a steady figure, caches warm), in seconds.
     crowd::LodResult ours, agnostic;
     const double oursS =
-        fastest([&] { ours = crowd::bakeLod(rest, lt.indices, {}, rep, lt.group, poses); });
+        fastest([&] { ours = crowd::bakeLod(rest, lt.indices, {}, rep, lt.group, in.poses); });
     const double agnosticS =
         fastest([&] { agnostic = crowd::bakeLod(rest, lt.indices, {}, rep, lt.group, {}); });
     const double shares[4] = {0.5, 0.25, 0.1, 0.05};

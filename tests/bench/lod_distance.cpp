@@ -10,6 +10,7 @@
 #include <CGAL/Simple_cartesian.h>
 
 #include "crowd/bake/evaluate.h"
+#include "crowd/bake/import.h"
 
 namespace crowd::bench {
 namespace {
@@ -85,6 +86,17 @@ LodDistance LodDistanceMeasure::measure(const std::vector<uint32_t> &lod) const 
     d.animatedMeanPct += h / double(frames_.size());
   }
   return d;
+}
+
+LodInput loadLodInput(const char *path, Reporter &reporter) {
+  LodInput in;
+  in.character = importGltf(path, {}, reporter);
+  weldFlatShading(in.character.mesh, reporter);
+  in.triangles = lodTriangles(in.character.mesh);
+  in.poses = samplePoses(in.character, LodOptions{}.poses);
+  for (const auto &p : posedPositions(in.character, nullptr, 0.0))
+    in.rest.push_back(glm::vec3(p));
+  return in;
 }
 
 std::vector<uint32_t> lodCut(const LodResult &r, size_t triangles) {

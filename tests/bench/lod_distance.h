@@ -32,6 +32,7 @@ public:
   // `lod`: triangles as indices into the character's vertices.
   LodDistance measure(const std::vector<uint32_t> &lod) const;
   const std::vector<glm::dvec3> &rest() const { return rest_; }
+  double diagonal() const { return diagonal_; }
   size_t frameCount() const { return frames_.size(); }
 
 private:
@@ -41,6 +42,17 @@ private:
   std::vector<glm::dvec3> rest_;
   std::vector<std::vector<glm::dvec3>> frames_;
 };
+
+// One character as the LOD benchmarks collapse it, as crowdbake lod does: imported, flat shading
+// welded (applyLod), the triangles and groups it collapses, its sampled poses and its rest pose as
+// the player draws it (and as LodDistanceMeasure poses it).
+struct LodInput {
+  Character character;
+  LodTriangles triangles;
+  std::vector<std::vector<glm::vec3>> poses;
+  std::vector<glm::vec3> rest;
+};
+LodInput loadLodInput(const char *path, Reporter &reporter);
 
 // A LOD's cut at the fewest vertices holding `triangles` (its floor where it stops above), as
 // triangles on the input vertices: what measure() takes.

@@ -9,8 +9,6 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "crowd/bake/evaluate.h"
-#include "crowd/bake/import.h"
 #include "crowd/bake/lod_bake.h"
 #include "lod_distance.h"
 
@@ -18,7 +16,7 @@ namespace {
 
 // The collapses of `r` that leave between `from` and `to` triangles, one line each.
 void walk(const char *name, const crowd::LodResult &r, const crowd::bench::LodDistanceMeasure &d,
-          double diagonal, size_t from, size_t to) {
+          size_t from, size_t to) {
   std::printf("%s, one collapse at a time:\n", name);
   double last = -1;
   for (uint32_t v = uint32_t(r.order.size()); v > r.floorVertices; --v) {
@@ -30,7 +28,7 @@ void walk(const char *name, const crowd::LodResult &r, const crowd::bench::LodDi
     const double moved = glm::length(d.rest()[r.order[k]] - d.rest()[r.order[r.collapse[k]]]);
     std::printf("  %5zu triangles: rest %7.3f%%  animated max %7.3f%%  cost %9.3g  moved %6.2f%% "
                 "(input vertex %u into %u)%s\n",
-                n, e.restPct, e.animatedMaxPct, double(r.error[k]), 100 * moved / diagonal,
+                n, e.restPct, e.animatedMaxPct, double(r.error[k]), 100 * moved / d.diagonal(),
                 r.order[k], r.order[r.collapse[k]],
                 last >= 0 && e.restPct > 1.3 * last ? "  <- jump" : "");
     last = e.restPct;
@@ -47,18 +45,12 @@ int main(int argc, char **argv) {
   const size_t from = size_t(std::atoi(argv[2])), to = size_t(std::atoi(argv[3]));
   crowd::Reporter rep;
   rep.quiet = true;
-  crowd::Character c = crowd::importGltf(argv[1], {}, rep);
-  crowd::weldFlatShading(c.mesh, rep); // as applyLod does
-  const auto lt = crowd::lodTriangles(c.mesh);
-  const crowd::bench::LodDistanceMeasure d(c);
-  std::vector<glm::vec3> rest; // as the player draws it
-  for (const auto &p : d.rest())
-    rest.push_back(glm::vec3(p));
-  const auto poses = crowd::samplePoses(c, crowd::LodOptions{}.poses);
-  const crowd::LodResult ours = crowd::bakeLod(rest, lt.indices, {}, rep, lt.group, poses);
-  const crowd::LodResult bind = crowd::bakeLod(rest, lt.indices, {}, rep, lt.group, {});
-  const double diagonal = crowd::restDiagonal(c);
-  walk("skinning-aware (16 poses)", ours, d, diagonal, from, to);
-  walk("bind pose only", bind, d, diagonal, from, to);
+  const crowd::bench::LodInput in = crowd::bench::loadLodInput(argv[1], rep);
+  const crowd::bench::LodDistanceMeasure d(in.character);
+  const auto &lt = in.triangles;
+  const crowd::LodResult ours = crowd::bakeLod(in.rest, lt.indices, {}, rep, lt.group, in.poses);
+  const crowd::LodResult bind = crowd::bakeLod(in.rest, lt.indices, {}, rep, lt.group, {});
+  walk("skinning-aware (16 poses)", ours, d, from, to);
+  walk("bind pose only", bind, d, from, to);
   return 0;
 }

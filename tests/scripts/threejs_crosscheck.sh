@@ -21,13 +21,15 @@ status=0 models=0
 check() { # check MODEL PACK REPORT
   node "$root/tests/scripts/threejs_pose.mjs" "$bin/crowdbake" "$three" "$@" "$work" || status=1
 }
+check_anim() { # check_anim MODEL NAME: the model baked as float matrices, then checked
+  "$bin/crowdbake" anim "$1" -o "$work/$2.crowdpack" --report "$work/$2.json" -q --precision float
+  check "$1" "$work/$2.crowdpack" "$work/$2.json"
+}
 for model in "$assets"/*/*.glb "$assets"/*/*.gltf "$root"/tests/data/blender/*.glb \
   "$root"/tests/data/blender/*.gltf "$root"/tests/data/gltfpack/*.glb; do
   [ -f "$model" ] || continue
   name=$(basename "${model%.*}")
-  "$bin/crowdbake" anim "$model" -o "$work/$name.crowdpack" --report "$work/$name.json" -q \
-    --precision float
-  check "$model" "$work/$name.crowdpack" "$work/$name.json"
+  check_anim "$model" "$name"
   "$bin/crowdbake" lod "$model" -o "$work/${name}_lod.crowdpack" --report "$work/${name}_lod.json" -q
   check "$model" "$work/${name}_lod.crowdpack" "$work/${name}_lod.json"
   models=$((models + 1))
@@ -37,9 +39,7 @@ mkdir -p "$work/variants"
 python3 "$root/tests/scripts/gltf_variants.py" "$root/tests/data/blender/crawler.glb" "$work/variants"
 for model in "$work"/variants/*.glb; do
   name=$(basename "${model%.*}")
-  "$bin/crowdbake" anim "$model" -o "$work/$name.crowdpack" --report "$work/$name.json" -q \
-    --precision float
-  check "$model" "$work/$name.crowdpack" "$work/$name.json"
+  check_anim "$model" "$name"
   models=$((models + 1))
 done
 [ $status = 0 ] && echo "three.js agrees with crowdbake pose on all $models models"
