@@ -91,6 +91,7 @@ LodDistance LodDistanceMeasure::measure(const std::vector<uint32_t> &lod) const 
 LodInput loadLodInput(const char *path, Reporter &reporter) {
   LodInput in;
   in.character = importGltf(path, {}, reporter);
+  weldExactCopies(in.character.mesh, reporter);
   weldFlatShading(in.character.mesh, reporter);
   in.triangles = lodTriangles(in.character.mesh);
   in.poses = samplePoses(in.character, LodOptions{}.poses);

@@ -7,7 +7,10 @@
 # by vertex with crowdbake pose at every frame, every mid-frame and the bake's 64 random times
 # (threejs_pose.mjs). Then the Blender crawler's variants as other exporters write files
 # (gltf_variants.py: a Z-up or centimetre root, matrices, no inverse bind matrices, root motion,
-# a skeleton root, loose weights) are baked as float matrices and compared the same way.
+# a skeleton root, loose weights, interleaved attributes, no indices, strips, byte weights,
+# CUBICSPLINE keys, a sparse accessor, a .gltf with its buffer embedded or in a file whose name
+# has a space) are baked as float matrices and compared the same way; the variants without
+# indices and as strips also as lod packs (their corners welded back into shared vertices).
 # Skips (exit 77) where node or three (installed by ./run test into .tools) are absent; the shared
 # models are used where present.
 set -euo pipefail
@@ -37,9 +40,13 @@ done
 [ $models -gt 0 ] || { echo "FAIL: no model found" >&2; exit 1; }
 mkdir -p "$work/variants"
 python3 "$root/tests/scripts/gltf_variants.py" "$root/tests/data/blender/crawler.glb" "$work/variants"
-for model in "$work"/variants/*.glb; do
+for model in "$work"/variants/*.glb "$work"/variants/*.gltf; do
   name=$(basename "${model%.*}")
   check_anim "$model" "$name"
+  case $name in *_non_indexed | *_strips)
+    "$bin/crowdbake" lod "$model" -o "$work/${name}_lod.crowdpack" --report "$work/${name}_lod.json" -q
+    check "$model" "$work/${name}_lod.crowdpack" "$work/${name}_lod.json" ;;
+  esac
   models=$((models + 1))
 done
 [ $status = 0 ] && echo "three.js agrees with crowdbake pose on all $models models"

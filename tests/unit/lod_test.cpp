@@ -366,6 +366,71 @@ TEST(Lod, FlatShadedCopiesWeldAndSimplify) {
   // The rest weld: one vertex per position, plus a kept one at two of the three (the grid's
   // corner, the first, has no other copy).
   EXPECT_EQ(kept.positions.size(), p.size() + 2);
+  // A face of no area (an exporter's leftover) says nothing of its corners' shading: with one on
+  // the first two vertices, the weld is the same.
+  SkinnedMesh degenerate = before;
+  degenerate.indices.insert(degenerate.indices.end(), {0, 1, 0});
+  degenerate.parts[0].indexCount += 3;
+  weldFlatShading(degenerate, quiet);
+  EXPECT_EQ(degenerate.positions.size(), p.size());
+}
+
+// A smooth mesh written without indices (each corner its own vertex, every attribute the same as
+// the other copies at its position): nothing would collapse. The copies weld into one vertex
+// each, the triangles stay the same corner for corner, and the mesh simplifies. A vertex to keep
+// and one that two sub-meshes use stay as they are.
+TEST(Lod, ExactCopiesWeldAndSimplify) {
+  std::vector<glm::vec3> p;
+  std::vector<uint32_t> idx;
+  grid(12, 12, p, idx);
+  SkinnedMesh m;
+  for (uint32_t i = 0; i < idx.size(); ++i) {
+    const glm::vec3 q = p[idx[i]];
+    m.positions.push_back(q);
+    m.normals.push_back(glm::normalize(glm::vec3(0.1f * q.y, 1, 0.05f * q.x)));
+    m.uvs.push_back({q.x / 12, q.z / 12});
+    m.joints.push_back({0, 0, 0, 0});
+    m.weights.push_back({1, 0, 0, 0});
+    m.indices.push_back(i);
+  }
+  m.parts.push_back({"smooth", 0, uint32_t(idx.size())});
+  const SkinnedMesh before = m;
+  const size_t T = idx.size() / 3;
+  Reporter rep;
+  rep.quiet = true;
+  LodResult unwelded = bakeLod(before.positions, before.indices, {}, rep);
+  EXPECT_GT(unwelded.triangleCount[unwelded.floorVertices], T * 9 / 10) << "every edge a seam";
+
+  const std::vector<uint32_t> was = weldExactCopies(m, rep);
+  EXPECT_TRUE(codes(rep).count("exact_copies"));
+  ASSERT_EQ(m.positions.size(), p.size()) << "one vertex per position";
+  ASSERT_EQ(was.size(), m.positions.size());
+  for (size_t k = 0; k < m.positions.size(); ++k) {
+    EXPECT_EQ(m.positions[k], before.positions[was[k]]);
+    EXPECT_EQ(m.normals[k], before.normals[was[k]]) << "shading unchanged";
+  }
+  for (size_t i = 0; i < m.indices.size(); ++i) // the same triangles, corner for corner
+    EXPECT_EQ(m.positions[m.indices[i]], before.positions[before.indices[i]]);
+  LodResult welded = bakeLod(m.positions, m.indices, {}, rep);
+  EXPECT_LE(walk(welded, m.positions, LodOptions{}.maxNormalDeviationDeg), T / 10);
+
+  // Vertex 1 kept; vertices 0, 4 and 5 also in a second sub-mesh (0 has no copy: the grid's
+  // corner). The kept copy and the shared ones stay beside their welded copy.
+  SkinnedMesh parts = before;
+  parts.indices.insert(parts.indices.end(), {0, 4, 5});
+  parts.parts.push_back({"other", uint32_t(idx.size()), 3});
+  Reporter quiet;
+  quiet.quiet = true;
+  const std::vector<uint32_t> partsWas = weldExactCopies(parts, quiet, {1});
+  for (uint32_t v : {0u, 1u, 4u, 5u})
+    EXPECT_EQ(std::count(partsWas.begin(), partsWas.end(), v), 1) << "vertex " << v;
+  EXPECT_EQ(parts.positions.size(), p.size() + 3);
+  // Nothing repeated: left as it is, unreported.
+  Reporter silent;
+  silent.quiet = true;
+  SkinnedMesh once = m;
+  EXPECT_EQ(weldExactCopies(once, silent).size(), m.positions.size());
+  EXPECT_TRUE(silent.warnings().empty());
 }
 
 // A ring of n vertices at height y, radius r, appended to p; returns its first index.

@@ -27,11 +27,13 @@ std::vector<uint32_t> weldFlatShading(SkinnedMesh &m, Reporter &reporter, double
     const glm::dvec3 a(m.positions[c[0]]), b(m.positions[c[1]]), d(m.positions[c[2]]);
     glm::dvec3 face = glm::cross(b - a, d - a);
     const double len = glm::length(face);
+    if (len == 0)
+      continue; // no face normal: it says nothing of its corners' shading
     for (int k = 0; k < 3; ++k) {
       const uint32_t v = c[k];
       const glm::dvec3 n(m.normals[v]);
-      const bool flat = len > 0 && glm::length(n) > 0 &&
-                        std::abs(glm::dot(n / glm::length(n), face / len)) >= cosLimit;
+      const bool flat =
+          glm::length(n) > 0 && std::abs(glm::dot(n / glm::length(n), face / len)) >= cosLimit;
       if (faceted[v] != 0 && partOfVertex[v] != partOf[t])
         faceted[v] = 2;
       partOfVertex[v] = partOf[t];

@@ -537,7 +537,16 @@ LodResult bakeWithRepeats(const Character &c, const LodOptions &o, Reporter &rep
 pack::Lod applyLod(Character &c, const LodOptions &o, Reporter &reporter, LodResult *details,
                    const std::vector<uint32_t> &keep) {
   o.validate();
-  const std::vector<uint32_t> was = weldFlatShading(c.mesh, reporter, 1, keep);
+  std::vector<uint32_t> newOf(c.mesh.positions.size(), UINT32_MAX), keepNow;
+  const std::vector<uint32_t> copyWas = weldExactCopies(c.mesh, reporter, keep);
+  for (uint32_t k = 0; k < copyWas.size(); ++k)
+    newOf[copyWas[k]] = k;
+  for (uint32_t v : keep) // renumbered past the copies' weld, which keeps them all
+    if (v < newOf.size() && newOf[v] != UINT32_MAX)
+      keepNow.push_back(newOf[v]);
+  std::vector<uint32_t> was = weldFlatShading(c.mesh, reporter, 1, keepNow);
+  for (uint32_t &v : was)
+    v = copyWas[v];
   SkinnedMesh &in = c.mesh;
   const std::vector<uint32_t> partOf = triangleParts(in);
   LodResult r = bakeWithRepeats(c, o, reporter);
@@ -583,7 +592,7 @@ pack::Lod applyLod(Character &c, const LodOptions &o, Reporter &reporter, LodRes
   }
   c.mesh = std::move(out);
   if (details) {
-    for (uint32_t &v : r.order) // the caller's vertices, before the flat-shading weld
+    for (uint32_t &v : r.order) // the caller's vertices, before the welds
       v = was[v];
     *details = std::move(r);
   }

@@ -59,6 +59,14 @@ std::vector<uint32_t> triangleParts(const SkinnedMesh &mesh);
 // clips): the poses applyLod's collapse costs take the worst of.
 std::vector<std::vector<glm::vec3>> samplePoses(const Character &character, uint32_t count);
 
+// Exact copies: a mesh written without indices, or one triangle at a time, repeats each shared
+// corner as a vertex of its own, every attribute the same (position, normal, UV, skin, morphs).
+// To the LOD each copy would be a seam and nothing would collapse. Copies within one sub-mesh
+// weld into their first; a vertex two sub-meshes use, or one in `keep`, stays as it is. Returns,
+// per vertex of the new mesh, the vertex it was (the identity when there are none); reported.
+std::vector<uint32_t> weldExactCopies(SkinnedMesh &mesh, Reporter &reporter,
+                                      const std::vector<uint32_t> &keep = {});
+
 // Flat shading: a low-poly model exported flat-shaded gives each triangle corner its own vertex,
 // its normal the face's, so every edge is a normal seam and nothing collapses. Faceted vertices
 // (the normal their face's within `maxAngleDeg` in every triangle using them) that differ only by
@@ -70,7 +78,7 @@ std::vector<std::vector<glm::vec3>> samplePoses(const Character &character, uint
 std::vector<uint32_t> weldFlatShading(SkinnedMesh &mesh, Reporter &reporter, double maxAngleDeg = 1,
                                       const std::vector<uint32_t> &keep = {});
 
-// The same arrays, applied to a character (flat shading welded first): its mesh reordered
+// The same arrays, applied to a character (exact copies and flat shading welded first): its mesh reordered
 // (vertices, and triangles within each sub-mesh) and the pack's LOD chunk for it.
 pack::Lod applyLod(Character &character, const LodOptions &options, Reporter &reporter,
                    LodResult *details = nullptr, const std::vector<uint32_t> &keep = {});
