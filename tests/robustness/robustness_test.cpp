@@ -202,6 +202,15 @@ const std::vector<Case> kCases = {
        b.j["buffers"].push_back({{"byteLength", 1 << 20}});
        return b.write(d, "mo");
      }},
+    {"ktx2_textures",
+     "unsupported required extension KHR_texture_basisu (textures crowdbake does not decode: "
+     "export PNG, JPEG or WebP textures, e.g. gltfpack without -tc)",
+     [](const std::string &d) {
+       auto b = quad();
+       b.j["extensionsUsed"] = {"KHR_texture_basisu"};
+       b.j["extensionsRequired"] = {"KHR_texture_basisu"};
+       return b.write(d, "ktx");
+     }},
     {"uv_transform_overflow", "UV past the range of a number",
      [](const std::string &d) {
        auto b = quad();

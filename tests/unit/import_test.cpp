@@ -1,9 +1,12 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <map>
 #include <set>
 
+#include <OpenImageIO/imageio.h>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 #include <gtest/gtest.h>
@@ -495,6 +498,48 @@ TEST(Import, AnUndecodableTextureIsAWarningNotAFailure) {
   for (const auto &w : r.warnings())
     warned |= w.code == "diffuse_texture_skipped";
   EXPECT_TRUE(warned);
+}
+
+// EXT_texture_webp, as web pipelines write textures: required, the WebP image named by the
+// extension, with no PNG fallback in `source`: decoded as the diffuse texture (before, the file
+// failed on the required extension).
+TEST(Import, AWebpTextureIsTheDiffuseTexture) {
+  const std::string file =
+      (std::filesystem::temp_directory_path() / "crowd_import_test.webp").string();
+  const uint8_t colour[3] = {200, 40, 90};
+  {
+    std::vector<uint8_t> pixels(8 * 8 * 3);
+    for (size_t i = 0; i < pixels.size(); ++i)
+      pixels[i] = colour[i % 3];
+    auto out = OIIO::ImageOutput::create(file);
+    ASSERT_TRUE(out && out->open(file, OIIO::ImageSpec(8, 8, 3, OIIO::TypeDesc::UINT8)));
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, pixels.data()));
+    out->close();
+  }
+  std::ifstream in(file, std::ios::binary);
+  const std::vector<uint8_t> webp((std::istreambuf_iterator<char>(in)), {});
+  std::filesystem::remove(file);
+  GltfBuilder b;
+  b.skinnedQuad();
+  b.j["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] =
+      b.floats({0, 0, 1, 0, 0, 1, 1, 1}, "VEC2");
+  b.j["meshes"][0]["primitives"][0]["material"] = 0;
+  b.j["materials"] = {{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}};
+  b.j["textures"] = {{{"extensions", {{"EXT_texture_webp", {{"source", 0}}}}}}};
+  const int bytes = b.accessor(webp, 5121, "SCALAR");
+  b.j["images"] = {
+      {{"bufferView", b.j["accessors"][size_t(bytes)]["bufferView"]}, {"mimeType", "image/webp"}}};
+  b.j["extensionsUsed"] = {"EXT_texture_webp"};
+  b.j["extensionsRequired"] = {"EXT_texture_webp"};
+  const Character c = load(b, "webp_texture");
+  ASSERT_TRUE(c.diffuse.has_value());
+  ASSERT_EQ(c.diffuse->width, 8);
+  ASSERT_EQ(c.diffuse->height, 8);
+  for (size_t p = 0; p < 64; ++p) { // lossy WebP: within a few levels
+    for (size_t k = 0; k < 3; ++k)
+      EXPECT_NEAR(c.diffuse->rgba[4 * p + k], colour[k], 6) << "pixel " << p << ", channel " << k;
+    EXPECT_EQ(c.diffuse->rgba[4 * p + 3], 255);
+  }
 }
 
 // The base-colour texture's own coordinates: its texCoord set and KHR_texture_transform (offset,

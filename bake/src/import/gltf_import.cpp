@@ -950,7 +950,13 @@ private:
     int texture = model_.materials[size_t(material)].pbrMetallicRoughness.baseColorTexture.index;
     if (texture < 0 || size_t(texture) >= model_.textures.size())
       return -1;
-    int image = model_.textures[size_t(texture)].source;
+    // EXT_texture_webp names its WebP image apart (`source` is then an optional fallback, or
+    // absent): the WebP one, which the decoder reads like any other.
+    const auto &t = model_.textures[size_t(texture)];
+    int image = t.source;
+    if (const auto webp = t.extensions.find("EXT_texture_webp"); webp != t.extensions.end())
+      if (webp->second.Has("source") && webp->second.Get("source").IsNumber())
+        image = webp->second.Get("source").GetNumberAsInt();
     return image >= 0 && size_t(image) < model_.images.size() ? image : -1;
   }
 
@@ -976,8 +982,10 @@ private:
     if (it == encodedImages_.end())
       return warn("no image data");
     OIIO::Filesystem::IOMemReader memory(it->second.data(), it->second.size());
-    const std::string name =
-        model_.images[size_t(image)].mimeType == "image/jpeg" ? "image.jpg" : "image.png";
+    const std::string &mime = model_.images[size_t(image)].mimeType;
+    const std::string name = mime == "image/jpeg"   ? "image.jpg"
+                             : mime == "image/webp" ? "image.webp"
+                                                    : "image.png";
     auto in = OIIO::ImageInput::open(name, nullptr, &memory);
     if (!in)
       return warn("cannot decode (" + OIIO::geterror() + ")");

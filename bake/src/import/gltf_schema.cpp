@@ -111,9 +111,12 @@ void checkGltfJson(std::string_view text, const std::string &path) {
         continue;
       const bool compressed =
           name == "EXT_meshopt_compression" || name == "KHR_draco_mesh_compression";
+      const bool texture = name == "KHR_texture_basisu" || name == "EXT_texture_avif";
       throw Error(path + ": unsupported required extension " + name +
                   (compressed ? " (compressed geometry: export without compression, e.g. "
                                 "gltfpack without -c)"
+                   : texture  ? " (textures crowdbake does not decode: export PNG, JPEG or WebP "
+                                "textures, e.g. gltfpack without -tc)"
                               : ""));
     }
 }

@@ -11,11 +11,11 @@
 namespace crowd {
 
 // Extensions a file may require: those that change nothing the bakes read, or that the importer
-// covers (the accessor reader quantization, base_colour_uv.h the texture transform). Any other
-// in "extensionsRequired" is an error, checked here.
+// covers (the accessor reader quantization, base_colour_uv.h the texture transform, the diffuse
+// texture's reader a WebP image). Any other in "extensionsRequired" is an error, checked here.
 inline const std::set<std::string> kSupportedRequired = {
     "KHR_mesh_quantization", "KHR_texture_transform", "KHR_materials_emissive_strength",
-    "KHR_materials_unlit"};
+    "KHR_materials_unlit", "EXT_texture_webp"};
 
 void checkGltfJson(std::string_view json, const std::string &path);
 
