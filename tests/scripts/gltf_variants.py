@@ -19,11 +19,13 @@ that follows the specification, but reached through what the original file does 
   byte_weights the four largest influences, weights as normalized bytes, joints as shorts
   cubic        linear keys as CUBICSPLINE with zero tangents
   sparse       POSITION with every seventh vertex held in a sparse block
+  zero_scale   a joint scaled to zero over the middle third of a clip (a part hidden)
   embedded     (.gltf) the buffer as a base64 data: URI
   spaced       (.gltf) the buffer in "<stem> model.bin", its URI percent-encoded
 
 usage: gltf_variants.py IN.glb OUT_DIR   (writes OUT_DIR/<stem>_<variant>.glb, or .gltf, for each
-                                          variant that applies: root_motion needs an animation)
+                                          variant that applies: root_motion needs an animation,
+                                          zero_scale a joint's scale channel)
 """
 import base64
 import copy
@@ -287,8 +289,29 @@ def sparse(doc, binary):
         primitive['attributes']['POSITION'] = len(doc['accessors']) - 1
 
 
+def zero_scale(doc, binary):
+    """A joint scaled to zero over the middle third of its keys (as games hide a part): the first
+    animation's first scale channel on a skin's joint."""
+    joints = {j for skin in doc.get('skins', []) for j in skin['joints']}
+    for animation in doc.get('animations', [])[:1]:
+        for channel in animation['channels']:
+            if channel['target']['path'] != 'scale' or channel['target'].get('node') not in joints:
+                continue
+            sampler = animation['samplers'][channel['sampler']]
+            values = elements(doc, binary, sampler['output'])
+            per = 3 if sampler.get('interpolation') == 'CUBICSPLINE' else 1
+            keys = len(values) // per
+            zeroed = [b'\0' * 12 if keys // 3 <= i // per < 2 * keys // 3 else v
+                      for i, v in enumerate(values)]
+            sampler['output'] = packed_like(doc, binary, sampler['output'], zeroed)
+            doc['accessors'][sampler['output']].pop('min', None)
+            doc['accessors'][sampler['output']].pop('max', None)
+            return None
+    return False  # no joint's scale is animated
+
+
 VARIANTS = [zup, cm, matrices, no_ibm, root_motion, skeleton, loose_weights, interleaved,
-            non_indexed, strips, byte_weights, cubic, sparse]
+            non_indexed, strips, byte_weights, cubic, sparse, zero_scale]
 
 
 def main():

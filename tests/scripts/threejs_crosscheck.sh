@@ -8,7 +8,7 @@
 # (threejs_pose.mjs). Then the Blender crawler's variants as other exporters write files
 # (gltf_variants.py: a Z-up or centimetre root, matrices, no inverse bind matrices, root motion,
 # a skeleton root, loose weights, interleaved attributes, no indices, strips, byte weights,
-# CUBICSPLINE keys, a sparse accessor, a .gltf with its buffer embedded or in a file whose name
+# CUBICSPLINE keys, a sparse accessor, a joint scaled to zero, a .gltf with its buffer embedded or in a file whose name
 # has a space) are baked as float matrices and compared the same way; the variants without
 # indices and as strips also as lod packs (their corners welded back into shared vertices).
 # Skips (exit 77) where node or three (installed by ./run test into .tools) are absent; the shared

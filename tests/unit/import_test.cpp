@@ -61,6 +61,26 @@ TEST(Import, StepHoldsTheEarlierKey) {
   EXPECT_NEAR(nodePosition(c, "b", 1.0).y, 1.5, 1e-12);
 }
 
+// One target animated twice in one animation, which the specification forbids: readers differ
+// (three.js blends the two), so the first channel is kept and the second named in a warning.
+TEST(Import, ASecondChannelOnOneTargetIsIgnoredWithAWarning) {
+  GltfBuilder b;
+  b.skinnedQuad();
+  const int anim = b.animation("twice", 1, "translation", {0, 1}, {0, 0.5f, 0, 0, 1.5f, 0});
+  b.channel(anim, 1, "translation", {0, 1}, {0, 9, 0, 0, 9, 0});
+  b.channel(anim, 1, "rotation", {0, 1}, {0, 0, 0, 1, 0, 0, 0, 1}); // another path: kept
+  Reporter r;
+  r.quiet = true;
+  Character c = load(b, "twice", &r);
+  ASSERT_EQ(c.clips.size(), 1u);
+  EXPECT_EQ(c.clips[0].channels.size(), 2u);
+  EXPECT_NEAR(nodePosition(c, "b", 0.5).y, 1.0, 1e-12);
+  size_t warned = 0;
+  for (const auto &w : r.warnings())
+    warned += w.code == "duplicate_channel_targets";
+  EXPECT_EQ(warned, 1u);
+}
+
 TEST(Import, CubicSplineUsesScaledTangents) {
   GltfBuilder b;
   b.skinnedQuad();

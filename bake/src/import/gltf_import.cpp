@@ -1018,12 +1018,24 @@ private:
       clip.name = anim.name.empty() ? "clip" + std::to_string(ai) : anim.name;
       std::string actx = "animation '" + clip.name + "'";
       bool first = true;
+      std::map<std::pair<int, std::string>, size_t> channelOf; // per target, its first channel
       for (size_t ci = 0; ci < anim.channels.size(); ++ci) {
         const auto &ch = anim.channels[ci];
         std::string ctx = actx + ", channel " + std::to_string(ci);
         Channel out;
         if (ch.target_node < 0 || size_t(ch.target_node) >= out_.nodes.size())
           fail(ctx + ": target node " + std::to_string(ch.target_node) + " does not exist");
+        // The specification allows a target once per animation; readers differ on a second
+        // (three.js blends the two, others take the last): the first is kept, with a warning.
+        if (const auto [at, fresh] = channelOf.try_emplace({ch.target_node, ch.target_path}, ci);
+            !fresh) {
+          reporter_.warn("duplicate_channel_targets",
+                         ctx + " animates node " + std::to_string(ch.target_node) + "'s " +
+                             ch.target_path + " as channel " + std::to_string(at->second) +
+                             " does: ignored (a target once per animation, as the "
+                             "specification asks)");
+          continue;
+        }
         out.node = ch.target_node;
         if (ch.target_path == "weights") {
           const MorphGroup *group = out_.morphGroupOf(ch.target_node);

@@ -72,9 +72,9 @@ std::vector<uint32_t> weldExactCopies(SkinnedMesh &m, Reporter &reporter,
     keepOnly(target.positions), keepOnly(target.normals);
   reporter.warn("exact_copies",
                 std::to_string(copies) +
-                    " vertices repeat another exactly (the mesh was written without shared "
-                    "vertices): welded into one, so the LOD can collapse across them; the drawn "
-                    "mesh is the same",
+                    " vertices repeat another exactly (every attribute the same, as a mesh "
+                    "written without shared vertices has them): welded, so the LOD can collapse "
+                    "across them; the drawn mesh is the same",
                 copies);
   return was;
 }
