@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <set>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -303,29 +304,40 @@ TEST(Lod, CopiesBoundToOtherJointsStaySeparate) {
   EXPECT_TRUE(codes(merged).count("duplicate_triangles"));
 }
 
-TEST(Lod, FlatShadedCopiesWeldAndSimplify) {
-  std::vector<glm::vec3> p;
-  std::vector<uint32_t> idx;
-  grid(12, 12, p, idx);
+// A 12x12 grid's triangles `idx` on `p` written without indices, each corner its own vertex with
+// the normal normalOf(corner) and its position's UV, in one sub-mesh; so written, every edge is a
+// seam and it does not simplify (checked).
+SkinnedMesh cornerMesh(const std::vector<glm::vec3> &p, const std::vector<uint32_t> &idx,
+                       const std::function<glm::vec3(uint32_t)> &normalOf) {
   SkinnedMesh m;
   for (uint32_t i = 0; i < idx.size(); ++i) {
-    const uint32_t *t = &idx[i - i % 3];
-    const glm::vec3 n = glm::normalize(glm::cross(p[t[1]] - p[t[0]], p[t[2]] - p[t[0]]));
     m.positions.push_back(p[idx[i]]);
-    m.normals.push_back(n);
+    m.normals.push_back(normalOf(i));
     m.uvs.push_back({p[idx[i]].x / 12, p[idx[i]].z / 12});
     m.joints.push_back({0, 0, 0, 0});
     m.weights.push_back({1, 0, 0, 0});
     m.indices.push_back(i);
   }
-  m.parts.push_back({"flat", 0, uint32_t(idx.size())});
+  m.parts.push_back({"grid", 0, uint32_t(idx.size())});
+  Reporter rep;
+  rep.quiet = true;
+  const LodResult unwelded = bakeLod(m.positions, m.indices, {}, rep);
+  EXPECT_GT(unwelded.triangleCount[unwelded.floorVertices], idx.size() / 3 * 9 / 10);
+  return m;
+}
+
+TEST(Lod, FlatShadedCopiesWeldAndSimplify) {
+  std::vector<glm::vec3> p;
+  std::vector<uint32_t> idx;
+  grid(12, 12, p, idx);
+  SkinnedMesh m = cornerMesh(p, idx, [&](uint32_t i) {
+    const uint32_t *t = &idx[i - i % 3];
+    return glm::normalize(glm::cross(p[t[1]] - p[t[0]], p[t[2]] - p[t[0]])); // the face's
+  });
   const SkinnedMesh before = m;
   const size_t T = idx.size() / 3;
   Reporter rep;
   rep.quiet = true;
-  LodResult unwelded = bakeLod(before.positions, before.indices, {}, rep);
-  EXPECT_GT(unwelded.triangleCount[unwelded.floorVertices], T * 9 / 10) << "every edge a seam";
-
   const std::vector<uint32_t> was = weldFlatShading(m, rep);
   EXPECT_TRUE(codes(rep).count("flat_shaded"));
   ASSERT_EQ(m.positions.size(), p.size()) << "one vertex per position";
@@ -383,24 +395,14 @@ TEST(Lod, ExactCopiesWeldAndSimplify) {
   std::vector<glm::vec3> p;
   std::vector<uint32_t> idx;
   grid(12, 12, p, idx);
-  SkinnedMesh m;
-  for (uint32_t i = 0; i < idx.size(); ++i) {
+  SkinnedMesh m = cornerMesh(p, idx, [&](uint32_t i) { // the position's, the same at each copy
     const glm::vec3 q = p[idx[i]];
-    m.positions.push_back(q);
-    m.normals.push_back(glm::normalize(glm::vec3(0.1f * q.y, 1, 0.05f * q.x)));
-    m.uvs.push_back({q.x / 12, q.z / 12});
-    m.joints.push_back({0, 0, 0, 0});
-    m.weights.push_back({1, 0, 0, 0});
-    m.indices.push_back(i);
-  }
-  m.parts.push_back({"smooth", 0, uint32_t(idx.size())});
+    return glm::normalize(glm::vec3(0.1f * q.y, 1, 0.05f * q.x));
+  });
   const SkinnedMesh before = m;
   const size_t T = idx.size() / 3;
   Reporter rep;
   rep.quiet = true;
-  LodResult unwelded = bakeLod(before.positions, before.indices, {}, rep);
-  EXPECT_GT(unwelded.triangleCount[unwelded.floorVertices], T * 9 / 10) << "every edge a seam";
-
   const std::vector<uint32_t> was = weldExactCopies(m, rep);
   EXPECT_TRUE(codes(rep).count("exact_copies"));
   ASSERT_EQ(m.positions.size(), p.size()) << "one vertex per position";

@@ -3,11 +3,9 @@
 
 #include "crowd/bake/character.h"
 #include "crowd/bake/lod_bake.h"
-#include "float_key.h"
+#include "vertex_weld.h"
 
 namespace crowd {
-
-using lod::putBits;
 
 std::vector<uint32_t> weldFlatShading(SkinnedMesh &m, Reporter &reporter, double maxAngleDeg,
                                       const std::vector<uint32_t> &keep) {
@@ -46,24 +44,11 @@ std::vector<uint32_t> weldFlatShading(SkinnedMesh &m, Reporter &reporter, double
   // Faceted vertices differing only by their normal (same sub-mesh, position, UV, skin and morph
   // offsets) weld into their first. A sub-mesh where any do is flat-shaded: all its faceted
   // vertices are then shaded by their faces. A smooth mesh's planar patch is left as it is.
-  auto keyOf = [&](uint32_t v) {
-    std::vector<uint32_t> key{partOfVertex[v]};
-    for (int k = 0; k < 3; ++k)
-      putBits(key, m.positions[v][k]);
-    if (!m.uvs.empty())
-      putBits(key, m.uvs[v].x), putBits(key, m.uvs[v].y);
-    for (int k = 0; k < 4; ++k)
-      key.push_back(m.joints[v][size_t(k)]), putBits(key, m.weights[v][k]);
-    for (const auto &target : m.morphs)
-      for (int k = 0; k < 3; ++k)
-        putBits(key, target.positions[v][k]);
-    return key;
-  };
   std::map<std::vector<uint32_t>, uint32_t> firstOf; // every attribute but the normal
   std::vector<uint8_t> flatPart(m.parts.size() + 1, 0), byFace(V, 0);
   for (uint32_t v = 0; v < V; ++v)
     if (faceted[v] == 1) {
-      kept[v] = firstOf.try_emplace(keyOf(v), v).first->second;
+      kept[v] = firstOf.try_emplace(lod::vertexKey(m, v, partOfVertex[v], false), v).first->second;
       flatPart[partOfVertex[v]] |= kept[v] != v;
     }
   size_t shaded = 0;
@@ -77,25 +62,7 @@ std::vector<uint32_t> weldFlatShading(SkinnedMesh &m, Reporter &reporter, double
     return kept;
 
   // Keep the first of each weld, in input order; its normal (and its morphs' normals) zero.
-  std::vector<uint32_t> newIndex(V, UINT32_MAX), from;
-  for (uint32_t v = 0; v < V; ++v)
-    if (kept[v] == v)
-      newIndex[v] = uint32_t(from.size()), from.push_back(v);
-  for (uint32_t &i : m.indices)
-    i = newIndex[kept[i]];
-  auto keepOnly = [&](auto &values) {
-    auto old = std::move(values);
-    values.clear();
-    for (uint32_t v : from)
-      values.push_back(old[v]);
-  };
-  keepOnly(m.positions), keepOnly(m.normals), keepOnly(m.joints), keepOnly(m.weights);
-  if (!m.uvs.empty())
-    keepOnly(m.uvs);
-  if (!m.sources.empty())
-    keepOnly(m.sources);
-  for (auto &target : m.morphs)
-    keepOnly(target.positions), keepOnly(target.normals);
+  const std::vector<uint32_t> from = lod::weldInto(m, kept);
   for (uint32_t k = 0; k < from.size(); ++k)
     if (byFace[from[k]]) {
       m.normals[k] = glm::vec3(0.0f);

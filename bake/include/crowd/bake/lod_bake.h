@@ -78,8 +78,8 @@ std::vector<uint32_t> weldExactCopies(SkinnedMesh &mesh, Reporter &reporter,
 std::vector<uint32_t> weldFlatShading(SkinnedMesh &mesh, Reporter &reporter, double maxAngleDeg = 1,
                                       const std::vector<uint32_t> &keep = {});
 
-// The same arrays, applied to a character (exact copies and flat shading welded first): its mesh reordered
-// (vertices, and triangles within each sub-mesh) and the pack's LOD chunk for it.
+// The same arrays, applied to a character (exact copies and flat shading welded first): its mesh
+// reordered (vertices, and triangles within each sub-mesh) and the pack's LOD chunk for it.
 pack::Lod applyLod(Character &character, const LodOptions &options, Reporter &reporter,
                    LodResult *details = nullptr, const std::vector<uint32_t> &keep = {});
 
