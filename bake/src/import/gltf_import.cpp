@@ -1011,7 +1011,8 @@ private:
   }
 
   void readAnimations() {
-    size_t strayWeightChannels = 0;
+    size_t strayWeightChannels = 0, duplicateTargets = 0;
+    std::string firstDuplicate;
     for (size_t ai = 0; ai < model_.animations.size(); ++ai) {
       const auto &anim = model_.animations[ai];
       AnimationClip clip;
@@ -1029,11 +1030,9 @@ private:
         // (three.js blends the two, others take the last): the first is kept, with a warning.
         if (const auto [at, fresh] = channelOf.try_emplace({ch.target_node, ch.target_path}, ci);
             !fresh) {
-          reporter_.warn("duplicate_channel_targets",
-                         ctx + " animates node " + std::to_string(ch.target_node) + "'s " +
-                             ch.target_path + " as channel " + std::to_string(at->second) +
-                             " does: ignored (a target once per animation, as the "
-                             "specification asks)");
+          if (duplicateTargets++ == 0)
+            firstDuplicate = ctx + " animates node " + std::to_string(ch.target_node) + "'s " +
+                             ch.target_path + " as channel " + std::to_string(at->second) + " does";
           continue;
         }
         out.node = ch.target_node;
@@ -1115,6 +1114,10 @@ private:
     makeNamesUnique(out_.clips, "duplicate_clip_names", "clips", "clips are chosen by name");
     warnCount("morph_weights_without_targets", strayWeightChannels,
               "morph-weight channels animate nodes whose baked mesh has no morph targets: ignored");
+    warnCount("duplicate_channel_targets", duplicateTargets,
+              "channels animate a target an earlier channel of their animation does (the "
+              "specification allows one): ignored, the first kept (first: " +
+                  firstDuplicate + ")");
   }
 
   std::string path_;

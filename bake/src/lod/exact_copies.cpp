@@ -1,5 +1,3 @@
-#include <map>
-
 #include "crowd/bake/character.h"
 #include "crowd/bake/lod_bake.h"
 #include "vertex_weld.h"
@@ -21,14 +19,14 @@ std::vector<uint32_t> weldExactCopies(SkinnedMesh &m, Reporter &reporter,
   for (uint32_t v : keep)
     if (v < V)
       part[v] = kMixed;
-  std::map<std::vector<uint32_t>, uint32_t> firstOf;
+  lod::CopyFinder finder(m, true);
   std::vector<uint32_t> into(V);
   size_t copies = 0;
   for (uint32_t v = 0; v < V; ++v) {
     into[v] = v;
     if (part[v] == kNone || part[v] == kMixed)
       continue;
-    into[v] = firstOf.try_emplace(lod::vertexKey(m, v, part[v], true), v).first->second;
+    into[v] = finder.firstOf(v, part[v]);
     copies += into[v] != v;
   }
   if (copies == 0)

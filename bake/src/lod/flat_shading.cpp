@@ -1,5 +1,4 @@
 #include <cmath>
-#include <map>
 
 #include "crowd/bake/character.h"
 #include "crowd/bake/lod_bake.h"
@@ -44,11 +43,11 @@ std::vector<uint32_t> weldFlatShading(SkinnedMesh &m, Reporter &reporter, double
   // Faceted vertices differing only by their normal (same sub-mesh, position, UV, skin and morph
   // offsets) weld into their first. A sub-mesh where any do is flat-shaded: all its faceted
   // vertices are then shaded by their faces. A smooth mesh's planar patch is left as it is.
-  std::map<std::vector<uint32_t>, uint32_t> firstOf; // every attribute but the normal
+  lod::CopyFinder finder(m, false); // every attribute but the normal
   std::vector<uint8_t> flatPart(m.parts.size() + 1, 0), byFace(V, 0);
   for (uint32_t v = 0; v < V; ++v)
     if (faceted[v] == 1) {
-      kept[v] = firstOf.try_emplace(lod::vertexKey(m, v, partOfVertex[v], false), v).first->second;
+      kept[v] = finder.firstOf(v, partOfVertex[v]);
       flatPart[partOfVertex[v]] |= kept[v] != v;
     }
   size_t shaded = 0;

@@ -4,24 +4,39 @@
 
 namespace crowd::lod {
 
-std::vector<uint32_t> vertexKey(const SkinnedMesh &m, uint32_t v, uint32_t part, bool normals) {
-  std::vector<uint32_t> key{part};
+void CopyFinder::key(uint32_t v, uint32_t part, std::vector<uint32_t> &key) const {
+  key.clear();
+  key.push_back(part);
   for (int k = 0; k < 3; ++k)
-    putBits(key, m.positions[v][k]);
-  if (normals)
+    putBits(key, m_.positions[v][k]);
+  if (normals_)
     for (int k = 0; k < 3; ++k)
-      putBits(key, m.normals[v][k]);
-  if (!m.uvs.empty())
-    putBits(key, m.uvs[v].x), putBits(key, m.uvs[v].y);
+      putBits(key, m_.normals[v][k]);
+  if (!m_.uvs.empty())
+    putBits(key, m_.uvs[v].x), putBits(key, m_.uvs[v].y);
   for (int k = 0; k < 4; ++k)
-    key.push_back(m.joints[v][size_t(k)]), putBits(key, m.weights[v][k]);
-  for (const auto &target : m.morphs)
+    key.push_back(m_.joints[v][size_t(k)]), putBits(key, m_.weights[v][k]);
+  for (const auto &target : m_.morphs)
     for (int k = 0; k < 3; ++k) {
       putBits(key, target.positions[v][k]);
-      if (normals)
+      if (normals_)
         putBits(key, target.normals[v][k]);
     }
-  return key;
+}
+
+uint32_t CopyFinder::firstOf(uint32_t v, uint32_t part) {
+  key(v, part, key_);
+  uint64_t h = 1469598103934665603ull; // FNV-1a over the words
+  for (uint32_t w : key_)
+    h = (h ^ w) * 1099511628211ull;
+  const auto [from, to] = firsts_.equal_range(h);
+  for (auto it = from; it != to; ++it) {
+    key(it->second.first, it->second.second, other_);
+    if (other_ == key_)
+      return it->second.first;
+  }
+  firsts_.emplace(h, std::make_pair(v, part));
+  return v;
 }
 
 std::vector<uint32_t> weldInto(SkinnedMesh &m, const std::vector<uint32_t> &into) {
