@@ -77,9 +77,10 @@ every clip, each as drawn (skinning-aware); a UV or normal seam vertex collapses
 seam, a boundary vertex only along its boundary; no cut has a degenerate triangle or one turned
 more than 75 degrees from its full-detail normal. No new vertices. Non-manifold edges are cut
 open (a vertex where several fans meet becomes one per fan); duplicate and zero-area triangles
-are dropped; each repair is reported. A flat-shaded mesh's copies that differ only by their
-normal are welded and drawn with their face's normal (stored as zero). Where the LOD stops above
-the floor, a warning says what blocks it.)";
+are dropped; each repair is reported. Exact copies of a vertex (a mesh written without indices)
+are welded; a flat-shaded mesh's copies that differ only by their normal are welded and drawn
+with their face's normal (stored as zero). Where the LOD stops above the floor, a warning says
+what blocks it.)";
 
 const char *const kImpostorHelp = R"(For sampled frames of a clip, renders the character from
 azimuths x elevations over the upper hemisphere with the deterministic rasterizer: object-space
