@@ -44,8 +44,8 @@ private:
 };
 
 // One character as the LOD benchmarks collapse it, as crowdbake lod does: imported, exact copies
-// and flat shading welded (applyLod), the triangles and groups it collapses, its sampled poses and its rest pose as
-// the player draws it (and as LodDistanceMeasure poses it).
+// and flat shading welded (applyLod), the triangles and groups it collapses, its sampled poses
+// and its rest pose as the player draws it (and as LodDistanceMeasure poses it).
 struct LodInput {
   Character character;
   LodTriangles triangles;

@@ -8,9 +8,10 @@
 # (threejs_pose.mjs). Then the Blender crawler's variants as other exporters write files
 # (gltf_variants.py: a Z-up or centimetre root, matrices, no inverse bind matrices, root motion,
 # a skeleton root, loose weights, interleaved attributes, no indices, strips, byte weights,
-# CUBICSPLINE keys, a sparse accessor, a joint scaled to zero, a .gltf with its buffer embedded or in a file whose name
-# has a space) are baked as float matrices and compared the same way; the variants without
-# indices and as strips also as lod packs (their corners welded back into shared vertices).
+# CUBICSPLINE keys, a sparse accessor, a joint scaled to zero, a .gltf with its buffer embedded
+# or in a file whose name has a space) are baked as float matrices and compared the same way; the
+# variants without indices and as strips also as lod packs (their corners welded back into
+# shared vertices).
 # Skips (exit 77) where node or three (installed by ./run test into .tools) are absent; the shared
 # models are used where present.
 set -euo pipefail
@@ -44,7 +45,8 @@ for model in "$work"/variants/*.glb "$work"/variants/*.gltf; do
   name=$(basename "${model%.*}")
   check_anim "$model" "$name"
   case $name in *_non_indexed | *_strips)
-    "$bin/crowdbake" lod "$model" -o "$work/${name}_lod.crowdpack" --report "$work/${name}_lod.json" -q
+    "$bin/crowdbake" lod "$model" -o "$work/${name}_lod.crowdpack" \
+      --report "$work/${name}_lod.json" -q
     check "$model" "$work/${name}_lod.crowdpack" "$work/${name}_lod.json" ;;
   esac
   models=$((models + 1))
