@@ -141,8 +141,10 @@ void frameAt(const pack::Clip &clip, float seconds, uint32_t &frame, float &alph
 
 namespace {
 
-// Skins with the weighted sum of the vertex's joints' transforms, `rowsOf(joint)`.
-template <class Rows>
+// Skins with the weighted sum of the vertex's joints' transforms, `rowsOf(joint)`; the normal
+// only `withNormal` (the error measures skin every vertex at every time they try, and the
+// normal was half their work for nothing).
+template <bool withNormal = true, class Rows>
 SkinnedVertex skinWith(const pack::SkinTexture &skin, uint32_t vertex, const glm::vec3 &position,
                        const glm::vec3 &normal, Rows rowsOf) {
   const float *ids = &skin.texels[size_t(vertex) * 8];
@@ -154,7 +156,8 @@ SkinnedVertex skinWith(const pack::SkinTexture &skin, uint32_t vertex, const glm
       continue;
     const JointRows r = rowsOf(uint32_t(ids[k]));
     out.position += w[k] * glm::vec3(glm::dot(r[0], p), glm::dot(r[1], p), glm::dot(r[2], p));
-    out.normal += w[k] * glm::vec3(glm::dot(r[0], n), glm::dot(r[1], n), glm::dot(r[2], n));
+    if constexpr (withNormal)
+      out.normal += w[k] * glm::vec3(glm::dot(r[0], n), glm::dot(r[1], n), glm::dot(r[2], n));
   }
   return out;
 }
@@ -171,7 +174,9 @@ SkinnedVertex skinVertex(const pack::AnimationTexture &t, const pack::SkinTextur
 glm::vec3 skinVertex(const pack::AnimationTexture &t, const pack::SkinTexture &skin,
                      const pack::Clip &clip, uint32_t frame, float alpha, uint32_t vertex,
                      const glm::vec3 &position) {
-  return skinVertex(t, skin, clip, frame, alpha, vertex, position, glm::vec3(0.0f)).position;
+  return skinWith<false>(skin, vertex, position, {},
+                         [&](uint32_t j) { return sampleJoint(t, clip, frame, alpha, j); })
+      .position;
 }
 
 std::vector<JointRows> sampleJoints(const pack::AnimationTexture &t, const pack::Clip &clip,
@@ -189,7 +194,8 @@ SkinnedVertex skinVertex(const std::vector<JointRows> &joints, const pack::SkinT
 
 glm::vec3 skinVertex(const std::vector<JointRows> &joints, const pack::SkinTexture &skin,
                      uint32_t vertex, const glm::vec3 &position) {
-  return skinVertex(joints, skin, vertex, position, glm::vec3(0.0f)).position;
+  return skinWith<false>(skin, vertex, position, {}, [&](uint32_t j) { return joints[j]; })
+      .position;
 }
 
 namespace {

@@ -28,7 +28,8 @@ std::vector<double> ratesFor(const BudgetSearch &s, double source) {
 }
 
 // Largest vertex error of each texture, against exact evaluation, at the clip's frame times
-// (`joints`: their exact matrices), its mid-frames and the seeded random times.
+// (`joints`: their exact matrices), its mid-frames and the seeded random times. Squared
+// distances until the end: the root of the largest is the largest root, to the bit.
 std::vector<double>
 maxErrors(const Character &c, const ClipFrames &f,
           const std::vector<std::vector<glm::dmat4>> &joints,
@@ -66,8 +67,9 @@ maxErrors(const Character &c, const ClipFrames &f,
     for (uint32_t v = 0; v < exact->size(); ++v) {
       const glm::vec3 bind = morphedBind(c.mesh, morphFrames, at, v); // the same for every p
       for (size_t p = 0; p < np; ++p) {
-        const glm::dvec3 got(runtime::skinVertex(sampled[p], skin, v, bind));
-        perTime[k * np + p] = std::max(perTime[k * np + p], glm::length(got - (*exact)[v]));
+        const glm::dvec3 off =
+            glm::dvec3(runtime::skinVertex(sampled[p], skin, v, bind)) - (*exact)[v];
+        perTime[k * np + p] = std::max(perTime[k * np + p], glm::dot(off, off));
       }
     }
   });
@@ -75,6 +77,8 @@ maxErrors(const Character &c, const ClipFrames &f,
   for (size_t k = 0; k < n; ++k)
     for (size_t p = 0; p < np; ++p)
       out[p] = std::max(out[p], perTime[k * np + p]);
+  for (double &e : out)
+    e = std::sqrt(e);
   return out;
 }
 
