@@ -135,6 +135,7 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
     search.maxWidth = options.maxWidth;
     search.threads = options.threads;
     search.matrixJoints = matrixJoints;
+    search.step = reporter.onStep;
     budget = chooseByBudget(c, sourceClips, search);
   }
   const Precision &chosen = precisionByName(budget.precision);
@@ -223,6 +224,8 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
         buildAnimationTexture(joints, c.jointCount(), p, options.maxWidth, matrixJoints));
   const size_t np = all.size();
   const uint32_t vertexCount = uint32_t(c.mesh.vertexCount());
+  reporter.step("accuracy: " + std::to_string(np) + " precisions at " + std::to_string(total) +
+                " frames, their mid-frames and random times");
   // Error of every precision at (frame, alpha) of pack clip `ci` against `exact`: max[p], sum[p].
   auto measure = [&](size_t ci, uint32_t frame, float alpha, const std::vector<glm::dvec3> &exact,
                      double *max, double *sum) {
@@ -309,6 +312,8 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
                       "cannot be met; see the report's options_tried)");
   }
 
+  if (sourceClips.size() > 1)
+    reporter.step("crossfades between " + std::to_string(sourceClips.size()) + " clips");
   result.fades = measureFades(c, sourceClips, pk, options.threads);
 
   // Mesh, with a bounding sphere over every frame of every clip. Matrix blends keep mid-frame

@@ -175,8 +175,12 @@ BudgetChoice chooseByBudget(const Character &c, const std::vector<const Animatio
   const pack::SkinTexture skin = buildSkinTexture(c.mesh, s.maxWidth);
   BudgetChoice out;
   std::vector<std::vector<size_t>> best(clips.size(), std::vector<size_t>(np, SIZE_MAX));
-  for (size_t ci = 0; ci < clips.size(); ++ci)
+  for (size_t ci = 0; ci < clips.size(); ++ci) {
+    if (s.step)
+      s.step("error budget: clip " + std::to_string(ci + 1) + " of " +
+             std::to_string(clips.size()) + " (" + clips[ci]->name + ")");
     out.clips.push_back(searchClip(c, *clips[ci], ci, s, skin, best[ci]));
+  }
   // The precision: fewest bytes among those meeting the budget everywhere, else the smallest
   // worst error (within 1%, the fewer bytes).
   size_t chosen = 0;

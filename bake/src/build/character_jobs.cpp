@@ -25,6 +25,14 @@ double since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
+// A job's reporter: its warnings go to the part's figures, not stderr; its steps to the context.
+Reporter jobReporter(const JobContext &context) {
+  Reporter r;
+  r.quiet = true;
+  r.onStep = context.progress;
+  return r;
+}
+
 ordered_json warnings(const Reporter &r) {
   ordered_json list = ordered_json::array();
   for (const auto &w : r.warnings())
@@ -118,11 +126,11 @@ void addLoops(std::vector<OutfitInput> &outfits, const std::vector<const Part *>
     }
 }
 
-Part meshJob(const Job &job, const std::vector<const Part *> &cloths, int threads) {
+Part meshJob(const Job &job, const std::vector<const Part *> &cloths, const JobContext &context) {
+  const int threads = context.threads;
   const CharacterManifest &m = *job.character;
   const auto t0 = Clock::now();
-  Reporter reporter;
-  reporter.quiet = true;
+  Reporter reporter = jobReporter(context);
   Character body = importBody(m, reporter);
   Part part;
   auto &f = part.figures;
@@ -169,11 +177,11 @@ Part meshJob(const Job &job, const std::vector<const Part *> &cloths, int thread
   return part;
 }
 
-Part impostorJob(const Job &job, const std::vector<const Part *> &, int threads) {
+Part impostorJob(const Job &job, const std::vector<const Part *> &, const JobContext &context) {
+  const int threads = context.threads;
   const CharacterManifest &m = *job.character;
   const auto t0 = Clock::now();
-  Reporter reporter;
-  reporter.quiet = true;
+  Reporter reporter = jobReporter(context);
   Character c = importBody(m, reporter);
   uint32_t garments = 0;
   if (!job.outfit.empty()) {
@@ -194,6 +202,7 @@ Part impostorJob(const Job &job, const std::vector<const Part *> &, int threads)
   f["body_regions"] = uint32_t(c.mesh.parts.size()) - garments;
   f["garment_regions"] = garments;
   if (opt.measure) {
+    reporter.step("impostor accuracy: views against the mesh drawn");
     const auto t1 = Clock::now();
     f["accuracy"] = impostorAccuracyFigures(measureImpostor(c, r.impostor, threads));
     f["accuracy"]["time_s"] = since(t1);
@@ -203,12 +212,12 @@ Part impostorJob(const Job &job, const std::vector<const Part *> &, int threads)
   return part;
 }
 
-Part clothJob(const Job &job, const std::vector<const Part *> &, int threads) {
+Part clothJob(const Job &job, const std::vector<const Part *> &, const JobContext &context) {
+  const int threads = context.threads;
   const CharacterManifest &m = *job.character;
   const ClothEntry &e = m.cloth.at(job.cloth);
   const auto t0 = Clock::now();
-  Reporter reporter;
-  reporter.quiet = true;
+  Reporter reporter = jobReporter(context);
   const Character body = importBody(m, reporter);
   const Character outfit = importFile(m, outfitFile(m, e.outfit), reporter);
   ClothBakeOptions opt = e.options;
@@ -223,11 +232,11 @@ Part clothJob(const Job &job, const std::vector<const Part *> &, int threads) {
   return part;
 }
 
-Part terrainJob(const Job &job, const std::vector<const Part *> &, int threads) {
+Part terrainJob(const Job &job, const std::vector<const Part *> &, const JobContext &context) {
+  const int threads = context.threads;
   const CharacterManifest &m = *job.character;
   const auto t0 = Clock::now();
-  Reporter reporter;
-  reporter.quiet = true;
+  Reporter reporter = jobReporter(context);
   const Character environment = importFile(m, m.body, reporter, m.mesh);
   TerrainOptions options = m.terrain.value();
   options.threads = threads;
@@ -249,7 +258,7 @@ Part terrainJob(const Job &job, const std::vector<const Part *> &, int threads) 
   return part;
 }
 
-Part linkJob(const Job &job, const std::vector<const Part *> &deps, int) {
+Part linkJob(const Job &job, const std::vector<const Part *> &deps, const JobContext &) {
   const CharacterManifest &m = *job.character;
   const std::string ctx = "character '" + m.name + "'";
   Part part;

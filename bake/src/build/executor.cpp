@@ -156,7 +156,7 @@ std::vector<JobOutcome> executeJobs(const std::vector<Job> &jobs, const ContentC
           o = std::move(out[i]);
         } else {
           const auto t0 = Clock::now();
-          o.part = runJob(jobs[i], deps, threads);
+          o.part = runJob(jobs[i], deps, {threads, {}});
           o.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
           cache.store(jobs[i].key, o.part);
         }

@@ -14,11 +14,11 @@ constexpr uint32_t kFigures = pack::fourcc("FIGS"); // a part's figures (JSON), 
 }
 
 // The job kinds (character_jobs.cpp). A new bake adds its function and one line here.
-Part meshJob(const Job &, const std::vector<const Part *> &, int threads);
-Part impostorJob(const Job &, const std::vector<const Part *> &, int threads);
-Part clothJob(const Job &, const std::vector<const Part *> &, int threads);
-Part terrainJob(const Job &, const std::vector<const Part *> &, int threads);
-Part linkJob(const Job &, const std::vector<const Part *> &, int threads);
+Part meshJob(const Job &, const std::vector<const Part *> &, const JobContext &);
+Part impostorJob(const Job &, const std::vector<const Part *> &, const JobContext &);
+Part clothJob(const Job &, const std::vector<const Part *> &, const JobContext &);
+Part terrainJob(const Job &, const std::vector<const Part *> &, const JobContext &);
+Part linkJob(const Job &, const std::vector<const Part *> &, const JobContext &);
 
 const std::vector<JobKind> &jobKinds() {
   static const std::vector<JobKind> kinds = {
@@ -31,10 +31,10 @@ const std::vector<JobKind> &jobKinds() {
   return kinds;
 }
 
-Part runJob(const Job &job, const std::vector<const Part *> &deps, int threads) {
+Part runJob(const Job &job, const std::vector<const Part *> &deps, const JobContext &context) {
   for (const auto &k : jobKinds())
     if (job.kind == k.name)
-      return k.run(job, deps, threads);
+      return k.run(job, deps, context);
   throw Error("unknown job kind '" + job.kind + "'");
 }
 

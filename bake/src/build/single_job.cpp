@@ -30,7 +30,8 @@ ordered_json runSingleJob(const CharacterManifest &character, const SingleJobRun
   keyJobs(jobs);
   const Job &job = jobs[0];
   say("baking " + job.label() + " from " + character.body);
-  const Part part = runJob(job, {}, run.threads);
+  const Part part =
+      runJob(job, {}, {run.threads, run.progress ? Reporter::Listener(say) : nullptr});
   for (const auto &w : part.figures.value("warnings", ordered_json::array()))
     if (!run.quiet)
       std::fprintf(stderr, "crowdbake: warning: %s\n", w.value("message", "").c_str());

@@ -226,7 +226,7 @@ void runSlurmTask(const std::string &planPath, int stage, int task) {
         std::vector<const Part *> depParts;
         for (const auto &d : deps)
           depParts.push_back(&d);
-        cache.store(job.key, runJob(job, depParts, threads));
+        cache.store(job.key, runJob(job, depParts, {threads, {}}));
       } catch (const std::bad_alloc &) {
         error = "out of memory";
       } catch (const std::exception &e) {

@@ -122,6 +122,8 @@ ClothBakeResult bakeClothLoop(const Character &body, const Character &outfit,
   const ClothFrames frames = rootFrames(cache, body, clip, fps);
   ClothLoopOptions lo = options.loop;
   lo.search.cycleFrames = (clip.end - clip.start) * fps;
+  reporter.step("cloth loop: searching " + std::to_string(cache.info().frameCount) +
+                " cache frames for a cycle of " + clipName);
   r.loop =
       chooseLoop(cache.info().frameCount, n, frames, cacheIndices(outfit, garment, garmentIds), lo);
   const LoopCandidate &seam = r.loop.candidates.front().seam;

@@ -258,6 +258,8 @@ ImpostorBakeResult bakeImpostor(const Character &c, const ImpostorOptions &optio
     reporter.warn("no_uvs", "the mesh has no UVs: the impostor's UV map is left out");
 
   // Render and crop every view of every frame.
+  reporter.step("impostor: " + std::to_string(views) + " views of " + std::to_string(o.frames) +
+                " frames at " + std::to_string(o.texels) + " texels");
   const int n = int(o.texels);
   std::vector<Crop> crops(size_t(o.frames) * views);
   parallelFor(crops.size(), o.threads, [&](size_t i) {

@@ -549,6 +549,7 @@ pack::Lod applyLod(Character &c, const LodOptions &o, Reporter &reporter, LodRes
     v = copyWas[v];
   SkinnedMesh &in = c.mesh;
   const std::vector<uint32_t> partOf = triangleParts(in);
+  reporter.step("LOD: collapse order of " + std::to_string(in.indices.size() / 3) + " triangles");
   LodResult r = bakeWithRepeats(c, o, reporter);
   SkinnedMesh out;
   out.morphDefaults = in.morphDefaults;

@@ -237,6 +237,7 @@ OutfitBakeResult bakeOutfits(const Character &template_, const std::vector<Outfi
   };
 
   // Faces the body hides by itself (and the ground): no outfit is needed to drop them.
+  reporter.step("visibility: the body alone");
   const auto bare = hiddenBodyFaces(joined, r.bodyTriangles, {}, options.visibility);
   for (uint8_t h : bare)
     r.bareHiddenFaces += h;
@@ -245,6 +246,8 @@ OutfitBakeResult bakeOutfits(const Character &template_, const std::vector<Outfi
   table.bodySubMeshes = uint32_t(bodyMesh.parts.size());
   std::map<std::pair<size_t, std::vector<uint32_t>>, uint32_t> copies; // shared when identical
   for (size_t oi = 0; oi < outfits.size(); ++oi) {
+    reporter.step("visibility: outfit " + std::to_string(oi + 1) + " of " +
+                  std::to_string(outfits.size()) + " (" + outfits[oi].name + ")");
     const auto start = std::chrono::steady_clock::now();
     std::vector<PlacedLoop> worn;
     for (const PlacedLoop &l : r.loops)
@@ -355,6 +358,7 @@ OutfitBakeResult bakeOutfits(const Character &template_, const std::vector<Outfi
     ho.frameStep = options.check;
     ho.loopFrames = options.visibility.loopFrames;
     ho.threads = options.visibility.threads;
+    reporter.step("hole check: every outfit drawn whole and culled");
     r.holes = checkHoles(r, ho);
     failOnHoles(r.holes, body);
   }

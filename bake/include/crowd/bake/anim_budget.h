@@ -9,6 +9,7 @@
 
 #include "crowd/bake/anim_frames.h"
 #include "crowd/bake/character.h"
+#include "crowd/bake/report.h"
 
 namespace crowd {
 
@@ -52,6 +53,7 @@ struct BudgetSearch {
   std::vector<uint32_t> matrixJoints;   // the quaternion precisions' (matrixJointsByBudget)
   uint32_t maxWidth = 4096;
   int threads = 0;
+  Reporter::Listener step; // a line as each clip's search starts
 };
 
 // The joints the quaternion precisions store as matrix rows: those whose encoding alone would

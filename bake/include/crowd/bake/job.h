@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "crowd/bake/manifest.h"
+#include "crowd/bake/report.h"
 
 namespace crowd {
 
@@ -44,14 +45,22 @@ struct Job {
   std::string label() const;       // "soldier: impostor walk/dress", for people
 };
 
-// Runs a job on its dependencies' parts; `threads` bounds the job's own worker threads.
-using JobFunction = Part (*)(const Job &, const std::vector<const Part *> &deps, int threads);
+// How a worker runs a job: the bound on the job's own worker threads, and where its progress
+// lines go (Reporter::step; nowhere when empty).
+struct JobContext {
+  int threads = 0;
+  Reporter::Listener progress;
+};
+
+// Runs a job on its dependencies' parts.
+using JobFunction = Part (*)(const Job &, const std::vector<const Part *> &deps,
+                             const JobContext &context);
 struct JobKind {
   const char *name;
   JobFunction run;
 };
 const std::vector<JobKind> &jobKinds();
-Part runJob(const Job &job, const std::vector<const Part *> &deps, int threads);
+Part runJob(const Job &job, const std::vector<const Part *> &deps, const JobContext &context);
 
 // Every job of a character: its mesh (outfits, LOD, animation), one per impostor pair, one per
 // cloth loop, and the link that writes its pack (always last). Indices in deps are offset by

@@ -1,6 +1,7 @@
 // Reporter: the one place warnings go. Printed on stderr as they happen (unless quiet) and
-// gathered, with counts, for the --report JSON.
+// gathered, with counts, for the --report JSON. Also where a long bake says what it is doing.
 #pragma once
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,15 @@ public:
   void warn(std::string code, std::string message, size_t count = 1);
   const std::vector<Warning> &warnings() const { return warnings_; }
   bool quiet = false;
+
+  // Progress for a person watching: a line as each step of a long bake starts ("error budget:
+  // clip 3 of 90 (Run)"), from the thread that runs the bake; nothing where no one listens.
+  using Listener = std::function<void(const std::string &)>;
+  Listener onStep;
+  void step(const std::string &line) const {
+    if (onStep)
+      onStep(line);
+  }
 
 private:
   std::vector<Warning> warnings_;

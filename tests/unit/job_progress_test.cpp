@@ -1,0 +1,49 @@
+// A job's progress: the lines a bake says as its long steps start reach the listener its
+// context names (crowdbake's commands print them on a terminal), and listening changes nothing.
+#include <memory>
+
+#include <gtest/gtest.h>
+
+#include "crowd/bake/import.h"
+#include "crowd/bake/job.h"
+
+using namespace crowd;
+
+namespace {
+
+TEST(JobProgress, AMeshJobSaysEachStepInOrderAndBakesTheSame) {
+  auto m = std::make_shared<CharacterManifest>();
+  m->name = "trooper";
+  m->body = std::string(CROWD_SOURCE_DIR) + "/tests/data/blender/trooper_cm.glb";
+  Job mesh;
+  for (Job &j : planCharacter(m, 0))
+    if (j.kind == "mesh")
+      mesh = std::move(j);
+  ASSERT_EQ(mesh.kind, "mesh");
+
+  std::vector<std::string> lines;
+  const Part heard =
+      runJob(mesh, {}, {1, [&](const std::string &line) { lines.push_back(line); }});
+  const Part silent = runJob(mesh, {}, {1, nullptr});
+
+  Reporter quiet;
+  quiet.quiet = true;
+  const Character c = importGltf(m->body, {}, quiet);
+  ASSERT_GE(c.clips.size(), 2u);
+  std::vector<std::string> expected = {"LOD: collapse order of " +
+                                       std::to_string(c.mesh.indices.size() / 3) + " triangles"};
+  for (size_t k = 0; k < c.clips.size(); ++k)
+    expected.push_back("error budget: clip " + std::to_string(k + 1) + " of " +
+                       std::to_string(c.clips.size()) + " (" + c.clips[k].name + ")");
+  ASSERT_EQ(lines.size(), expected.size() + 2);
+  for (size_t k = 0; k < expected.size(); ++k)
+    EXPECT_EQ(lines[k], expected[k]);
+  EXPECT_EQ(lines[expected.size()].rfind("accuracy: 4 precisions at ", 0), 0u);
+  EXPECT_EQ(lines.back(), "crossfades between " + std::to_string(c.clips.size()) + " clips");
+
+  ASSERT_EQ(heard.chunks.size(), silent.chunks.size());
+  for (size_t k = 0; k < heard.chunks.size(); ++k)
+    EXPECT_EQ(heard.chunks[k].payload, silent.chunks[k].payload) << "chunk " << k;
+}
+
+} // namespace
