@@ -7,12 +7,12 @@
 #include <functional>
 #include <sstream>
 
-#include <OpenImageIO/filesystem.h>
-#include <OpenImageIO/imageio.h>
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <tiny_gltf.h>
 
+#include "crowd/bake/images.h"
+#include "crowd/formats/container.h"
 #include "crowd/formats/error.h"
 #include "rig.h"
 #include "village.h"
@@ -518,7 +518,9 @@ public:
   // A 256x256 diffuse texture: one colour per atlas cell with stripes, so seams show.
   int texture() {
     const int size = 256;
-    std::vector<unsigned char> px(size_t(size * size * 3));
+    pack::Image texture{"diffuse", size, size, 3, pack::Image::Pixel::U8, {}};
+    std::vector<uint8_t> &px = texture.bytes;
+    px.resize(size_t(size * size * 3));
     const glm::vec3 cellColour[6] = {{0.93f, 0.76f, 0.62f}, {0.85f, 0.68f, 0.55f},
                                      {0.90f, 0.72f, 0.58f}, {0.95f, 0.80f, 0.66f},
                                      {0.80f, 0.64f, 0.52f}, {0.35f, 0.25f, 0.20f}};
@@ -530,13 +532,7 @@ public:
         for (int k = 0; k < 3; ++k)
           px[size_t((y * size + x) * 3 + k)] = (unsigned char)(255 * cellColour[cell][k] * stripe);
       }
-    std::vector<unsigned char> png;
-    OIIO::Filesystem::IOVecOutput proxy(png);
-    auto out = OIIO::ImageOutput::create("png");
-    OIIO::ImageSpec spec(size, size, 3, OIIO::TypeDesc::UINT8);
-    if (!out || !out->set_ioproxy(&proxy) || !out->open("texture.png", spec) ||
-        !out->write_image(OIIO::TypeDesc::UINT8, px.data()) || !out->close())
-      throw Error("samples: cannot encode the diffuse texture as PNG");
+    const std::vector<uint8_t> png = images::encodePng(texture);
     tinygltf::Image image;
     image.name = "diffuse";
     image.mimeType = "image/png";
@@ -684,16 +680,11 @@ void writeVillage(const std::string &path) {
   b.write(path);
 }
 
-// An RGBA8 image as PNG (OpenImageIO), atomically.
+// An RGBA8 image as PNG, atomically.
 void writeRgbaPng(const std::string &path, uint32_t width, uint32_t height,
                   const std::vector<uint8_t> &rgba) {
-  const std::string tmp = path + ".tmp";
-  auto out = OIIO::ImageOutput::create("png");
-  OIIO::ImageSpec spec(int(width), int(height), 4, OIIO::TypeDesc::UINT8);
-  if (!out || !out->open(tmp, spec) || !out->write_image(OIIO::TypeDesc::UINT8, rgba.data()) ||
-      !out->close())
-    throw Error(path + ": cannot write image");
-  std::filesystem::rename(tmp, path);
+  pack::Image image{"", width, height, 4, pack::Image::Pixel::U8, rgba};
+  pack::writeFileAtomic(path, images::encodePng(image));
 }
 
 void writeSamples(const std::string &dir) {

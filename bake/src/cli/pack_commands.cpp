@@ -6,9 +6,8 @@
 #include <iostream>
 #include <sstream>
 
-#include <OpenImageIO/imageio.h>
-
 #include "commands.h"
+#include "crowd/bake/images.h"
 #include "crowd/bake/preview.h"
 #include "crowd/formats/chunks.h"
 #include "crowd/formats/error.h"
@@ -83,17 +82,7 @@ void printText(std::ostream &o, const pack::Description &d) {
 }
 
 void writeImage(const std::string &path, const pack::Image &image) {
-  using Pixel = pack::Image::Pixel;
-  const OIIO::TypeDesc type = image.pixel == Pixel::U8    ? OIIO::TypeDesc::UINT8
-                              : image.pixel == Pixel::U16 ? OIIO::TypeDesc::UINT16
-                              : image.pixel == Pixel::F16 ? OIIO::TypeDesc::HALF
-                                                          : OIIO::TypeDesc::FLOAT;
-  auto out = OIIO::ImageOutput::create(path);
-  OIIO::ImageSpec spec(int(image.width), int(image.height), int(image.channels), type);
-  spec.attribute("compression", "zip");
-  if (!out || !out->open(path, spec) || !out->write_image(type, image.bytes.data()) ||
-      !out->close())
-    throw Error(path + ": cannot write image: " + (out ? out->geterror() : OIIO::geterror()));
+  images::write(path, image);
   std::cout << path << "\n";
 }
 

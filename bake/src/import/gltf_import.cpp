@@ -9,12 +9,11 @@
 #include <map>
 #include <set>
 
-#include <OpenImageIO/filesystem.h>
-#include <OpenImageIO/imageio.h>
 #include <glm/gtc/type_ptr.hpp>
 #include <tiny_gltf.h>
 
 #include "base_colour_uv.h"
+#include "crowd/bake/images.h"
 #include "crowd/bake/input_files.h"
 #include "crowd/formats/error.h"
 #include "crowd/runtime/json_checker.h"
@@ -981,27 +980,20 @@ private:
     auto it = encodedImages_.find(image);
     if (it == encodedImages_.end())
       return warn("no image data");
-    OIIO::Filesystem::IOMemReader memory(it->second.data(), it->second.size());
     const std::string &mime = model_.images[size_t(image)].mimeType;
     const std::string name = mime == "image/jpeg"   ? "image.jpg"
                              : mime == "image/webp" ? "image.webp"
                                                     : "image.png";
-    auto in = OIIO::ImageInput::open(name, nullptr, &memory);
-    if (!in)
-      return warn("cannot decode (" + OIIO::geterror() + ")");
-    const auto &spec = in->spec();
-    if (spec.width <= 0 || spec.height <= 0 || spec.width > kMaxTextureSide ||
-        spec.height > kMaxTextureSide)
-      return warn(std::to_string(spec.width) + "x" + std::to_string(spec.height) +
-                  " is outside 1.." + std::to_string(kMaxTextureSide));
-    std::vector<uint8_t> pixels(size_t(spec.width) * size_t(spec.height) * size_t(spec.nchannels));
-    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::UINT8, pixels.data()))
-      return warn("cannot decode (" + in->geterror() + ")");
-    DiffuseTexture t{spec.width, spec.height, {}};
+    pack::Image decoded;
+    std::string why;
+    if (!images::decode(it->second, name, kMaxTextureSide, decoded, why))
+      return warn(why);
+    const std::vector<uint8_t> &pixels = decoded.bytes;
+    DiffuseTexture t{int(decoded.width), int(decoded.height), {}};
     t.rgba.resize(size_t(t.width) * size_t(t.height) * 4);
     for (size_t p = 0; p < size_t(t.width) * size_t(t.height); ++p)
       for (size_t k = 0; k < 4; ++k) {
-        size_t c = size_t(spec.nchannels);
+        size_t c = size_t(decoded.channels);
         // Grey, grey+alpha, RGB and RGBA sources all become RGBA.
         uint8_t v = k < 3 ? pixels[p * c + (c >= 3 ? k : 0)]
                           : (c == 2 || c == 4 ? pixels[p * c + c - 1] : 255);

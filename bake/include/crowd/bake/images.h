@@ -1,0 +1,29 @@
+// Image files, through OpenImageIO loaded on first use. OpenImageIO brings some 260 shared
+// libraries (video, DICOM, GDAL, OpenVDB...): loading them took 0.45 s of every crowdbake
+// start (a program linking only OpenImageIO starts in 0.45 s here, crowdbake's other libraries
+// in 0.02 s), though inspect, verify, diff, pose, report and untextured bakes read no image.
+// So the OpenImageIO calls live in a module (crowd_oiio.so, beside the program) that the first
+// image opens. Nothing else in the project includes OpenImageIO but the player and tests.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "crowd/formats/registry.h"
+
+namespace crowd::images {
+
+// Decodes `bytes` (PNG, JPEG, WebP...: the format by `name`'s extension) into its 8-bit channels
+// (1 to 4, as stored). An image wider or taller than maxSide is not decoded. False, with `why`,
+// when it cannot be decoded.
+bool decode(const std::vector<uint8_t> &bytes, const std::string &name, int maxSide,
+            pack::Image &out, std::string &why);
+
+// Writes the image to `path`, the format by its extension (zip compression where the format
+// has it, as EXR does). Throws Error.
+void write(const std::string &path, const pack::Image &image);
+
+// The image as PNG bytes. Throws Error.
+std::vector<uint8_t> encodePng(const pack::Image &image);
+
+} // namespace crowd::images
