@@ -148,28 +148,24 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
     clips.push_back({nullptr, "rest", 0, 0, 1, options.fps > 0 ? options.fps : 30.0});
   }
 
-  // Every frame's joint matrices and reference vertex positions, exact and in double.
+  // Every frame's joint matrices and morph weights, exact and in double. Its vertex positions
+  // (`reference`) are skinned again where needed, never kept for every frame at once: they held
+  // 48 bytes a vertex a frame, and a 3,273-vertex character with 250 two-second clips was over
+  // the 64M frame-vertex limit that bounded them.
   std::vector<std::pair<size_t, uint32_t>> frameList;
   for (size_t ci = 0; ci < clips.size(); ++ci)
     for (uint32_t i = 0; i < clips[ci].count; ++i)
       frameList.push_back({ci, i});
   size_t total = frameList.size();
-  if (uint64_t(total) * c.mesh.vertexCount() > limits::kFrameVertices)
-    throw Error(std::to_string(total) + " frames x " + std::to_string(c.mesh.vertexCount()) +
-                " vertices is over the bake's limit of " + std::to_string(limits::kFrameVertices) +
-                " (the accuracy check keeps every frame's positions): use --fps or --clip");
   std::vector<std::vector<glm::dmat4>> joints(total);
   std::vector<std::vector<double>> morphWeightsAt(total);
-  std::vector<std::vector<glm::dvec3>> reference(total), midReference(total);
   parallelFor(total, options.threads, [&](size_t f) {
     const auto &cf = clips[frameList[f].first];
     uint32_t i = frameList[f].second;
     joints[f] = jointMatrices(c, cf.clip, cf.start + i * cf.step);
     morphWeightsAt[f] = morphWeights(c, cf.clip, cf.start + i * cf.step);
-    reference[f] = skinPositions(c, joints[f], morphWeightsAt[f]);
-    if (i + 1 < cf.count)
-      midReference[f] = posedPositions(c, cf.clip, cf.start + (i + 0.5) * cf.step);
   });
+  auto reference = [&](size_t f) { return skinPositions(c, joints[f], morphWeightsAt[f]); };
 
   auto &pk = result.pack;
 
@@ -196,12 +192,13 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
     clip.startTime = float(cf.start);
     clip.firstFrame = first;
     clip.frameCount = cf.count;
+    const auto start = reference(first), end = reference(first + cf.count - 1);
     double gap = 0;
     for (size_t v = 0; v < c.mesh.vertexCount(); ++v)
-      gap = std::max(gap, glm::length(reference[first][v] - reference[first + cf.count - 1][v]));
+      gap = std::max(gap, glm::length(start[v] - end[v]));
     clip.loop = cf.count > 2 && gap <= 1e-4 * result.diagonal;
     if (cf.count > 2 && !clip.loop)
-      warnRootMotion(reference[first], reference[first + cf.count - 1], cf, result, reporter);
+      warnRootMotion(start, end, cf, result, reporter);
     pk.clips.push_back(clip);
     first += cf.count;
   }
@@ -245,12 +242,21 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
   };
   std::vector<double> frameMax(total * np), frameSum(total * np), midMax(total * np),
       midSum(total * np);
+  std::vector<glm::dvec3> frameLow(total, glm::dvec3(INFINITY)),
+      frameHigh(total, glm::dvec3(-INFINITY));
   parallelFor(total, options.threads, [&](size_t f) {
     const size_t ci = frameList[f].first;
     const uint32_t i = frameList[f].second;
-    measure(ci, i, 0.0f, reference[f], &frameMax[f * np], &frameSum[f * np]);
-    if (!midReference[f].empty())
-      measure(ci, i, 0.5f, midReference[f], &midMax[f * np], &midSum[f * np]);
+    const auto exact = reference(f);
+    for (const auto &q : exact) {
+      frameLow[f] = glm::min(frameLow[f], q);
+      frameHigh[f] = glm::max(frameHigh[f], q);
+    }
+    measure(ci, i, 0.0f, exact, &frameMax[f * np], &frameSum[f * np]);
+    const auto &cf = clips[ci];
+    if (i + 1 < cf.count)
+      measure(ci, i, 0.5f, posedPositions(c, cf.clip, cf.start + (i + 0.5) * cf.step),
+              &midMax[f * np], &midSum[f * np]);
   });
   // Random times: uniform over each clip's duration, from a fixed seed per clip (the budget's).
   std::vector<std::pair<size_t, double>> randomTimes; // (clip, seconds into the clip)
@@ -343,16 +349,19 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
     pk.looks->textured.push_back(part.textured && pk.diffuse ? 1 : 0);
   }
   glm::dvec3 lo(INFINITY), hi(-INFINITY);
-  for (const auto &frame : reference)
-    for (const auto &q : frame) {
-      lo = glm::min(lo, q);
-      hi = glm::max(hi, q);
-    }
+  for (size_t f = 0; f < total; ++f) {
+    lo = glm::min(lo, frameLow[f]);
+    hi = glm::max(hi, frameHigh[f]);
+  }
   glm::dvec3 centre = (lo + hi) * 0.5;
+  std::vector<double> frameRadius(total, 0.0);
+  parallelFor(total, options.threads, [&](size_t f) {
+    for (const auto &q : reference(f))
+      frameRadius[f] = std::max(frameRadius[f], glm::length(q - centre));
+  });
   double radius = 0;
-  for (const auto &frame : reference)
-    for (const auto &q : frame)
-      radius = std::max(radius, glm::length(q - centre));
+  for (double r : frameRadius)
+    radius = std::max(radius, r);
   double slack = 0;
   for (const auto &a : result.accuracy[result.baked].clips)
     slack = std::max(slack, a.maxAnyTime());

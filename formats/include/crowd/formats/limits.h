@@ -23,10 +23,8 @@ inline constexpr int kImageSide = 8192;                          // decoded diff
 inline constexpr uint32_t kMorphTargets = 1024;
 inline constexpr uint64_t kMorphOffsets = uint64_t(1) << 25;
 
-// Animation bakes: frames per clip, and frames x vertices (the exact reference positions the
-// accuracy check keeps, 48 bytes each).
+// Animation bakes: frames per clip.
 inline constexpr uint64_t kClipFrames = 65536; // 36 minutes at 30 fps
-inline constexpr uint64_t kFrameVertices = uint64_t(1) << 26;
 
 // Cloth caches (PC2, MDD): frames per cache; vertices per frame is kVertices. A cache is
 // streamed, so its byte size is bounded only by the input byte bound.
