@@ -22,8 +22,7 @@ TEST(JobProgress, AMeshJobSaysEachStepInOrderAndBakesTheSame) {
   ASSERT_EQ(mesh.kind, "mesh");
 
   std::vector<std::string> lines;
-  const Part heard =
-      runJob(mesh, {}, {1, [&](const std::string &line) { lines.push_back(line); }});
+  const Part heard = runJob(mesh, {}, {1, [&](const std::string &line) { lines.push_back(line); }});
   const Part silent = runJob(mesh, {}, {1, nullptr});
 
   Reporter quiet;

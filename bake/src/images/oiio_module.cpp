@@ -29,8 +29,8 @@ bool decode(const std::vector<uint8_t> &bytes, const std::string &name, int maxS
           std::to_string(maxSide);
     return false;
   }
-  if (spec.nchannels < 1 || spec.nchannels > 4) {
-    why = std::to_string(spec.nchannels) + " channels (1 to 4 are read)";
+  if (spec.nchannels < 1) {
+    why = "an image without channels";
     return false;
   }
   out.width = uint32_t(spec.width), out.height = uint32_t(spec.height);

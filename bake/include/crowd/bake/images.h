@@ -13,8 +13,8 @@
 
 namespace crowd::images {
 
-// Decodes `bytes` (PNG, JPEG, WebP...: the format by `name`'s extension) into its 8-bit channels
-// (1 to 4, as stored). An image wider or taller than maxSide is not decoded. False, with `why`,
+// Decodes `bytes` (PNG, JPEG, WebP...: the format by `name`'s extension) into its channels as
+// stored, 8 bits each. An image wider or taller than maxSide is not decoded. False, with `why`,
 // when it cannot be decoded.
 bool decode(const std::vector<uint8_t> &bytes, const std::string &name, int maxSide,
             pack::Image &out, std::string &why);
