@@ -11,7 +11,7 @@
 #include <glm/gtc/quaternion.hpp>
 #include <tiny_gltf.h>
 
-#include "crowd/bake/images.h"
+#include "crowd/runtime/images.h"
 #include "crowd/formats/container.h"
 #include "crowd/formats/error.h"
 #include "rig.h"

@@ -7,7 +7,7 @@
 #include <sstream>
 
 #include "commands.h"
-#include "crowd/bake/images.h"
+#include "crowd/runtime/images.h"
 #include "crowd/bake/preview.h"
 #include "crowd/formats/chunks.h"
 #include "crowd/formats/error.h"

@@ -13,7 +13,7 @@
 #include <tiny_gltf.h>
 
 #include "base_colour_uv.h"
-#include "crowd/bake/images.h"
+#include "crowd/runtime/images.h"
 #include "crowd/bake/input_files.h"
 #include "crowd/formats/error.h"
 #include "crowd/runtime/json_checker.h"

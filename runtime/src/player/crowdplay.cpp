@@ -14,7 +14,6 @@
 
 #include <CLI/CLI.hpp>
 #include <GLFW/glfw3.h>
-#include <OpenImageIO/imageio.h>
 #include <epoxy/gl.h>
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
@@ -27,6 +26,7 @@
 #include "crowd/formats/terrain.h"
 #include "crowd/runtime/character_types.h"
 #include "crowd/runtime/crowd_renderer.h"
+#include "crowd/runtime/images.h"
 #include "crowd/runtime/preview_scene.h"
 #include "crowd/runtime/scene.h"
 
@@ -189,17 +189,15 @@ std::string budgetText(uint64_t budget) {
 }
 
 void writePng(const std::string &path, int w, int h, const std::vector<uint8_t> &rgba) {
-  std::vector<uint8_t> rgb(size_t(w) * size_t(h) * 3);
+  crowd::pack::Image image{"", uint32_t(w), uint32_t(h), 3, crowd::pack::Image::Pixel::U8, {}};
+  std::vector<uint8_t> &rgb = image.bytes;
+  rgb.resize(size_t(w) * size_t(h) * 3);
   for (int y = 0; y < h; ++y) // GL rows start at the bottom
     for (int x = 0; x < w; ++x)
       for (int k = 0; k < 3; ++k)
         rgb[(size_t(y) * size_t(w) + size_t(x)) * 3 + size_t(k)] =
             rgba[(size_t(h - 1 - y) * size_t(w) + size_t(x)) * 4 + size_t(k)];
-  auto out = OIIO::ImageOutput::create(path);
-  OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::UINT8);
-  if (!out || !out->open(path, spec) || !out->write_image(OIIO::TypeDesc::UINT8, rgb.data()) ||
-      !out->close())
-    throw crowd::Error(path + ": cannot write screenshot");
+  crowd::images::write(path, image);
 }
 
 struct Glfw {
@@ -352,22 +350,20 @@ crowd::runtime::RgbaImage readRgba(const std::string &path) {
   crowd::runtime::RgbaImage image;
   if (path.empty())
     return image;
-  auto in = OIIO::ImageInput::open(path);
-  if (!in)
-    throw crowd::Error(path + ": cannot read the image (" + OIIO::geterror() + ")");
-  const OIIO::ImageSpec &spec = in->spec();
-  if (spec.width <= 0 || spec.height <= 0 || spec.width > crowd::limits::kScreenSide ||
-      spec.height > crowd::limits::kScreenSide || spec.nchannels < 3)
-    throw crowd::Error(path + ": expected an RGB or RGBA image of at most " +
-                       std::to_string(crowd::limits::kScreenSide) + " pixels a side");
-  std::vector<uint8_t> pixels(size_t(spec.width) * size_t(spec.height) * size_t(spec.nchannels));
-  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::UINT8, pixels.data()))
-    throw crowd::Error(path + ": cannot read the image (" + in->geterror() + ")");
-  image.width = uint32_t(spec.width), image.height = uint32_t(spec.height);
-  for (size_t i = 0; i < size_t(spec.width) * size_t(spec.height); ++i)
-    for (int k = 0; k < 4; ++k)
-      image.rgba.push_back(k < spec.nchannels ? pixels[i * size_t(spec.nchannels) + size_t(k)]
-                                              : uint8_t(255));
+  std::ifstream file(path, std::ios::binary);
+  const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(file)),
+                                   std::istreambuf_iterator<char>());
+  crowd::pack::Image decoded;
+  std::string why;
+  const int side = int(crowd::limits::kScreenSide);
+  if (!file || !crowd::images::decode(bytes, path, side, decoded, why) || decoded.channels < 3)
+    throw crowd::Error(path + ": expected an RGB or RGBA image of at most " + std::to_string(side) +
+                       " pixels a side" + (why.empty() ? "" : ": " + why));
+  const size_t c = decoded.channels;
+  image.width = decoded.width, image.height = decoded.height;
+  for (size_t i = 0; i < size_t(image.width) * image.height; ++i)
+    for (size_t k = 0; k < 4; ++k)
+      image.rgba.push_back(k < c ? decoded.bytes[i * c + k] : uint8_t(255));
   return image;
 }
 

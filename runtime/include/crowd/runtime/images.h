@@ -3,7 +3,8 @@
 // start (a program linking only OpenImageIO starts in 0.45 s here, crowdbake's other libraries
 // in 0.02 s), though inspect, verify, diff, pose, report and untextured bakes read no image.
 // So the OpenImageIO calls live in a module (crowd_oiio.so, beside the program) that the first
-// image opens. Nothing else in the project includes OpenImageIO but the player and tests.
+// image opens, for crowdbake and crowdplay alike; only tests include OpenImageIO themselves. The
+// module holds no CGAL: runtime/ stays MIT.
 #pragma once
 #include <cstdint>
 #include <string>

@@ -1,4 +1,4 @@
-#include "crowd/bake/images.h"
+#include "crowd/runtime/images.h"
 
 #include <dlfcn.h>
 
