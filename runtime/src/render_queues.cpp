@@ -14,16 +14,17 @@ std::vector<std::vector<uint32_t>> outfitSubMeshes(const pack::AnimationPack &pa
     return {all};
   }
   const auto &table = *pack.outfits;
-  // The bake appends garments after the body's vertices; an outfit-specific copy of a body
-  // sub-mesh indexes body vertices only.
-  uint32_t bodyVertexEnd = 0;
+  // An outfit-specific copy of a body sub-mesh indexes body vertices only; a garment has
+  // vertices of its own. (The bake appends garments after the body's vertices, but the LOD
+  // renumbers vertices in collapse order, so it is the set that tells, not the index.)
+  std::vector<bool> bodyVertex(mesh.vertexCount());
   auto indicesOf = [&](uint32_t s) {
     const auto &sub = mesh.subMeshes[s];
     return std::span<const uint32_t>(mesh.indices).subspan(sub.firstIndex, sub.indexCount);
   };
   for (uint32_t s = 0; s < table.bodySubMeshes; ++s)
     for (uint32_t i : indicesOf(s))
-      bodyVertexEnd = std::max(bodyVertexEnd, i + 1);
+      bodyVertex[i] = true;
   std::vector<std::vector<uint32_t>> draws;
   for (const auto &outfit : table.outfits) {
     if (!wholeBody) {
@@ -36,7 +37,7 @@ std::vector<std::vector<uint32_t>> outfitSubMeshes(const pack::AnimationPack &pa
     for (uint32_t s : outfit.subMeshes) {
       auto idx = indicesOf(s);
       if (s >= table.bodySubMeshes &&
-          (idx.empty() || *std::min_element(idx.begin(), idx.end()) >= bodyVertexEnd))
+          !std::all_of(idx.begin(), idx.end(), [&](uint32_t i) { return bodyVertex[i]; }))
         d.push_back(s);
     }
     draws.push_back(d);

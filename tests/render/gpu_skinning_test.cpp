@@ -1,19 +1,18 @@
 // The player's vertex shader (shaders/crowd.vert) against its CPU mirror
 // (runtime/texture_skinning.cpp), vertex by vertex: the shader runs on the GL driver (Mesa
-// llvmpipe under xvfb-run here and in CI) with transform feedback capturing its skinned positions,
+// llvmpipe here and in CI, through EGL) with transform feedback capturing its skinned positions,
 // for every precision, at frame times, between frames and through crossfades between clips. The
 // crossfade is also measured against the exact one: the glTF's own joint transforms at both
 // clips' times, blended the same way (blendJoints), so the figure is what baking costs a fade.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
 
 #include <epoxy/gl.h>
-#define GLFW_INCLUDE_NONE
-#include <GLFW/glfw3.h>
 #include <gtest/gtest.h>
 
 #include "../unit/gltf_writer.h"
@@ -26,6 +25,7 @@
 #include "crowd/bake/point_cache.h"
 #include "crowd/runtime/clip_switch.h"
 #include "crowd/runtime/cloth_playback.h"
+#include "crowd/runtime/headless_gl.h"
 #include "crowd/runtime/pose.h"
 #include "crowd/runtime/texture_skinning.h"
 #include "crowd/samples/cloth_caches.h"
@@ -41,9 +41,12 @@ struct Baked {
   AnimBakeResult result;
 };
 
-// The samples (crowdbake samples), written once.
+// The samples (crowdbake samples), written once, or those in $CROWD_SAMPLES (a machine without
+// the image module cannot write them: a GPU machine with only the player's libraries).
 const std::string &sampleDir() {
   static const std::string dir = [] {
+    if (const char *given = std::getenv("CROWD_SAMPLES"))
+      return std::string(given);
     std::string d = test::tempDir("gpu_skinning");
     samples::writeSamples(d);
     return d;
@@ -86,32 +89,33 @@ const Baked &humanoid(const std::string &precision) {
   return baked.emplace(precision, std::move(b)).first->second;
 }
 
-// A hidden GL 4.5 core window for the test's lifetime.
+// A GL 4.5 core context with no window (EGL: the GPU's driver, or Mesa's software device) for
+// the test's lifetime.
 class Gl : public ::testing::Test {
 protected:
   static void SetUpTestSuite() {
-    if (!glfwInit())
+    gl_ = runtime::HeadlessGl::open(why_);
+    if (!gl_)
       return;
-    glfwWindowHint(GLFW_VISIBLE, GLFW_FALSE);
-    glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
-    glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 5);
-    glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
-    window_ = glfwCreateWindow(64, 64, "gpu_skinning", nullptr, nullptr);
-    if (window_)
-      glfwMakeContextCurrent(window_);
+    // A surfaceless context has no default framebuffer, and a draw needs a complete one even
+    // with rasterising discarded: a 1x1 target.
+    unsigned fbo, colour;
+    glCreateFramebuffers(1, &fbo);
+    glCreateRenderbuffers(1, &colour);
+    glNamedRenderbufferStorage(colour, GL_RGBA8, 1, 1);
+    glNamedFramebufferRenderbuffer(fbo, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, colour);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
   }
-  static void TearDownTestSuite() {
-    if (window_)
-      glfwDestroyWindow(window_);
-    glfwTerminate();
-  }
+  static void TearDownTestSuite() { gl_.reset(); }
   void SetUp() override {
-    if (!window_)
-      GTEST_SKIP() << "no OpenGL 4.5 core context (run under xvfb-run with Mesa)";
+    if (!gl_)
+      GTEST_SKIP() << "no OpenGL 4.5 core context: " << why_;
   }
-  static GLFWwindow *window_;
+  static std::unique_ptr<runtime::HeadlessGl> gl_;
+  static std::string why_;
 };
-GLFWwindow *Gl::window_ = nullptr;
+std::unique_ptr<runtime::HeadlessGl> Gl::gl_;
+std::string Gl::why_;
 
 // One instance at the origin with `params` (clip, time offset, speed, palette) and `fade` (clip
 // faded from or -1, its time offset, fade start, fade length) at scene time `seconds`: the

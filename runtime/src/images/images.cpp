@@ -45,7 +45,14 @@ const Codec &codec() {
 
 bool decode(const std::vector<uint8_t> &bytes, const std::string &name, int maxSide,
             pack::Image &out, std::string &why) {
-  return codec().decode(bytes, name, maxSide, out, why);
+  const Codec *c = nullptr;
+  try { // a module that cannot load is one more reason not to decode, as the header says
+    c = &codec();
+  } catch (const Error &e) {
+    why = e.what();
+    return false;
+  }
+  return c->decode(bytes, name, maxSide, out, why);
 }
 
 void write(const std::string &path, const pack::Image &image) {

@@ -26,6 +26,7 @@
 #include "crowd/formats/terrain.h"
 #include "crowd/runtime/character_types.h"
 #include "crowd/runtime/crowd_renderer.h"
+#include "crowd/runtime/headless_gl.h"
 #include "crowd/runtime/images.h"
 #include "crowd/runtime/preview_scene.h"
 #include "crowd/runtime/scene.h"
@@ -78,7 +79,8 @@ bool parse(int argc, char **argv, Options &o) {
   CLI::App app(kAbout, "crowdplay");
   app.add_option("SCENE", o.scene, "a scene (.json) or a pack to preview (.crowdpack)")->required();
   app.add_flag("--headless", o.headless,
-               "render offscreen at a fixed time step (run under xvfb-run -a without a display)");
+               "render offscreen at a fixed time step: through EGL without a display (a GPU's "
+               "driver or Mesa), else in a hidden window (then run under xvfb-run -a)");
   app.add_option("--frames", o.frames, "frames to render headless")
       ->capture_default_str()
       ->check(CLI::Range(1, 1000000));
@@ -126,7 +128,7 @@ bool parse(int argc, char **argv, Options &o) {
   app.add_option("--step", o.step, "headless time step between frames, in seconds")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 3600.0));
-  app.footer("\nexamples:\n  xvfb-run -a crowdplay samples/scenes/demo.json --headless --frames "
+  app.footer("\nexamples:\n  crowdplay samples/scenes/demo.json --headless --frames "
              "120 --screenshot a.png --stats s.json\n  crowdplay out/library/humanoid.crowdpack "
              "--clip walk --outfit dress\n");
   try {
@@ -201,10 +203,11 @@ void writePng(const std::string &path, int w, int h, const std::vector<uint8_t> 
 }
 
 struct Glfw {
-  Glfw() {
+  // `before`: why a headless run found no display-less context, for the error.
+  explicit Glfw(const std::string &before) {
     glfwSetErrorCallback([](int, const char *) {});
     if (!glfwInit())
-      throw crowd::Error("cannot initialise GLFW (no display? run under xvfb-run -a)");
+      throw crowd::Error(before + "cannot initialise GLFW (no display? run under xvfb-run -a)");
   }
   ~Glfw() { glfwTerminate(); }
 };
@@ -605,7 +608,11 @@ int main(int argc, char **argv) {
     if (scene.world.enabled())
       crowd.world = loadWorld(scene);
     o.draw.budget = o.budget >= 0 ? uint64_t(o.budget) : scene.budget;
-    Glfw glfw;
+    std::string eglWhy; // headless: EGL first (a GPU or Mesa without a display), else a window
+    if (o.headless)
+      if (auto gl = crowd::runtime::HeadlessGl::open(eglWhy))
+        return headless(o, *crowd.renderer(scene), scene);
+    Glfw glfw(o.headless ? "no EGL context (" + eglWhy + "), and " : "");
     GLFWwindow *win =
         openWindow(o.headless ? 64 : o.width, o.headless ? 64 : o.height, !o.headless);
     if (o.headless)

@@ -16,7 +16,7 @@ namespace crowd::images {
 
 // Decodes `bytes` (PNG, JPEG, WebP...: the format by `name`'s extension) into its channels as
 // stored, 8 bits each. An image wider or taller than maxSide is not decoded. False, with `why`,
-// when it cannot be decoded.
+// when it cannot be decoded, the module's failure to load included.
 bool decode(const std::vector<uint8_t> &bytes, const std::string &name, int maxSide,
             pack::Image &out, std::string &why);
 
