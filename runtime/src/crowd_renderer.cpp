@@ -8,6 +8,7 @@
 
 #include <epoxy/gl.h>
 #include <glm/gtc/type_ptr.hpp>
+#include <meshoptimizer.h>
 
 #include "crowd/formats/error.h"
 #include "crowd/runtime/environment_renderer.h"
@@ -217,10 +218,19 @@ CrowdRenderer::CrowdRenderer(const std::vector<const pack::AnimationPack *> &pac
         colours.insert(colours.end(), rgba.begin(), rgba.end());
       }
 
-    // Index data of every LOD level, built once (see lod_select.h).
+    // Index data of every LOD level, built once (see lod_select.h). Each level is a copy of its
+    // own, so each sub-mesh's triangles there can be in any order: in the order the GPU's vertex
+    // cache reuses most (meshoptimizer's), not the LOD's (by the collapse that removes them,
+    // scattered over the mesh). The player's vertex shader is most of a frame: the sample
+    // humanoid ran it 1.74 times a triangle in the LOD's order.
     std::vector<uint32_t> indices, starts;
     for (uint32_t v : selection_.ladders.back().vertices) {
       auto level = lodIndices(p, v, starts);
+      for (size_t s = 0; s + 1 < starts.size(); ++s) {
+        const std::vector<uint32_t> lodOrder(level.begin() + starts[s],
+                                             level.begin() + starts[s + 1]);
+        meshopt_optimizeVertexCache(&level[starts[s]], lodOrder.data(), lodOrder.size(), v);
+      }
       for (uint32_t st : starts)
         c->levelStarts.push_back(uint32_t(indices.size()) + st);
       indices.insert(indices.end(), level.begin(), level.end());
