@@ -37,7 +37,8 @@ std::vector<std::vector<uint32_t>> outfitSubMeshes(const pack::AnimationPack &pa
     for (uint32_t s : outfit.subMeshes) {
       auto idx = indicesOf(s);
       if (s >= table.bodySubMeshes &&
-          !std::all_of(idx.begin(), idx.end(), [&](uint32_t i) { return bodyVertex[i]; }))
+          (idx.empty() ||
+           !std::all_of(idx.begin(), idx.end(), [&](uint32_t i) { return bodyVertex[i]; })))
         d.push_back(s);
     }
     draws.push_back(d);
