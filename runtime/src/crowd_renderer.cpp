@@ -221,8 +221,9 @@ CrowdRenderer::CrowdRenderer(const std::vector<const pack::AnimationPack *> &pac
     // Index data of every LOD level, built once (see lod_select.h). Each level is a copy of its
     // own, so each sub-mesh's triangles there can be in any order: in the order the GPU's vertex
     // cache reuses most (meshoptimizer's), not the LOD's (by the collapse that removes them,
-    // scattered over the mesh). The player's vertex shader is most of a frame: the sample
-    // humanoid ran it 1.74 times a triangle in the LOD's order.
+    // scattered over the mesh). The player's vertex shader is most of a frame: at full detail
+    // the sample humanoid ran it 1.74 times a triangle in the LOD's order on an H100 (1.35 on
+    // llvmpipe), 0.85 (0.69) in the cache's.
     std::vector<uint32_t> indices, starts;
     for (uint32_t v : selection_.ladders.back().vertices) {
       auto level = lodIndices(p, v, starts);

@@ -11,9 +11,9 @@
 #include <glm/gtc/quaternion.hpp>
 #include <tiny_gltf.h>
 
-#include "crowd/runtime/images.h"
 #include "crowd/formats/container.h"
 #include "crowd/formats/error.h"
+#include "crowd/runtime/images.h"
 #include "rig.h"
 #include "village.h"
 

@@ -7,11 +7,11 @@
 #include <sstream>
 
 #include "commands.h"
-#include "crowd/runtime/images.h"
 #include "crowd/bake/preview.h"
 #include "crowd/formats/chunks.h"
 #include "crowd/formats/error.h"
 #include "crowd/formats/registry.h"
+#include "crowd/runtime/images.h"
 
 using nlohmann::ordered_json;
 

@@ -13,9 +13,9 @@
 #include <tiny_gltf.h>
 
 #include "base_colour_uv.h"
-#include "crowd/runtime/images.h"
 #include "crowd/bake/input_files.h"
 #include "crowd/formats/error.h"
+#include "crowd/runtime/images.h"
 #include "crowd/runtime/json_checker.h"
 #include "gltf_schema.h"
 #include "nearest_influences.h"
