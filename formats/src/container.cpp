@@ -2,16 +2,17 @@
 
 #include <array>
 #include <atomic>
-#include <mutex>
-#include <set>
 #include <bit>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <mutex>
+#include <set>
 #include <unistd.h>
 
 #include "crowd/formats/bytes.h"
 #include "crowd/formats/error.h"
+#include "crowd/formats/file_read.h"
 
 namespace crowd::pack {
 
@@ -184,11 +185,9 @@ Reader::Reader(std::vector<uint8_t> bytes, std::string name)
 }
 
 Reader Reader::open(const std::string &path) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f)
-    throw Error("pack '" + path + "': cannot open file");
-  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
-  return Reader(std::move(bytes), path);
+  // No byte bound but memory: a pack is as large as its bake made it (joint matrices of every
+  // frame run to gigabytes); what it declares inside is bounded by the chunk checks.
+  return Reader(readRegularFile(path, {UINT64_MAX, ""}, "pack '" + path + "'"), path);
 }
 
 const ChunkEntry *Reader::find(uint32_t type) const {

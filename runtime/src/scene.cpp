@@ -2,14 +2,13 @@
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <functional>
 #include <random>
-#include <sstream>
 
 #include <nlohmann/json.hpp>
 
 #include "crowd/formats/error.h"
+#include "crowd/formats/file_read.h"
 #include "crowd/formats/limits.h"
 #include "crowd/runtime/json_checker.h"
 
@@ -425,12 +424,9 @@ Scene parseScene(const std::string &text, const std::string &path, size_t instan
 }
 
 Scene loadScene(const std::string &path, size_t instanceOverride) {
-  std::ifstream f(path);
-  if (!f)
-    throw Error(path + ": cannot open scene file");
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return parseScene(ss.str(), path, instanceOverride);
+  const std::vector<uint8_t> bytes =
+      readRegularFile(path, {limits::kInputFileBytes, ""}, "scene " + path);
+  return parseScene(std::string(bytes.begin(), bytes.end()), path, instanceOverride);
 }
 
 } // namespace crowd::runtime

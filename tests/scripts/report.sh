@@ -45,6 +45,11 @@ expect_error "not_a_report.json: neither a build report" "$bin/crowdbake" report
 mkdir -p empty
 expect_error "build.report.json: cannot open \(not a build's output folder\?\)" \
   "$bin/crowdbake" report empty -o x.html
+# What is not a report file: read whole before, /dev/zero grew until memory ran out.
+expect_error "/dev/zero: not a regular file \(a device\): nothing read" \
+  "$bin/crowdbake" report /dev/zero -o x.html
+python3 -c "print('[' * 100000 + ']' * 100000)" > deep.json
+expect_error "deep.json:1:65: JSON nests deeper than 64 levels" "$bin/crowdbake" report deep.json -o x.html
 [ ! -e x.html ] || fail "a failed report wrote its page"
 
 browser=$(command -v chromium || command -v chromium-browser || true)

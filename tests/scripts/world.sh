@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # crowdplay with a world (issue 16): samples/scenes/village.json's agents walk the sample
 # village's terrain and draw (headless, Mesa under Xvfb); a walker casts its shadow on the ground;
-# a behaviour image of another size than the terrain's grid and a missing terrain pack are
-# one-line errors.
+# a behaviour image of another size than the terrain's grid, a missing terrain pack and a FIFO
+# for an image are one-line errors.
 set -euo pipefail
 bin=$1 work=$2 src=$3
 rm -rf "$work" && mkdir -p "$work/samples/scenes" "$work/out" && cd "$work"
@@ -80,5 +80,13 @@ sed 's|../../out/village.crowdpack|../../out/none.crowdpack|' samples/scenes/vil
 rc=$(play samples/scenes/no_terrain.json --instances 10 --frames 1)
 [ "$rc" = 1 ] && grep -q "does not exist (bake it: crowdbake terrain)" err.txt ||
   fail "a missing terrain pack (exit $rc): $(cat err.txt)"
+echo "ok: $(cat err.txt)"
+# A world image that is not a regular file (a FIFO with no writer blocked crowdplay for good).
+mkfifo fifo.png
+sed 's|../../out/samples/village_behaviour.png|../../fifo.png|' samples/scenes/village.json \
+  > samples/scenes/fifo.json
+rc=$(play samples/scenes/fifo.json --instances 10 --frames 1)
+[ "$rc" = 1 ] && grep -q "fifo.png: not a regular file (a FIFO): nothing read" err.txt ||
+  fail "a FIFO as the behaviour image (exit $rc): $(cat err.txt)"
 echo "ok: $(cat err.txt)"
 echo "world: all checks passed"

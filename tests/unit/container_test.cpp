@@ -1,5 +1,9 @@
 #include <cmath>
 #include <cstring>
+#include <filesystem>
+
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <gtest/gtest.h>
 
@@ -163,6 +167,29 @@ TEST(Container, OptionalDiffuseTextureRoundTripsAndNeedsUvs) {
   p.mesh.uvs = {0, 0, 1, 0, 0, 1};
   p.diffuse = Texture{3, 1, {1, 2, 3}}; // too few texels
   EXPECT_THROW(loadAnimationPack(Reader(packBytes(p), "t")), crowd::Error);
+}
+
+// Opening refuses what is not a regular file before reading a byte: a FIFO with no writer, or
+// /dev/zero, read whole before, blocked or grew until memory ran out.
+TEST(Container, OpenRefusesWhatIsNotARegularFile) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("crowd_open_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  ASSERT_EQ(::mkfifo((dir / "fifo.crowdpack").c_str(), 0600), 0);
+  const std::pair<std::string, std::string> cases[] = {
+      {(dir / "fifo.crowdpack").string(), "not a regular file (a FIFO): nothing read"},
+      {"/dev/zero", "not a regular file (a device): nothing read"},
+      {dir.string(), "not a regular file (a folder): nothing read"},
+      {(dir / "missing.crowdpack").string(), "cannot open file (No such file or directory)"}};
+  for (const auto &[path, why] : cases) {
+    try {
+      Reader::open(path);
+      ADD_FAILURE() << path << " opened";
+    } catch (const crowd::Error &e) {
+      EXPECT_EQ(std::string(e.what()), "pack '" + path + "': " + why);
+    }
+  }
+  std::filesystem::remove_all(dir);
 }
 
 TEST(Container, WriterIsDeterministic) { EXPECT_EQ(packBytes(tinyPack()), packBytes(tinyPack())); }

@@ -186,4 +186,16 @@ TEST(Scene, EverySampleSceneParses) {
   }
   EXPECT_GE(n, 3u);
 }
+
+// A scene is read only where it is a regular file under the input bound: /dev/zero, read whole
+// before, grew until memory ran out.
+TEST(Scene, LoadRefusesWhatIsNotARegularFile) {
+  try {
+    runtime::loadScene("/dev/zero");
+    ADD_FAILURE() << "/dev/zero loaded";
+  } catch (const Error &e) {
+    EXPECT_EQ(std::string(e.what()),
+              "scene /dev/zero: not a regular file (a device): nothing read");
+  }
+}
 } // namespace

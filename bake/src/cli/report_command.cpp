@@ -1,12 +1,12 @@
 // crowdbake report: build and bake reports as one HTML page (crowd/bake/report_page.h).
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 #include "commands.h"
+#include "crowd/bake/input_files.h"
 #include "crowd/bake/report_page.h"
 #include "crowd/formats/container.h"
 #include "crowd/formats/error.h"
+#include "crowd/runtime/json_checker.h"
 
 namespace crowd::cli {
 
@@ -25,13 +25,13 @@ ReportSource readReport(const std::string &input) {
   std::filesystem::path path = input;
   if (std::filesystem::is_directory(path))
     path /= "build.report.json";
-  std::ifstream in(path);
-  if (!in)
+  if (!std::filesystem::exists(path))
     throw Error(path.string() + ": cannot open" +
                 (path.filename() == "build.report.json" ? " (not a build's output folder?)" : ""));
-  std::stringstream text;
-  text << in.rdbuf();
-  nlohmann::json j = nlohmann::json::parse(text.str(), nullptr, false);
+  const std::vector<uint8_t> bytes = readInputFile(path.string(), InputPolicy{});
+  const std::string text(bytes.begin(), bytes.end());
+  runtime::checkJsonDepth(text, path.string());
+  nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
   if (j.is_discarded())
     throw Error(path.string() + ": not valid JSON");
   return {path.string(), std::move(j)};

@@ -1,15 +1,13 @@
 #include "crowd/bake/input_files.h"
 
-#include <cerrno>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 
 #include <openssl/evp.h>
-#include <sys/stat.h>
 
 #include "crowd/formats/error.h"
+#include "crowd/formats/file_read.h"
 
 namespace crowd {
 
@@ -51,8 +49,6 @@ bool inside(const fs::path &p, const fs::path &root) {
   return !rel.empty() && *rel.begin() != "..";
 }
 
-std::string mib(uint64_t bytes) { return std::to_string(bytes >> 20) + " MiB"; }
-
 } // namespace
 
 void InputPolicy::validate() const {
@@ -75,7 +71,8 @@ std::string resolveNamedInput(const std::string &name, const std::string &naming
     throw Error(ctx + ": absolute paths are not allowed; name files relative to " + namingFile);
   std::error_code ec;
   const fs::path parent = fs::path(namingFile).parent_path();
-  const fs::path folder = fs::absolute(parent.empty() ? fs::path(".") : parent, ec).lexically_normal();
+  const fs::path folder =
+      fs::absolute(parent.empty() ? fs::path(".") : parent, ec).lexically_normal();
   const fs::path rootDir = policy.assetRoot.empty() ? folder : fs::absolute(policy.assetRoot, ec);
   const fs::path lexical = (folder / name).lexically_normal();
   const fs::path root = rootDir.lexically_normal();
@@ -85,38 +82,17 @@ std::string resolveNamedInput(const std::string &name, const std::string &naming
   const fs::path real = fs::weakly_canonical(lexical, ec);
   const fs::path realRoot = fs::weakly_canonical(root, ec);
   if (ec || !inside(real, realRoot))
-    throw Error(ctx + ": resolves through a link to " + real.string() + ", outside the asset folder " +
-                realRoot.string() + widen);
+    throw Error(ctx + ": resolves through a link to " + real.string() +
+                ", outside the asset folder " + realRoot.string() + widen);
   return lexical.string();
 }
 
 uint64_t checkInputFile(const std::string &path, const InputPolicy &policy) {
-  struct stat st {};
-  if (::stat(path.c_str(), &st) != 0)
-    throw Error(path + ": cannot open file (" + std::strerror(errno) + ")");
-  if (!S_ISREG(st.st_mode))
-    throw Error(path + ": not a regular file (" +
-                (S_ISDIR(st.st_mode)    ? "a folder"
-                 : S_ISFIFO(st.st_mode) ? "a FIFO"
-                 : S_ISCHR(st.st_mode) || S_ISBLK(st.st_mode) ? "a device"
-                                                             : "not a plain file") +
-                "): nothing read");
-  if (uint64_t(st.st_size) > policy.maxFileBytes)
-    throw Error(path + ": " + mib(uint64_t(st.st_size)) + " is over the input bound of " +
-                mib(policy.maxFileBytes) + " (--max-file-size raises it): nothing read");
-  return uint64_t(st.st_size);
+  return checkRegularFile(path, {policy.maxFileBytes, "--max-file-size raises it"});
 }
 
 std::vector<uint8_t> readInputFile(const std::string &path, const InputPolicy &policy) {
-  const uint64_t size = checkInputFile(path, policy);
-  std::ifstream f(path, std::ios::binary);
-  if (!f)
-    throw Error(path + ": cannot open file");
-  std::vector<uint8_t> bytes(size);
-  f.read(reinterpret_cast<char *>(bytes.data()), std::streamsize(size));
-  if (uint64_t(f.gcount()) != size)
-    throw Error(path + ": changed while being read");
-  return bytes;
+  return readRegularFile(path, {policy.maxFileBytes, "--max-file-size raises it"});
 }
 
 std::string sha256Hex(const std::string &bytes) {

@@ -20,6 +20,7 @@
 
 #include "crowd/formats/chunks.h"
 #include "crowd/formats/error.h"
+#include "crowd/formats/file_read.h"
 #include "crowd/formats/impostor.h"
 #include "crowd/formats/limits.h"
 #include "crowd/formats/registry.h"
@@ -353,13 +354,12 @@ crowd::runtime::RgbaImage readRgba(const std::string &path) {
   crowd::runtime::RgbaImage image;
   if (path.empty())
     return image;
-  std::ifstream file(path, std::ios::binary);
-  const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(file)),
-                                   std::istreambuf_iterator<char>());
+  const std::vector<uint8_t> bytes =
+      crowd::readRegularFile(path, {crowd::limits::kInputFileBytes, ""});
   crowd::pack::Image decoded;
   std::string why;
   const int side = int(crowd::limits::kScreenSide);
-  if (!file || !crowd::images::decode(bytes, path, side, decoded, why) || decoded.channels < 3)
+  if (!crowd::images::decode(bytes, path, side, decoded, why) || decoded.channels < 3)
     throw crowd::Error(path + ": expected an RGB or RGBA image of at most " + std::to_string(side) +
                        " pixels a side" + (why.empty() ? "" : ": " + why));
   const size_t c = decoded.channels;
