@@ -2,7 +2,7 @@
 # The checks that want a real GPU, in one run, with no display (crowdplay --headless and the GPU
 # test make their context through EGL): the shader against its CPU mirror
 # (crowd_gpu_skinning_tests), the player benchmark at two sizes (player_bench.sh), the big scenes
-# hybrid against geometry only, and clothed crowds tagged against naive (--whole-body). Every
+# hybrid against geometry only, and clothed crowds tagged against naive (outfit_bench.sh). Every
 # ratio compares runs of the same binary on the same GPU in this run.
 # Usage: tests/bench/gpu_check.sh [OUT] [FRAMES]   (after ./run demo, which bakes out/; the GPU
 #   test writes the samples itself, or reads them from $CROWD_SAMPLES)
@@ -27,19 +27,4 @@ for scene in crowd10k crowd30k clothed10k library_mix; do
   done
 done
 echo "== clothed crowds at 1920x1080, geometry only: tagged against naive (--whole-body)"
-for n in 1000 2500 5000 10000; do
-  for method in naive tagged; do
-    flag=""; [ $method = naive ] && flag=--whole-body
-    $play samples/scenes/clothed10k.json --headless --frames "$frames" --size 1920x1080 \
-      --instances $n --geometry $flag --stats "$out/clothed_${n}_$method.json" >/dev/null
-  done
-  python3 - "$out" $n <<'PY'
-import json, sys
-s = {m: json.load(open(f"{sys.argv[1]}/clothed_{sys.argv[2]}_{m}.json"))["summary"]
-     for m in ("naive", "tagged")}
-t, v = s["tagged"], s["naive"]
-print(f"{sys.argv[2]}: frame ms tagged {t['frame_ms']:.2f}, naive {v['frame_ms']:.2f}; tagged/naive "
-      f"frame {t['frame_ms'] / v['frame_ms']:.3f}, gpu {t['gpu_ms'] / v['gpu_ms']:.3f}, "
-      f"triangles {t['triangles'] / v['triangles']:.3f} ({t['renderer']})")
-PY
-done
+tests/bench/outfit_bench.sh "$out/outfit" "$frames" 1920x1080 1 | tail -4

@@ -8,6 +8,8 @@
 # per frame. Each pair runs REPEATS times, naive and tagged alternating, and the table keeps each
 # one's fastest run (llvmpipe on a shared machine is noisy). Writes OUT/outfit_bench.csv.
 # Usage: tests/bench/outfit_bench.sh [OUT] [FRAMES] [SIZE] [REPEATS]   (after ./run demo)
+# crowdplay --headless needs no display where EGL offers a device (a GPU's driver, Mesa); else
+# it runs under xvfb-run.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 out=${1:-out/bench}
@@ -17,29 +19,36 @@ repeats=${4:-2}
 mkdir -p "$out"
 [ -f out/library/clothed.crowdpack ] ||
   { echo "run ./run demo first (it builds out/library/clothed.crowdpack)" >&2; exit 1; }
+display=()
+command -v xvfb-run >/dev/null && display=(xvfb-run -a -s "-screen 0 640x480x24")
 csv=$out/outfit_bench.csv
 echo "instances,method,run,frames,frame_ms,gpu_ms,cull_select_ms,draw_calls,triangles,vertices" > "$csv"
 for n in 1000 2500 5000 10000; do
   for run in $(seq "$repeats"); do for method in naive tagged; do
     flag=""; [ $method = naive ] && flag=--whole-body
     stats=$out/outfit_${n}_$method.json
-    xvfb-run -a -s "-screen 0 640x480x24" build/bin/crowdplay samples/scenes/clothed10k.json \
-      --headless --frames "$frames" --size "$size" --instances $n $flag --geometry --stats "$stats" \
-      >/dev/null
-    node -e '
-      const s = require(process.argv[1]).summary;
-      console.log([process.argv[2], process.argv[3], process.argv[4], s.frames, s.frame_ms.toFixed(1), s.gpu_ms.toFixed(1),
-                   s.cull_select_ms.toFixed(3), s.draw_calls, s.triangles, s.vertices ?? ""].join(","));' \
-      "$(realpath "$stats")" $n $method $run >> "$csv"
+    "${display[@]}" build/bin/crowdplay samples/scenes/clothed10k.json --headless \
+      --frames "$frames" --size "$size" --instances $n $flag --geometry --stats "$stats" >/dev/null
+    python3 - "$stats" $n $method $run >> "$csv" <<'PY'
+import json, sys
+s = json.load(open(sys.argv[1]))["summary"]
+print(",".join(sys.argv[2:5] + [str(s["frames"]), f'{s["frame_ms"]:.1f}', f'{s["gpu_ms"]:.1f}',
+                f'{s["cull_select_ms"]:.3f}', f'{s["draw_calls"]:.0f}', f'{s["triangles"]:.0f}',
+                f'{s["vertices"]:.0f}' if "vertices" in s else ""]))
+PY
   done; done
 done
-column -s, -t "$csv"
-node -e '
-  const rows = require("fs").readFileSync(process.argv[1], "utf8").trim().split("\n").slice(1).map(l => l.split(","));
-  const best = (n, m) => rows.filter(r => r[0] === n && r[1] === m).reduce((a, b) => +a[4] <= +b[4] ? a : b);
-  for (const n of [...new Set(rows.map(r => r[0]))]) {
-    const t = best(n, "tagged"), v = best(n, "naive");
-    console.log(`${n}: fastest frame ms tagged ${t[4]}, naive ${v[4]}: tagged/naive frame time ${(t[4] / v[4]).toFixed(3)}, ` +
-                `gpu time ${(t[5] / v[5]).toFixed(3)}, triangles ${(t[8] / v[8]).toFixed(3)}` +
-                (t[9] ? `, vertices ${(t[9] / v[9]).toFixed(3)}` : ""));
-  }' "$csv"
+python3 tests/bench/table.py "$csv"
+python3 - "$csv" <<'PY'
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+def best(n, m):
+    return min((r for r in rows if r["instances"] == n and r["method"] == m),
+               key=lambda r: float(r["frame_ms"]))
+for n in dict.fromkeys(r["instances"] for r in rows):
+    t, v = best(n, "tagged"), best(n, "naive")
+    ratio = lambda k: float(t[k]) / float(v[k])
+    print(f"{n}: fastest frame ms tagged {t['frame_ms']}, naive {v['frame_ms']}: tagged/naive "
+          f"frame time {ratio('frame_ms'):.3f}, gpu time {ratio('gpu_ms'):.3f}, triangles "
+          f"{ratio('triangles'):.3f}" + (f", vertices {ratio('vertices'):.3f}" if t["vertices"] else ""))
+PY

@@ -32,13 +32,10 @@ print(",".join([sys.argv[2], sys.argv[3], str(s["frames"]), f'{s["frame_ms"]:.1f
 PY
   done
 done
+python3 tests/bench/table.py "$csv"
 python3 - "$csv" <<'PY'
 import csv, sys
-lines = list(csv.reader(open(sys.argv[1])))
-widths = [max(len(l[k]) for l in lines) for k in range(len(lines[0]))]
-for l in lines:
-    print("  ".join(c.ljust(w) for c, w in zip(l, widths)).rstrip())
-rows = lines[1:]
+rows = list(csv.reader(open(sys.argv[1])))[1:]
 for n in ["1000", "5000", "10000", "30000"]:
     i = next(r for r in rows if r[0] == n and r[1] == "instanced")
     v = next(r for r in rows if r[0] == n and r[1] == "naive")
