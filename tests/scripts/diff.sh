@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # crowdbake diff's acceptance (issue 18): a pack against itself and against a re-bake at another
 # thread count exits 0; against a bake at another precision 1 or 2, naming the worst joint, clip
-# and time; a truncated pack and a bad tolerances file exit 4 with one clear line; --report
-# writes the verdict and the tolerances used.
+# and time; a truncated pack, a bad tolerances file and a FIFO for one exit 4 with one clear
+# line; --report writes the verdict and the tolerances used.
 set -euo pipefail
 bin=$1 work=$2
 rm -rf "$work" && mkdir -p "$work" && cd "$work"
@@ -41,6 +41,11 @@ echo "ok: $(cat err.txt)"
 echo '{"animation": 1}' > bad.json
 [ "$(diff_rc golden.crowdpack golden.crowdpack --tolerances bad.json)" = 4 ] &&
   grep -q "unknown tolerance 'animation'" err.txt || fail "bad tolerances: $(cat err.txt)"
+echo "ok: $(cat err.txt)"
+mkfifo fifo.json # blocked the diff for good before
+[ "$(diff_rc golden.crowdpack golden.crowdpack --tolerances fifo.json)" = 4 ] &&
+  grep -q "fifo.json: not a regular file (a FIFO): nothing read" err.txt ||
+  fail "a FIFO as the tolerances: $(cat err.txt)"
 echo "ok: $(cat err.txt)"
 "$bin/crowdbake" lod s/humanoid.glb --fps 30 --precision qts -q -o lod.crowdpack
 [ "$(diff_rc golden.crowdpack lod.crowdpack)" = 3 ] || fail "a pack with a LOD chunk more: $(cat out.txt)"

@@ -1,12 +1,13 @@
 // crowdbake diff: a new pack against a golden one, chunk by chunk, within tolerances
 // (crowd/bake/pack_diff.h). Its exit code is the verdict, as idiff's is.
 #include <cstdio>
-#include <fstream>
 #include <iostream>
 
 #include "commands.h"
+#include "crowd/bake/input_files.h"
 #include "crowd/bake/pack_diff.h"
 #include "crowd/formats/error.h"
+#include "crowd/runtime/json_checker.h"
 
 namespace crowd::cli {
 
@@ -71,10 +72,10 @@ int cmdDiff(int argc, char **argv) {
       return 0;
     DiffTolerances tolerances;
     if (!tolerancesFile.empty()) {
-      std::ifstream in(tolerancesFile);
-      if (!in)
-        throw Error(tolerancesFile + ": cannot open");
-      nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+      const std::vector<uint8_t> bytes = readInputFile(tolerancesFile, InputPolicy{});
+      const std::string text(bytes.begin(), bytes.end());
+      runtime::checkJsonDepth(text, tolerancesFile);
+      nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
       if (j.is_discarded())
         throw Error(tolerancesFile + ": not valid JSON");
       tolerances = tolerancesFromJson(j, tolerancesFile);
