@@ -10,6 +10,7 @@
 #include "crowd/bake/anim_bake.h"
 #include "crowd/bake/impostor_bake.h"
 #include "crowd/bake/lod_bake.h"
+#include "crowd/bake/malloc_tuning.h"
 #include "crowd/bake/provenance.h"
 #include "crowd/samples/cloth_caches.h"
 #include "crowd/samples/samples.h"
@@ -238,6 +239,7 @@ int cmdImpostor(int argc, char **argv) {
 } // namespace
 
 int main(int argc, char **argv) {
+  crowd::keepFreedMemory();
   std::string command = argc > 1 ? argv[1] : "";
   try {
     if (command.empty()) {
