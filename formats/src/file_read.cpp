@@ -38,13 +38,14 @@ uint64_t checkRegularFile(const std::string &path, const FileBound &bound,
 std::vector<uint8_t> readRegularFile(const std::string &path, const FileBound &bound,
                                      const std::string &label) {
   const uint64_t size = checkRegularFile(path, bound, label);
+  const std::string name = label.empty() ? path : label;
   std::ifstream f(path, std::ios::binary);
   if (!f)
-    throw Error((label.empty() ? path : label) + ": cannot open file");
+    throw Error(name + ": cannot open file");
   std::vector<uint8_t> bytes(size);
   f.read(reinterpret_cast<char *>(bytes.data()), std::streamsize(size));
   if (uint64_t(f.gcount()) != size)
-    throw Error((label.empty() ? path : label) + ": changed while being read");
+    throw Error(name + ": changed while being read");
   return bytes;
 }
 
