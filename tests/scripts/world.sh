@@ -69,24 +69,18 @@ assert lit > 10000 and shade > 100, (lit, shade)
 print(f'ok: one walker\'s shadow: {shade} darkened paving pixels against {lit} lit')
 PY
 cb export out/humanoid.crowdpack --images tex >/dev/null
-sed 's|../../out/samples/village_behaviour.png|../../tex/diffuse.png|' \
-  samples/scenes/village.json > samples/scenes/wrong_size.json
-rc=$(play samples/scenes/wrong_size.json --instances 10 --frames 1)
-[ "$rc" = 1 ] && grep -q "diffuse.png: the behaviour image is 256x256 pixels; the terrain's grid is 320x320 cells" err.txt ||
-  fail "a behaviour image of another size (exit $rc): $(cat err.txt)"
-echo "ok: $(cat err.txt)"
-sed 's|../../out/village.crowdpack|../../out/none.crowdpack|' samples/scenes/village.json \
-  > samples/scenes/no_terrain.json
-rc=$(play samples/scenes/no_terrain.json --instances 10 --frames 1)
-[ "$rc" = 1 ] && grep -q "does not exist (bake it: crowdbake terrain)" err.txt ||
-  fail "a missing terrain pack (exit $rc): $(cat err.txt)"
-echo "ok: $(cat err.txt)"
+expect_error() { # expect_error NAME SED PATTERN: the village scene, edited by SED, exits 1 with PATTERN
+  sed "$2" samples/scenes/village.json > "samples/scenes/$1.json"
+  local rc; rc=$(play "samples/scenes/$1.json" --instances 10 --frames 1)
+  [ "$rc" = 1 ] && grep -q "$3" err.txt || fail "$1 (exit $rc): $(cat err.txt)"
+  echo "ok: $(cat err.txt)"
+}
+expect_error wrong_size 's|../../out/samples/village_behaviour.png|../../tex/diffuse.png|' \
+  "diffuse.png: the behaviour image is 256x256 pixels; the terrain's grid is 320x320 cells"
+expect_error no_terrain 's|../../out/village.crowdpack|../../out/none.crowdpack|' \
+  "does not exist (bake it: crowdbake terrain)"
 # A world image that is not a regular file (a FIFO with no writer blocked crowdplay for good).
 mkfifo fifo.png
-sed 's|../../out/samples/village_behaviour.png|../../fifo.png|' samples/scenes/village.json \
-  > samples/scenes/fifo.json
-rc=$(play samples/scenes/fifo.json --instances 10 --frames 1)
-[ "$rc" = 1 ] && grep -q "fifo.png: not a regular file (a FIFO): nothing read" err.txt ||
-  fail "a FIFO as the behaviour image (exit $rc): $(cat err.txt)"
-echo "ok: $(cat err.txt)"
+expect_error fifo 's|../../out/samples/village_behaviour.png|../../fifo.png|' \
+  "fifo.png: not a regular file (a FIFO): nothing read"
 echo "world: all checks passed"

@@ -21,11 +21,6 @@ using runtime::JsonChecker;
 using Keys = JsonChecker::Keys;
 namespace fs = std::filesystem;
 
-std::string readText(const std::string &path, const InputPolicy &policy) {
-  const std::vector<uint8_t> bytes = readInputFile(path, policy);
-  return std::string(bytes.begin(), bytes.end());
-}
-
 // An input file named by a manifest: resolved against the manifest's folder and kept inside it
 // (or the asset root); must be a regular file within the size bound.
 std::string inputFile(const JsonChecker &c, const json &j, const Keys &keys,
@@ -372,7 +367,7 @@ CharacterManifest parseManifest(const std::string &text, const std::string &path
 }
 
 Library loadLibrary(const std::string &path, const InputPolicy &policy) {
-  const std::string text = readText(path, policy);
+  const std::string text = readInputText(path, policy);
   JsonChecker c(text, path);
   const json j = c.parse();
   Library lib;
@@ -393,7 +388,7 @@ Library loadLibrary(const std::string &path, const InputPolicy &policy) {
     const Keys at = {"characters", std::to_string(i)};
     if (entry.is_string()) {
       const std::string file = inputFile(c, entry, at, policy);
-      const std::string sub = readText(file, policy);
+      const std::string sub = readInputText(file, policy);
       JsonChecker sc(sub, file);
       const json sj = sc.parse();
       if (sj.is_object() && sj.contains("characters"))

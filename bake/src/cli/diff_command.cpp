@@ -72,13 +72,9 @@ int cmdDiff(int argc, char **argv) {
       return 0;
     DiffTolerances tolerances;
     if (!tolerancesFile.empty()) {
-      const std::vector<uint8_t> bytes = readInputFile(tolerancesFile, InputPolicy{});
-      const std::string text(bytes.begin(), bytes.end());
-      runtime::checkJsonDepth(text, tolerancesFile);
-      nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
-      if (j.is_discarded())
-        throw Error(tolerancesFile + ": not valid JSON");
-      tolerances = tolerancesFromJson(j, tolerancesFile);
+      const std::string text = readInputText(tolerancesFile, InputPolicy{});
+      tolerances =
+          tolerancesFromJson(runtime::JsonChecker(text, tolerancesFile).parse(), tolerancesFile);
     }
     const PackDiff d = diffPacks(pack::Reader::open(golden), pack::Reader::open(fresh), tolerances);
     print(d, verbose);

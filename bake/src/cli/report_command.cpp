@@ -28,13 +28,8 @@ ReportSource readReport(const std::string &input) {
   if (!std::filesystem::exists(path))
     throw Error(path.string() + ": cannot open" +
                 (path.filename() == "build.report.json" ? " (not a build's output folder?)" : ""));
-  const std::vector<uint8_t> bytes = readInputFile(path.string(), InputPolicy{});
-  const std::string text(bytes.begin(), bytes.end());
-  runtime::checkJsonDepth(text, path.string());
-  nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
-  if (j.is_discarded())
-    throw Error(path.string() + ": not valid JSON");
-  return {path.string(), std::move(j)};
+  const std::string name = path.string(), text = readInputText(name, InputPolicy{});
+  return {name, runtime::JsonChecker(text, name).parse()};
 }
 
 } // namespace

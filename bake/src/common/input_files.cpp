@@ -95,6 +95,11 @@ std::vector<uint8_t> readInputFile(const std::string &path, const InputPolicy &p
   return readRegularFile(path, {policy.maxFileBytes, "--max-file-size raises it"});
 }
 
+std::string readInputText(const std::string &path, const InputPolicy &policy) {
+  const std::vector<uint8_t> bytes = readInputFile(path, policy);
+  return std::string(bytes.begin(), bytes.end());
+}
+
 std::string sha256Hex(const std::string &bytes) {
   Sha256 h;
   h.add(bytes.data(), bytes.size());

@@ -29,8 +29,9 @@ std::string resolveNamedInput(const std::string &name, const std::string &naming
 // Size of `path` after checking it is a regular file within the policy's byte bound.
 uint64_t checkInputFile(const std::string &path, const InputPolicy &policy);
 
-// The whole of `path`, checked first as above.
+// The whole of `path`, checked first as above; as text.
 std::vector<uint8_t> readInputFile(const std::string &path, const InputPolicy &policy);
+std::string readInputText(const std::string &path, const InputPolicy &policy);
 
 // "sha256:HEX" and size of a file, read in 1 MiB blocks (never whole into memory); the file
 // must be a regular file.
