@@ -33,6 +33,7 @@ public:
     ++size_;
   }
   bool empty() const { return size_ == 0; }
+  void reserve(size_t items) { nodes_.reserve(items); }
   // The cheapest item (the queue must not be empty). Where the last bucket popped from is
   // empty, the next occupied one is found in occupied_, 64 buckets a step.
   T pop() {

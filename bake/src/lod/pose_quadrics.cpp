@@ -115,25 +115,38 @@ template <class Stride> PoseQuadrics::Kernels kernels() {
           }};
 }
 
-// The bind pose plus LodOptions' default pose count, and the bind pose alone, padded to even.
-constexpr size_t kDefaultStride = (LodOptions{}.poses + 2) / 2 * 2, kBindStride = 2;
+// The bind pose plus LodOptions' default pose count, padded to even.
+constexpr size_t kDefaultStride = (LodOptions{}.poses + 2) / 2 * 2;
 
 } // namespace
 
 PoseQuadrics::PoseQuadrics(const std::vector<glm::dvec3> &rest,
                            const std::vector<std::vector<glm::vec3>> &poses,
                            const std::vector<uint32_t> &inputOf)
-    : poses_(1 + poses.size()), stride_(poses_ + poses_ % 2), q_(rest.size() * 10 * stride_, 0.0),
-      at_(rest.size() * 3 * stride_, 0.0), self_(rest.size() * stride_, 0.0) {
+    : poses_(1 + poses.size()), stride_(poses_ == 1 ? 1 : poses_ + poses_ % 2),
+      rest_(rest.size() * kRest, 0.0) {
   k_ = stride_ == kDefaultStride ? kernels<std::integral_constant<size_t, kDefaultStride>>()
-       : stride_ == kBindStride  ? kernels<std::integral_constant<size_t, kBindStride>>()
+       : stride_ == 1            ? kernels<std::integral_constant<size_t, 1>>()
                                  : kernels<size_t>();
+  if (poses_ == 1) {
+    row_[0] = rest_.data(), row_[1] = rest_.data() + 10, row_[2] = rest_.data() + 13;
+    step_[0] = step_[1] = step_[2] = kRest;
+  } else {
+    q_.assign(rest.size() * 10 * stride_, 0.0);
+    at_.assign(rest.size() * 3 * stride_, 0.0);
+    self_.assign(rest.size() * stride_, 0.0);
+    row_[0] = q_.data(), row_[1] = at_.data(), row_[2] = self_.data();
+    step_[0] = 10 * stride_, step_[1] = 3 * stride_, step_[2] = stride_;
+  }
   glm::dvec3 low(0.0), high(0.0);
-  for (size_t v = 0; v < rest.size(); ++v) {
+  for (uint32_t v = 0; v < rest.size(); ++v) {
     low = v == 0 ? rest[v] : glm::min(low, rest[v]);
     high = v == 0 ? rest[v] : glm::max(high, rest[v]);
     for (size_t k = 0; k < 3; ++k) {
-      double *at = &at_[(v * 3 + k) * stride_];
+      rest_[v * kRest + 10 + k] = rest[v][int(k)];
+      if (poses_ == 1)
+        continue;
+      double *at = atOf(v) + k * stride_;
       at[0] = rest[v][int(k)];
       for (size_t p = 0; p < poses.size(); ++p)
         at[1 + p] = double(poses[p][inputOf[v]][int(k)]);
@@ -146,46 +159,42 @@ PoseQuadrics::PoseQuadrics(const std::vector<glm::dvec3> &rest,
 
 void PoseQuadrics::addFace(const std::array<uint32_t, 3> &f) {
   const size_t S = stride_;
-  k_.facePlanes(&at_[f[0] * 3 * S], &at_[f[1] * 3 * S], &at_[f[2] * 3 * S], plane_.data(), S);
+  k_.facePlanes(atOf(f[0]), atOf(f[1]), atOf(f[2]), plane_.data(), S);
   for (uint32_t v : f)
-    k_.addPlane(&q_[v * 10 * S], plane_.data(), S);
+    k_.addPlane(qOf(v), plane_.data(), S);
 }
 
 void PoseQuadrics::addBorder(uint32_t a, uint32_t b, uint32_t c) {
   const size_t S = stride_;
-  k_.borderPlanes(&at_[a * 3 * S], &at_[b * 3 * S], &at_[c * 3 * S], plane_.data(), S);
+  k_.borderPlanes(atOf(a), atOf(b), atOf(c), plane_.data(), S);
   for (uint32_t v : {a, b})
-    k_.addPlane(&q_[v * 10 * S], plane_.data(), S);
+    k_.addPlane(qOf(v), plane_.data(), S);
 }
 
 void PoseQuadrics::finish() {
-  rest_.resize(self_.size() / stride_ * kRest);
-  for (uint32_t v = 0; v < self_.size() / stride_; ++v) {
+  for (uint32_t v = 0; v < rest_.size() / kRest; ++v)
     selfAt(v);
-    for (size_t k = 0; k < 3; ++k)
-      rest_[v * kRest + 10 + k] = at_[(v * 3 + k) * stride_];
-  }
 }
 
 void PoseQuadrics::selfAt(uint32_t v) {
-  k_.terms(&q_[v * 10 * stride_], &at_[v * 3 * stride_], zero_.data(), &self_[v * stride_],
-           stride_);
+  k_.terms(qOf(v), atOf(v), zero_.data(), selfOf(v), stride_);
+  if (poses_ == 1)
+    return; // the rest pose's figures are the only ones
   for (size_t k = 0; k < 10; ++k)
     rest_[v * kRest + k] = q_[(v * 10 + k) * stride_];
   rest_[v * kRest + 13] = self_[v * stride_];
 }
 
 void PoseQuadrics::merge(uint32_t into, uint32_t from) {
-  double *a = &q_[into * 10 * stride_];
-  const double *b = &q_[from * 10 * stride_];
+  double *a = qOf(into);
+  const double *b = qOf(from);
   for (size_t i = 0; i < 10 * stride_; ++i)
     a[i] += b[i];
   selfAt(into);
 }
 
 double PoseQuadrics::cost(uint32_t a, uint32_t b) const {
-  k_.terms(&q_[a * 10 * stride_], &at_[b * 3 * stride_], &self_[b * stride_], term_.data(),
-           stride_);
+  k_.terms(qOf(a), atOf(b), selfOf(b), term_.data(), stride_);
   double worst = 0;
   for (double t : term_)
     worst = std::max(worst, t);

@@ -14,14 +14,17 @@ namespace crowd::lod {
 
 // Every vertex's quadric (symmetric 4x4: xx xy xz xw yy yz yw zz zw ww) in every pose, pose-
 // minor: coefficient k of vertex v in pose p at (v * 10 + k) * stride + p, the poses padded with
-// zeros to an even count. Every loop runs over the poses, one a lane, so that the compiler
-// evaluates two or more poses at once; each pose's arithmetic is the same as one at a time.
+// zeros to an even count (the rest pose alone: stride 1, in rest_). Every loop runs over the
+// poses, one a lane, so that the compiler evaluates two or more poses at once; each pose's
+// arithmetic is the same as one at a time.
 class PoseQuadrics {
 public:
   // Vertex v at rest[v] in the rest pose, the first, and at poses[p][inputOf[v]] in pose p + 1.
   PoseQuadrics(const std::vector<glm::dvec3> &rest,
                const std::vector<std::vector<glm::vec3>> &poses,
                const std::vector<uint32_t> &inputOf);
+  PoseQuadrics(const PoseQuadrics &) = delete; // row_ points into its own arrays
+  PoseQuadrics &operator=(const PoseQuadrics &) = delete;
   // Adds the face's plane, weighted by its area, to its corners' quadrics in every pose where it
   // has an area.
   void addFace(const std::array<uint32_t, 3> &f);
@@ -65,16 +68,25 @@ public:
 
 private:
   void selfAt(uint32_t v);
+  // Vertex v's quadric, position and self term, stride_ values a row: in the pose-minor arrays,
+  // or where the rest pose is the only one (stride 1) in rest_, which then holds everything.
+  double *qOf(uint32_t v) const { return row_[0] + size_t(v) * step_[0]; }
+  double *atOf(uint32_t v) const { return row_[1] + size_t(v) * step_[1]; }
+  double *selfOf(uint32_t v) const { return row_[2] + size_t(v) * step_[2]; }
   size_t poses_, stride_;
   double noise_, diagonal2_;
   Kernels k_;
   // Quadrics, positions (x y z) and each quadric at its own vertex (Qb at b, which changes only
-  // when b does), all pose-minor.
+  // when b does), all pose-minor; empty where the rest pose is the only one.
   std::vector<double> q_, at_, self_;
   // The rest pose's (the first pose's) quadric, position and self term of each vertex side by
-  // side, for bound(): spread over the pose-minor rows, they cost a cache miss each.
+  // side, for bound(): spread over the pose-minor rows, they cost a cache miss each. With no
+  // other pose, the only copy: a second, padded to two lanes, made a 1M-triangle grid's bake
+  // hold 112 MB more and add every merge twice.
   static constexpr size_t kRest = 14;
   std::vector<double> rest_;
+  double *row_[3]; // qOf, atOf, selfOf's first vertex, and the step from one to the next
+  size_t step_[3];
   std::vector<double> plane_ = std::vector<double>(5 * stride_); // x y z d weight
   std::vector<double> zero_ = std::vector<double>(stride_);
   mutable std::vector<double> term_ = std::vector<double>(stride_);
