@@ -24,6 +24,7 @@
 #include <meshoptimizer.h>
 
 #include "crowd/bake/lod_bake.h"
+#include "crowd/bake/malloc_tuning.h"
 #include "lod_distance.h"
 
 namespace {
@@ -87,6 +88,8 @@ template <class Work> double fastest(Work work) {
 } // namespace
 
 int main(int argc, char **argv) {
+  crowd::useHugePages(argv); // the allocator as crowdbake sets it
+  crowd::keepFreedMemory();
   const bool timesOnly = argc > 1 && std::string(argv[1]) == "--times-only";
   if (argc < 4) {
     std::fprintf(stderr, "usage: lod_bench OUT.csv TIMES.csv FILE.glb...\n"

@@ -239,6 +239,7 @@ int cmdImpostor(int argc, char **argv) {
 } // namespace
 
 int main(int argc, char **argv) {
+  crowd::useHugePages(argv);
   crowd::keepFreedMemory();
   std::string command = argc > 1 ? argv[1] : "";
   try {
