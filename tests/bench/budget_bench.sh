@@ -44,7 +44,7 @@ node -e '
   }
   require("fs").writeFileSync(process.argv[2], out.join("\n") + "\n");
 ' "$csv" "$out/budget_table.csv"
-column -s, -t "$out/budget_table.csv"
+python3 tests/bench/table.py "$out/budget_table.csv"
 c="node tests/bench/chart.js"
 $c "$out/budget_triangles.svg" "crowd30k: triangles drawn along the camera path" "time (s)" \
   "triangles" "$csv" time_s triangles budget

@@ -61,5 +61,5 @@ $c "$out/cloth_pass1_by_start.svg" "Pass 1 at the chosen loop length, every star
 $c "$out/cloth_pass2.svg" "Pass 2: edge distance of pass 1's candidates (5 views)" \
   "pass-1 rank" "mean edge distance (px, summed over views)" "$out/cloth_candidates.csv" \
   pass1_rank pass2_edge_px cache
-column -s, -t < "$out/cloth_loops.csv"
+python3 tests/bench/table.py "$out/cloth_loops.csv"
 echo "wrote $out/cloth_loops.csv, cloth_candidates.csv, cloth_pass1_*.csv and cloth_*.svg"

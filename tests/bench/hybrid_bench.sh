@@ -44,7 +44,7 @@ for n in 10000 30000; do
       "$(realpath "$stats")" $n $path >> "$csv"
   done
 done
-column -s, -t "$csv"
+python3 tests/bench/table.py "$csv"
 node -e '
   const rows = require("fs").readFileSync(process.argv[1], "utf8").trim().split("\n").slice(1).map(l => l.split(","));
   for (const n of ["10000", "30000"]) {

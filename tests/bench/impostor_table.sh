@@ -80,6 +80,6 @@ $c "$out/impostor_iou_vs_bytes.svg" "Between-view silhouette IoU against memory 
 $c "$out/impostor_normal_vs_bytes.svg" "Between-view normal error against memory (walk, mirrored)" \
   "bytes per frame" "degrees" "$sweeps" bytes_per_frame between_normal_mean_deg sweep log
 rm -f "$sweeps"
-for f in impostor_views impostor_texels impostor_speed; do echo "== $f"; column -s, -t "$out/$f.csv"; done
+for f in impostor_views impostor_texels impostor_speed; do echo "== $f"; python3 tests/bench/table.py "$out/$f.csv"; done
 echo "charts: $out/impostor_iou_vs_views.svg $out/impostor_normal_vs_views.svg $out/impostor_memory_vs_texels.svg"
 echo "        $out/impostor_iou_vs_bytes.svg $out/impostor_normal_vs_bytes.svg"

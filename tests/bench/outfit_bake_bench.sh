@@ -28,7 +28,7 @@ for outfit in dress jumper_skirt shirt_trousers; do
     done
   done
 done
-column -s, -t "$csv"
+python3 tests/bench/table.py "$csv"
 python3 - "$csv" <<'PY'
 import csv, sys
 rows = list(csv.DictReader(open(sys.argv[1])))
