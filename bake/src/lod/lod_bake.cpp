@@ -244,7 +244,7 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
   std::vector<uint32_t> stamp(N, 0);
   std::vector<uint8_t> gone(N, 0);
   lod::CostQueue<Candidate> queue;
-  queue.reserve(3 * F + 64); // the first pass's pushes, each half-edge once: no copy as it fills
+  queue.reserve(3 * F + 64); // the first pass's pushes on a closed mesh: no copies as it fills
   // A candidate goes in at its bound, and its cost is worked out only when the bound comes up,
   // if the candidate is still valid then: of the sample humanoid's 70,340 candidates, 65,060 were
   // stale when they came up, and their costs over 16 poses were most of the bake's arithmetic.
