@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # crowdbake's allocator settings (malloc_tuning.h): started without glibc.malloc.hugetlb in
 # GLIBC_TUNABLES, it runs itself again with it set (glibc's loader starts the program twice, in
-# one process), keeping what else the variable sets; where the user set it, once. The packs do
-# not depend on it.
+# one process), also where the variable sets other tunables; where the user set it, once. The
+# packs do not depend on it.
 set -euo pipefail
 bin=$1 work=$2
 rm -rf "$work" && mkdir -p "$work" && cd "$work"
