@@ -239,9 +239,36 @@ int cmdImpostor(int argc, char **argv) {
 } // namespace
 
 int main(int argc, char **argv) {
-  crowd::useHugePages(argv);
+  // One function per command; each parses its own options (CLI11). The bakes read untrusted
+  // input and run under the resource guard; they (large arrays, long runs) also start again on
+  // huge pages (useHugePages). The quick commands start once: a second start loads crowdbake and
+  // its libraries again, tens of milliseconds.
+  struct Command {
+    int (*run)(int, char **);
+    bool bake;
+  };
+  const std::map<std::string, Command> commands = {
+      {"build", {cmdBuild, true}},
+      {"build-task", {cmdBuildTask, true}},
+      {"samples", {cmdSamples, false}},
+      {"anim", {[](int c, char **v) { return cmdAnim(c, v, "anim"); }, true}},
+      {"lod", {[](int c, char **v) { return cmdAnim(c, v, "lod"); }, true}},
+      {"impostor", {cmdImpostor, true}},
+      {"outfits", {cmdOutfits, true}},
+      {"inspect", {cmdInspect, false}},
+      {"verify", {cmdVerify, false}},
+      {"export", {cmdExport, false}},
+      {"pose", {cmdPose, false}},
+      {"cloth", {cmdCloth, true}},
+      {"terrain", {cmdTerrain, true}},
+      {"diff", {cmdDiff, false}},
+      {"report", {cmdReport, false}},
+  };
+  const std::string command = argc > 1 ? argv[1] : "";
+  const auto it = commands.find(command);
+  if (it != commands.end() && it->second.bake)
+    crowd::useHugePages(argv);
   crowd::keepFreedMemory();
-  std::string command = argc > 1 ? argv[1] : "";
   try {
     if (command.empty()) {
       std::cerr << kTopHelp;
@@ -255,29 +282,9 @@ int main(int argc, char **argv) {
       std::cout << crowd::kBakerVersion << "\nbuilt with " << crowd::toolchain() << "\n";
       return 0;
     }
-    // One function per command; each parses its own options (CLI11). The bakes read untrusted
-    // input and run under the resource guard.
-    const std::map<std::string, int (*)(int, char **)> commands = {
-        {"build", cmdBuild},
-        {"build-task", cmdBuildTask},
-        {"samples", cmdSamples},
-        {"anim", [](int c, char **v) { return cmdAnim(c, v, "anim"); }},
-        {"lod", [](int c, char **v) { return cmdAnim(c, v, "lod"); }},
-        {"impostor", cmdImpostor},
-        {"outfits", cmdOutfits},
-        {"inspect", cmdInspect},
-        {"verify", cmdVerify},
-        {"export", cmdExport},
-        {"pose", cmdPose},
-        {"cloth", cmdCloth},
-        {"terrain", cmdTerrain},
-        {"diff", cmdDiff},
-        {"report", cmdReport},
-    };
-    auto it = commands.find(command);
     if (it == commands.end())
       throw UsageError("unknown command '" + command + "' (see crowdbake --help)");
-    return it->second(argc, argv);
+    return it->second.run(argc, argv);
   } catch (const std::exception &e) {
     printFailure(e);
     return dynamic_cast<const UsageError *>(&e) ? 2 : 1;
