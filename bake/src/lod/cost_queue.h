@@ -47,6 +47,8 @@ public:
     const uint32_t slot = head_[lowest_];
     Node &node = nodes_[slot];
     head_[lowest_] = node.next;
+    if (node.next != kNone) // the next pop's node: loading the popped one is the queue's stall
+      __builtin_prefetch(&nodes_[node.next]);
     if (node.next == kNone)
       occupied_[lowest_ >> 6] &= ~(uint64_t(1) << (lowest_ & 63));
     node.next = free_;

@@ -129,7 +129,7 @@ PoseQuadrics::PoseQuadrics(const std::vector<glm::dvec3> &rest,
        : stride_ == 1            ? kernels<std::integral_constant<size_t, 1>>()
                                  : kernels<size_t>();
   if (poses_ == 1) {
-    row_[0] = rest_.data(), row_[1] = rest_.data() + 10, row_[2] = rest_.data() + 13;
+    row_[0] = &rest_[kRestQuadric], row_[1] = &rest_[kRestAt], row_[2] = &rest_[kRestSelf];
     step_[0] = step_[1] = step_[2] = kRest;
   } else {
     q_.assign(rest.size() * 10 * stride_, 0.0);
@@ -143,7 +143,7 @@ PoseQuadrics::PoseQuadrics(const std::vector<glm::dvec3> &rest,
     low = v == 0 ? rest[v] : glm::min(low, rest[v]);
     high = v == 0 ? rest[v] : glm::max(high, rest[v]);
     for (size_t k = 0; k < 3; ++k) {
-      rest_[v * kRest + 10 + k] = rest[v][int(k)];
+      rest_[v * kRest + kRestAt + k] = rest[v][int(k)];
       if (poses_ == 1)
         continue;
       double *at = atOf(v) + k * stride_;
@@ -181,8 +181,8 @@ void PoseQuadrics::selfAt(uint32_t v) {
   if (poses_ == 1)
     return; // the rest pose's figures are the only ones
   for (size_t k = 0; k < 10; ++k)
-    rest_[v * kRest + k] = q_[(v * 10 + k) * stride_];
-  rest_[v * kRest + 13] = self_[v * stride_];
+    rest_[v * kRest + kRestQuadric + k] = q_[(v * 10 + k) * stride_];
+  rest_[v * kRest + kRestSelf] = self_[v * stride_];
 }
 
 void PoseQuadrics::merge(uint32_t into, uint32_t from) {
@@ -203,15 +203,15 @@ double PoseQuadrics::cost(uint32_t a, uint32_t b) const {
 
 double PoseQuadrics::bound(uint32_t a, uint32_t b) const {
   double rest;
-  const double *qa = &rest_[a * kRest], *b0 = &rest_[b * kRest];
-  terms(qa, b0 + 10, b0 + 13, &rest, std::integral_constant<size_t, 1>());
+  const double *qa = &rest_[a * kRest + kRestQuadric], *b0 = &rest_[b * kRest];
+  terms(qa, b0 + kRestAt, b0 + kRestSelf, &rest, std::integral_constant<size_t, 1>());
   return rest < noise_ ? 0.0 : rest;
 }
 
 double PoseQuadrics::key(uint32_t a, uint32_t b, double cost) const {
   if (cost > 0)
     return cost;
-  const double *pa = &rest_[a * kRest + 10], *pb = &rest_[b * kRest + 10];
+  const double *pa = &rest_[a * kRest + kRestAt], *pb = &rest_[b * kRest + kRestAt];
   const double length2 = (pa[0] - pb[0]) * (pa[0] - pb[0]) + (pa[1] - pb[1]) * (pa[1] - pb[1]) +
                          (pa[2] - pb[2]) * (pa[2] - pb[2]);
   int octave = kShortest; // of the length squared over the diagonal's

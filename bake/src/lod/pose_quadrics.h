@@ -83,7 +83,8 @@ private:
   // side, for bound(): spread over the pose-minor rows, they cost a cache miss each. With no
   // other pose, the only copy: a second, padded to two lanes, made a 1M-triangle grid's bake
   // hold 112 MB more and add every merge twice.
-  static constexpr size_t kRest = 14;
+  // A vertex's record in rest_: its quadric's ten coefficients, its position, its self term.
+  enum RestField : size_t { kRestQuadric = 0, kRestAt = 10, kRestSelf = 13, kRest = 14 };
   std::vector<double> rest_;
   double *row_[3]; // qOf, atOf, selfOf's first vertex, and the step from one to the next
   size_t step_[3];
