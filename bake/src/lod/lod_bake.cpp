@@ -186,9 +186,10 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
 
   quadric.finish();
   const double cosLimit = std::cos(o.maxNormalDeviationDeg * 3.14159265358979323846 / 180);
-  auto legal = [&](uint32_t a, uint32_t b) -> Block {
-    uint32_t ab[2];
-    const uint32_t sides = edgeFaces(a, b, ab);
+  // Whether a may collapse into b; `ab` and `sides`: the edge's live faces (edgeFaces), which the
+  // collapse then takes.
+  auto legal = [&](uint32_t a, uint32_t b, uint32_t ab[2], uint32_t &sides) -> Block {
+    sides = edgeFaces(a, b, ab);
     if (sides == 0)
       return Block::kNoEdge; // no longer an edge
     ringOf(a, ringA);
@@ -303,13 +304,12 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
           continue;
         }
       }
-      if (legal(a, b) != Block::kNone)
+      uint32_t ab[2], sides;
+      if (legal(a, b, ab, sides) != Block::kNone)
         continue;
       // Pair each render vertex of `a` with the render vertex of `b` on the same side.
       std::array<std::pair<uint32_t, uint32_t>, 2> pairs;
       size_t pairCount = 0;
-      uint32_t ab[2];
-      const uint32_t sides = edgeFaces(a, b, ab);
       for (uint32_t s = 0; s < sides; ++s) {
         const uint32_t f = ab[s], ra = m.render[f][corner(f, a)], rb = m.render[f][corner(f, b)];
         if (pairCount == 0 || pairs[0].first != ra)
@@ -362,7 +362,8 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
         if (edgeFaces(a, b, sides) == 2 && sides[0] != f)
           continue; // each edge once
         ++edges;
-        const Block ab = legal(a, b), ba = legal(b, a);
+        uint32_t faces[2], count;
+        const Block ab = legal(a, b, faces, count), ba = legal(b, a, faces, count);
         seam += ab == Block::kSeam && ba == Block::kSeam;
         normal += (ab == Block::kNormal || ba == Block::kNormal) && ab != Block::kManifold &&
                   ba != Block::kManifold;
