@@ -4,6 +4,7 @@
 # builds sharing one cache at once, a disk filling up, and the player drawing a character pack.
 set -euo pipefail
 bin=$1 work=$2
+xvfb=$(dirname "$(realpath "$0")")/xvfb.sh # the player under a fresh X display
 rm -rf "$work" && mkdir -p "$work" && cd "$work"
 "$bin/crowdbake" samples --no-cloth --out s >/dev/null
 fail() { echo "FAIL: $*" >&2; exit 1; }
@@ -175,7 +176,7 @@ echo "ok: disk full: one clear error, the earlier pack and the cache intact, no 
 
 # The player draws a character pack without a scene file.
 if command -v xvfb-run >/dev/null; then
-  xvfb-run -a -s "-screen 0 640x480x24" "$bin/crowdplay" out1/walker.crowdpack --headless \
+  "$xvfb" "$bin/crowdplay" out1/walker.crowdpack --headless \
     --frames 2 --size 320x240 --screenshot walker.png --stats stats.json
   grep -q '"impostors"' stats.json || fail "no stats"
   [ -s walker.png ] || fail "no screenshot"

@@ -5,6 +5,7 @@
 # draws the result, and a scene that does not fit the library is one clear error.
 set -euo pipefail
 bin=$1 work=$2
+xvfb=$(dirname "$(realpath "$0")")/xvfb.sh # the player under a fresh X display
 rm -rf "$work" && mkdir -p "$work" && cd "$work"
 "$bin/crowdbake" samples --no-cloth --out s >/dev/null
 fail() { echo "FAIL: $*" >&2; exit 1; }
@@ -63,7 +64,7 @@ print(f"ok: walk impostor at {m['texels']} texels switches at {switch(m['texels'
 PY
 if command -v xvfb-run >/dev/null; then
   sed 's#out/walker#out20/walker#' scene.json > scene20.json
-  xvfb-run -a -s "-screen 0 640x480x24" "$bin/crowdplay" scene20.json --headless --frames 2 \
+  "$xvfb" "$bin/crowdplay" scene20.json --headless --frames 2 \
     --size 1920x1080 --stats stats.json >/dev/null
   impostors=$(json stats.json "int(r['summary']['impostors'])")
   [ "$impostors" -gt 0 ] || fail "the player drew no impostor of the scene build"

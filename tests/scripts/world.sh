@@ -5,6 +5,7 @@
 # for an image are one-line errors.
 set -euo pipefail
 bin=$1 work=$2 src=$3
+xvfb=$(dirname "$(realpath "$0")")/xvfb.sh # the player under a fresh X display
 rm -rf "$work" && mkdir -p "$work/samples/scenes" "$work/out" && cd "$work"
 fail() { echo "FAIL: $*" >&2; exit 1; }
 cb() { "$bin/crowdbake" "$@"; }
@@ -16,7 +17,7 @@ cb terrain out/samples/village.glb -o out/village.crowdpack -q
 cp "$src/samples/scenes/village.json" samples/scenes/
 play() { # play SCENE crowdplay-options...: exit code, stderr in err.txt
   local rc=0
-  xvfb-run -a -s "-screen 0 640x480x24" "$bin/crowdplay" "$@" --headless --size 320x180 \
+  "$xvfb" "$bin/crowdplay" "$@" --headless --size 320x180 \
     > out.txt 2> err.txt || rc=$?
   echo $rc
 }

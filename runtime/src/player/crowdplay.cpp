@@ -207,8 +207,12 @@ struct Glfw {
   // `before`: why a headless run found no display-less context, for the error.
   explicit Glfw(const std::string &before) {
     glfwSetErrorCallback([](int, const char *) {});
-    if (!glfwInit())
-      throw crowd::Error(before + "cannot initialise GLFW (no display? run under xvfb-run -a)");
+    if (!glfwInit()) {
+      const char *why = nullptr;
+      glfwGetError(&why);
+      throw crowd::Error(before + "cannot initialise GLFW: " + (why ? why : "no reason given") +
+                         " (no display? run under xvfb-run -a)");
+    }
   }
   ~Glfw() { glfwTerminate(); }
 };
