@@ -64,6 +64,7 @@ public:
     void (*borderPlanes)(const double *, const double *, const double *, double *, size_t);
     void (*addPlane)(double *, const double *, size_t);
     void (*terms)(const double *, const double *, const double *, double *, size_t);
+    void (*addQuadric)(double *, const double *, size_t);
   };
 
 private:
