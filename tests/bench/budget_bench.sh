@@ -20,7 +20,7 @@ csv=$out/budget_frames.csv
 echo "path,budget,frame,time_s,frame_ms,gpu_ms,cull_select_ms,visible,impostors,triangles" > "$csv"
 run_one() { # PATH BUDGET FLAGS
   local stats=$out/budget_$1_$2.json
-  xvfb-run -a -s "-screen 0 640x480x24" build/bin/crowdplay $scene --headless --frames "$frames" \
+  tests/scripts/xvfb.sh build/bin/crowdplay $scene --headless --frames "$frames" \
     --step "$step" --size "$size" --budget "$2" $3 --stats "$stats" > /dev/null
   node -e '
     const j = require(process.argv[1]);

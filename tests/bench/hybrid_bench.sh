@@ -26,7 +26,7 @@ runs="${PATHS:-geometry hybrid}"
 # One untimed frame per binary first: after a rebuild, Mesa's shader cache is cold and llvmpipe
 # compiles the shaders during the first timed frame (about 80 ms of it at 10k).
 for tree in "$here" ${BASELINE:+"$(realpath "$BASELINE")"}; do
-  (cd "$tree" && xvfb-run -a -s "-screen 0 640x480x24" build/bin/crowdplay \
+  (cd "$tree" && "$here/tests/scripts/xvfb.sh" build/bin/crowdplay \
     samples/scenes/crowd10k.json --headless --frames 1 --size "$size" --instances 1000 >/dev/null)
 done
 for n in 10000 30000; do
@@ -34,7 +34,7 @@ for n in 10000 30000; do
     flag=""; [ $path = geometry ] && flag=--geometry
     tree=$here; [ $path = baseline ] && tree=$(realpath "$BASELINE")
     stats=$out/hybrid_${n}_$path.json
-    (cd "$tree" && xvfb-run -a -s "-screen 0 640x480x24" build/bin/crowdplay \
+    (cd "$tree" && "$here/tests/scripts/xvfb.sh" build/bin/crowdplay \
       samples/scenes/crowd10k.json --headless --frames "$frames" --step "$step" --size "$size" \
       --instances $n $flag --stats "$stats" >/dev/null)
     node -e '

@@ -9,7 +9,7 @@
 # one's fastest run (llvmpipe on a shared machine is noisy). Writes OUT/outfit_bench.csv.
 # Usage: tests/bench/outfit_bench.sh [OUT] [FRAMES] [SIZE] [REPEATS]   (after ./run demo)
 # crowdplay --headless needs no display where EGL offers a device (a GPU's driver, Mesa); else
-# it runs under xvfb-run.
+# it runs under tests/scripts/xvfb.sh.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 out=${1:-out/bench}
@@ -20,7 +20,7 @@ mkdir -p "$out"
 [ -f out/library/clothed.crowdpack ] ||
   { echo "run ./run demo first (it builds out/library/clothed.crowdpack)" >&2; exit 1; }
 display=()
-command -v xvfb-run >/dev/null && display=(xvfb-run -a -s "-screen 0 640x480x24")
+command -v xvfb-run >/dev/null && display=(tests/scripts/xvfb.sh)
 csv=$out/outfit_bench.csv
 echo "instances,method,run,frames,frame_ms,gpu_ms,cull_select_ms,draw_calls,triangles,vertices" > "$csv"
 for n in 1000 2500 5000 10000; do

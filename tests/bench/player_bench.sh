@@ -4,7 +4,7 @@
 # and the same run. Prints a table and writes OUT/player_bench.csv.
 # Usage: tests/bench/player_bench.sh [OUT] [FRAMES] [SIZE]   (after ./run demo, which bakes out/)
 # crowdplay --headless needs no display where EGL offers a device (a GPU's driver, Mesa); else
-# it runs under xvfb-run.
+# it runs under tests/scripts/xvfb.sh.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 out=${1:-out/bench}
@@ -13,7 +13,7 @@ size=${3:-640x360} # llvmpipe's fill cost stays small
 mkdir -p "$out"
 [ -f out/humanoid.crowdpack ] || { echo "run ./run demo first (it bakes out/humanoid.crowdpack)" >&2; exit 1; }
 display=()
-command -v xvfb-run >/dev/null && display=(xvfb-run -a -s "-screen 0 640x480x24")
+command -v xvfb-run >/dev/null && display=(tests/scripts/xvfb.sh)
 csv=$out/player_bench.csv
 echo "instances,path,frames,frame_ms,gpu_ms,draw_calls,triangles,renderer" > "$csv"
 for n in 1000 5000 10000 30000; do

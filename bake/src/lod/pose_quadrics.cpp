@@ -16,7 +16,7 @@
 // On x86-64 each kernel is built twice, for the baseline (SSE2: two doubles a vector) and for AVX2
 // (four), and the loader picks one by the CPU (GCC's target_clones). No FMA: contracting a * b + c
 // would round differently, and the packs must not depend on the machine that baked them. AVX2
-// made the 16-pose bake 5-15% faster on the 15 models of tests/bench/lod_speed.sh, byte-identical.
+// made the 16-pose bake 5-15% faster on the 16 models of tests/bench/lod_speed.sh, byte-identical.
 #if defined(__x86_64__) && defined(__GNUC__)
 #define CROWD_VECTOR_CLONES [[gnu::target_clones("avx2", "default")]]
 #else

@@ -206,7 +206,6 @@ void writePng(const std::string &path, int w, int h, const std::vector<uint8_t> 
 struct Glfw {
   // `before`: why a headless run found no display-less context, for the error.
   explicit Glfw(const std::string &before) {
-    glfwSetErrorCallback([](int, const char *) {});
     if (!glfwInit()) {
       const char *why = nullptr;
       glfwGetError(&why);
