@@ -12,6 +12,7 @@
 #include "fan_mesh.h"
 #include "float_key.h"
 #include "pose_quadrics.h"
+#include "refusals.h"
 
 // Why by hand, not OpenMesh's half-edge collapse: on flat arrays the whole collapse order runs
 // 2.2 times faster on the sample humanoid in the bind pose, 1.7 times with 16 poses (OpenMesh's
@@ -29,8 +30,7 @@ struct Candidate {
   uint32_t toStamp : 31, exact : 1; // 24 bytes with the queue's link (stamps stay below 2^31)
 };
 
-// Why a collapse is not allowed (kNone: it is).
-enum class Block { kNone, kNoEdge, kSeam, kManifold, kNormal };
+using lod::Block;
 
 // A vertex's neighbour w: the live faces it shares with the vertex (1: an open edge between
 // them), the first of them in the vertex's list and the render vertices of both ends there;
@@ -257,6 +257,14 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
     }
     return Block::kNone;
   };
+  // The Refusals slot of the collapse of a into b, an edge of the faces ab (legal()'s).
+  auto slotOf = [&](uint32_t a, uint32_t b, const uint32_t ab[2], uint32_t sides) -> size_t {
+    for (uint32_t s = 0; s < sides; ++s)
+      if (const uint32_t f = ab[s], e = corner(f, a); m.vertex[f][(e + 1) % 3] == b)
+        return 2 * (3 * size_t(ab[s]) + e);                // the face winding a -> b
+    return 2 * (3 * size_t(ab[0]) + corner(ab[0], b)) + 1; // an open edge's other way
+  };
+  lod::Refusals refusals(N, F);
 
   std::vector<uint32_t> stamp(N, 0);
   std::vector<uint8_t> gone(N, 0);
@@ -283,16 +291,20 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
   bool progress = true, first = true; // first: the first pass over the edges
   while (aliveFaces > floorFaces && progress) {
     // Costs change only around a collapse, but legality can change one ring further out: when
-    // the queue runs dry, every remaining edge gets another chance until none is legal. Each
-    // face pushes its edges as wound; an open edge is pushed both ways.
+    // the queue runs dry, every remaining edge gets another chance until none is legal, but for
+    // those whose refusal still stands. Each face pushes its edges as wound; an open edge is
+    // pushed both ways.
     for (uint32_t f = 0; f < F; ++f) {
       if (!alive[f])
         continue;
       for (uint32_t e = 0; e < 3; ++e) {
         const uint32_t a = m.vertex[f][e], b = m.vertex[f][(e + 1) % 3];
+        const size_t slot = 2 * (3 * size_t(f) + e);
         uint32_t sides[2];
-        push(a, b);
-        if (first ? open[f] >> e & 1 : edgeFaces(a, b, sides) == 1)
+        if (!refusals.stands(slot, a, b))
+          push(a, b);
+        if ((first ? open[f] >> e & 1 : edgeFaces(a, b, sides) == 1) &&
+            !refusals.stands(slot + 1, b, a))
           push(b, a);
       }
     }
@@ -310,8 +322,11 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
         }
       }
       uint32_t ab[2], sides;
-      if (legal(a, b, ab, sides) != Block::kNone)
+      if (const Block why = legal(a, b, ab, sides); why != Block::kNone) {
+        if (why != Block::kNoEdge)
+          refusals.refuse(slotOf(a, b, ab, sides), why);
         continue;
+      }
       // Pair each render vertex of `a` with the render vertex of `b` on the same side.
       std::array<std::pair<uint32_t, uint32_t>, 2> pairs;
       size_t pairCount = 0;
@@ -350,7 +365,10 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
       fb.erase(std::remove_if(fb.begin(), fb.end(), [&](uint32_t f) { return !alive[f]; }),
                fb.end());
       ringOf(b, ringB);
+      refusals.collapsed();
+      refusals.changed(b);
       for (const Neighbour &n : ringB.around) {
+        refusals.changed(n.v);
         push(b, n.v);
         push(n.v, b);
       }
@@ -359,6 +377,11 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
   }
 
   if (aliveFaces > floorFaces) { // say why: what stops each edge that is left, both ways
+    auto reason = [&](uint32_t a, uint32_t b) {    // as refused in the last pass, which collapsed
+      uint32_t ab[2], sides = edgeFaces(a, b, ab); // nothing: each refusal stands
+      const size_t slot = slotOf(a, b, ab, sides);
+      return refusals.stands(slot, a, b) ? refusals.why(slot) : legal(a, b, ab, sides);
+    };
     size_t seam = 0, manifold = 0, normal = 0, edges = 0;
     for (uint32_t f = 0; f < F; ++f)
       for (uint32_t e = 0; alive[f] && e < 3; ++e) {
@@ -367,8 +390,7 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
         if (edgeFaces(a, b, sides) == 2 && sides[0] != f)
           continue; // each edge once
         ++edges;
-        uint32_t faces[2], count;
-        const Block ab = legal(a, b, faces, count), ba = legal(b, a, faces, count);
+        const Block ab = reason(a, b), ba = reason(b, a);
         seam += ab == Block::kSeam && ba == Block::kSeam;
         normal += (ab == Block::kNormal || ba == Block::kNormal) && ab != Block::kManifold &&
                   ba != Block::kManifold;
