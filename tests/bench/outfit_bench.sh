@@ -20,7 +20,7 @@ mkdir -p "$out"
 [ -f out/library/clothed.crowdpack ] ||
   { echo "run ./run demo first (it builds out/library/clothed.crowdpack)" >&2; exit 1; }
 display=()
-command -v xvfb-run >/dev/null && display=(tests/scripts/xvfb.sh)
+command -v Xvfb >/dev/null && display=(tests/scripts/xvfb.sh)
 csv=$out/outfit_bench.csv
 echo "instances,method,run,frames,frame_ms,gpu_ms,cull_select_ms,draw_calls,triangles,vertices" > "$csv"
 for n in 1000 2500 5000 10000; do

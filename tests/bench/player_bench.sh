@@ -13,7 +13,7 @@ size=${3:-640x360} # llvmpipe's fill cost stays small
 mkdir -p "$out"
 [ -f out/humanoid.crowdpack ] || { echo "run ./run demo first (it bakes out/humanoid.crowdpack)" >&2; exit 1; }
 display=()
-command -v xvfb-run >/dev/null && display=(tests/scripts/xvfb.sh)
+command -v Xvfb >/dev/null && display=(tests/scripts/xvfb.sh)
 csv=$out/player_bench.csv
 echo "instances,path,frames,frame_ms,gpu_ms,draw_calls,triangles,renderer" > "$csv"
 for n in 1000 5000 10000 30000; do

@@ -62,7 +62,7 @@ switch = lambda texels: 2 * m['sphere_radius'] / texels * 1080 / (2 * math.tan(m
 assert switch(m['texels']) <= 20 < switch(m['texels'] - 4), (m['texels'], switch(m['texels']))
 print(f"ok: walk impostor at {m['texels']} texels switches at {switch(m['texels']):.1f} m (asked 20 m)")
 PY
-if command -v xvfb-run >/dev/null; then
+if command -v Xvfb >/dev/null; then
   sed 's#out/walker#out20/walker#' scene.json > scene20.json
   "$xvfb" "$bin/crowdplay" scene20.json --headless --frames 2 \
     --size 1920x1080 --stats stats.json >/dev/null

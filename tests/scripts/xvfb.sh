@@ -1,19 +1,33 @@
 #!/usr/bin/env bash
-# xvfb.sh COMMAND [ARGS...]: COMMAND under a fresh Xvfb display (xvfb-run -a, 640x480x24), its exit
-# code passed on. Where it fails (other than 77, ctest's skip), the X server's own log follows
-# on stderr: xvfb-run throws it away, and a player that once could not reach its display under
-# ctest -j2 ("cannot initialise GLFW") left no cause behind.
+# xvfb.sh COMMAND [ARGS...]: COMMAND under a fresh Xvfb display (640x480x24), its exit code passed
+# on. Where it fails (other than 77, ctest's skip), the X server's own log follows on stderr.
+# Xvfb picks its display number itself (-displayfd): it takes the first one whose lock it gets
+# and says which once it accepts connections. xvfb-run -a picks the number in the shell first,
+# and two of them starting at once under ctest -j2 can race for it; twice a player under it
+# could not open its display ("X11: Failed to open display :99") with nothing in the server's
+# log.
 set -uo pipefail
-log=$(mktemp "${TMPDIR:-/tmp}/xvfb.XXXXXX.log")
-trap 'rm -f "$log"' EXIT
-xvfb-run -a -e "$log" -s "-screen 0 640x480x24" "$@"
+dir=$(mktemp -d "${TMPDIR:-/tmp}/xvfb.XXXXXX")
+server=
+cleanup() {
+  [ -n "$server" ] && kill "$server" 2>/dev/null && wait "$server" 2>/dev/null
+  rm -rf "$dir"
+}
+trap cleanup EXIT
+mkfifo "$dir/display"
+Xvfb -displayfd 3 -screen 0 640x480x24 -nolisten tcp 3>"$dir/display" 2>"$dir/log" &
+server=$!
+# The number comes once the server is ready; if it dies first, the pipe closes empty.
+read -r -t 60 number <"$dir/display" || number=
+if [ -z "$number" ]; then
+  echo "xvfb.sh: Xvfb did not start; its log:" >&2
+  sed 's/^/  Xvfb: /' "$dir/log" >&2
+  exit 1
+fi
+DISPLAY=:$number "$@"
 rc=$?
 if [ "$rc" != 0 ] && [ "$rc" != 77 ]; then
-  if [ -s "$log" ]; then
-    echo "xvfb.sh: '$1' exited $rc; the X server's log:" >&2
-    sed 's/^/  Xvfb: /' "$log" >&2
-  else
-    echo "xvfb.sh: '$1' exited $rc; the X server logged nothing" >&2
-  fi
+  echo "xvfb.sh: '$1' exited $rc on display :$number; the X server's log:" >&2
+  if [ -s "$dir/log" ]; then sed 's/^/  Xvfb: /' "$dir/log" >&2; else echo "  (empty)" >&2; fi
 fi
 exit "$rc"
