@@ -266,8 +266,9 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
   };
   lod::Refusals refusals(N, F);
 
+  // A vertex's stamp moves on when it takes a collapse and when it goes: a candidate is stale
+  // exactly where an end's stamp differs from the one it was pushed with.
   std::vector<uint32_t> stamp(N, 0);
-  std::vector<uint8_t> gone(N, 0);
   lod::CostQueue<Candidate> queue;
   queue.reserve(3 * F + 64); // the first pass's pushes on a closed mesh: no copies as it fills
   // A candidate goes in at its bound, and its cost is worked out only when the bound comes up,
@@ -312,7 +313,7 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
     while (!queue.empty() && aliveFaces > floorFaces) {
       Candidate c = queue.pop();
       const uint32_t a = c.from, b = c.to;
-      if (gone[a] || gone[b] || stamp[a] != c.fromStamp || stamp[b] != c.toStamp)
+      if (stamp[a] != c.fromStamp || stamp[b] != c.toStamp)
         continue;
       if (!c.exact) { // its cost, now; if that comes up later, it waits its turn there
         c.cost = float(quadric.cost(a, b)), c.exact = 1;
@@ -358,8 +359,7 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
       }
       quadric.merge(b, a);
       facesOf[a].clear();
-      gone[a] = 1;
-      ++stamp[b];
+      ++stamp[a], ++stamp[b];
       progress = true;
       auto &fb = facesOf[b];
       fb.erase(std::remove_if(fb.begin(), fb.end(), [&](uint32_t f) { return !alive[f]; }),
