@@ -258,11 +258,12 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
     return Block::kNone;
   };
   // The Refusals slot of the collapse of a into b, an edge of the faces ab (legal()'s).
-  auto slotOf = [&](uint32_t a, uint32_t b, const uint32_t ab[2], uint32_t sides) -> size_t {
+  auto slotOf = [&](uint32_t a, uint32_t b, const uint32_t ab[2],
+                    uint32_t sides) -> lod::Refusals::Slot {
     for (uint32_t s = 0; s < sides; ++s)
       if (const uint32_t f = ab[s], e = corner(f, a); m.vertex[f][(e + 1) % 3] == b)
-        return 2 * (3 * size_t(ab[s]) + e);                // the face winding a -> b
-    return 2 * (3 * size_t(ab[0]) + corner(ab[0], b)) + 1; // an open edge's other way
+        return {3 * size_t(f) + e, false};               // the face winding a -> b
+    return {3 * size_t(ab[0]) + corner(ab[0], b), true}; // an open edge's other way
   };
   lod::Refusals refusals(N, F);
 
@@ -300,12 +301,12 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
         continue;
       for (uint32_t e = 0; e < 3; ++e) {
         const uint32_t a = m.vertex[f][e], b = m.vertex[f][(e + 1) % 3];
-        const size_t slot = 2 * (3 * size_t(f) + e);
+        const size_t at = 3 * size_t(f) + e;
         uint32_t sides[2];
-        if (!refusals.stands(slot, a, b))
+        if (!refusals.stands({at, false}, a, b))
           push(a, b);
         if ((first ? open[f] >> e & 1 : edgeFaces(a, b, sides) == 1) &&
-            !refusals.stands(slot + 1, b, a))
+            !refusals.stands({at, true}, b, a))
           push(b, a);
       }
     }
@@ -377,20 +378,23 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
   }
 
   if (aliveFaces > floorFaces) { // say why: what stops each edge that is left, both ways
-    auto reason = [&](uint32_t a, uint32_t b) {    // as refused in the last pass, which collapsed
-      uint32_t ab[2], sides = edgeFaces(a, b, ab); // nothing: each refusal stands
-      const size_t slot = slotOf(a, b, ab, sides);
-      return refusals.stands(slot, a, b) ? refusals.why(slot) : legal(a, b, ab, sides);
+    // As refused in the last pass, which collapsed nothing: each refusal stands. ab: the edge's
+    // faces, which slotOf takes in either order.
+    auto reason = [&](uint32_t a, uint32_t b, const uint32_t ab[2], uint32_t sides) {
+      const lod::Refusals::Slot slot = slotOf(a, b, ab, sides);
+      uint32_t faces[2], n;
+      return refusals.stands(slot, a, b) ? refusals.why(slot) : legal(a, b, faces, n);
     };
     size_t seam = 0, manifold = 0, normal = 0, edges = 0;
     for (uint32_t f = 0; f < F; ++f)
       for (uint32_t e = 0; alive[f] && e < 3; ++e) {
         const uint32_t a = m.vertex[f][e], b = m.vertex[f][(e + 1) % 3];
-        uint32_t sides[2];
-        if (edgeFaces(a, b, sides) == 2 && sides[0] != f)
+        uint32_t faces[2];
+        const uint32_t sides = edgeFaces(a, b, faces);
+        if (sides == 2 && faces[0] != f)
           continue; // each edge once
         ++edges;
-        const Block ab = reason(a, b), ba = reason(b, a);
+        const Block ab = reason(a, b, faces, sides), ba = reason(b, a, faces, sides);
         seam += ab == Block::kSeam && ba == Block::kSeam;
         normal += (ab == Block::kNormal || ba == Block::kNormal) && ab != Block::kManifold &&
                   ba != Block::kManifold;
