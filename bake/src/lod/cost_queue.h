@@ -56,6 +56,8 @@ public:
     --size_;
     return node.item;
   }
+  // Whether an item of cost a pushed with one of cost b comes up first.
+  static bool sooner(double a, double b) { return bucketOf(a) < bucketOf(b); }
   // Whether an item of this cost would come up after the last one popped's bucket.
   bool later(double cost) const { return bucketOf(cost) > lowest_; }
   void clear() {
