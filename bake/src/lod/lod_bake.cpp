@@ -25,7 +25,7 @@ namespace {
 // A collapse of `from` into `to`, valid while neither vertex has changed since: stamps never go
 // down, so their sum is the one it was pushed with exactly where neither moved on. Its cost, or
 // until `exact` a lower bound of it (PoseQuadrics::bound). 20 bytes with the queue's link; with
-// a stamp each, 24 (lod_bench's 1M grid: peak +373 -> +300 MB).
+// a stamp each, 24 (lod_bench's 1M grid: peak +373 -> +352 MB).
 struct Candidate {
   float cost; // as the pack stores it; the queue's buckets hold fewer bits
   uint32_t from, to;
