@@ -9,6 +9,7 @@
 #include "crowd/bake/character.h"
 #include "crowd/bake/evaluate.h"
 #include "crowd/formats/error.h"
+#include "face_lists.h"
 #include "fan_mesh.h"
 #include "float_key.h"
 #include "pose_quadrics.h"
@@ -36,11 +37,11 @@ struct Candidate {
 using lod::Block;
 
 // A vertex's neighbour w: the live faces it shares with the vertex (1: an open edge between
-// them), the first of them in the vertex's list and the render vertices of both ends there;
-// `special` once the ring is built: the edge is open, or a seam (the first two faces use other
-// render vertices for an end).
+// them), the first two of them in the vertex's list and the render vertices of both ends in the
+// first; `special` once the ring is built: the edge is open, or a seam (the first two faces use
+// other render vertices for an end).
 struct Neighbour {
-  uint32_t v, faces, first, renderSelf, renderOther;
+  uint32_t v, faces, first, second, renderSelf, renderOther;
   bool special;
 };
 // v's neighbours in the order its faces first reach them, with each one's place in `around`
@@ -105,15 +106,13 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
   // the bake (normals, legality) looks at the rest pose alone.
   lod::PoseQuadrics quadric(m.position, poses, m.inputOf);
   const std::vector<glm::dvec3> &rest = m.position;
-  std::vector<std::vector<uint32_t>> facesOf(N);
-  { // each list allocated once, not grown
+  lod::FaceLists facesOf = [&] {
     std::vector<uint32_t> valence(N, 0);
     for (const auto &fv : m.vertex)
       for (uint32_t v : fv)
         ++valence[v];
-    for (size_t v = 0; v < N; ++v)
-      facesOf[v].reserve(valence[v]);
-  }
+    return lod::FaceLists(valence);
+  }();
   std::vector<glm::dvec3> originalNormal(F);
   auto normalOf = [&](const std::array<uint32_t, 3> &f) { // in the rest pose
     const glm::dvec3 &a = rest[f[0]];
@@ -123,7 +122,7 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
     const auto &fv = m.vertex[f];
     originalNormal[f] = glm::normalize(normalOf(fv));
     for (uint32_t v : fv)
-      facesOf[v].push_back(f);
+      facesOf.push(v, f);
     quadric.addFace(fv);
   }
   std::vector<uint8_t> alive(F, 1);
@@ -155,9 +154,9 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
         if (w == v)
           continue;
         if (Neighbour *n = ring.find(w); !n)
-          ring.add({w, 1, f, self, m.render[f][k], false});
+          ring.add({w, 1, f, UINT32_MAX, self, m.render[f][k], false});
         else if (++n->faces == 2)
-          n->special = n->renderSelf != self || n->renderOther != m.render[f][k];
+          n->second = f, n->special = n->renderSelf != self || n->renderOther != m.render[f][k];
       }
     }
     for (Neighbour &n : ring.around)
@@ -189,13 +188,14 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
 
   quadric.finish();
   const double cosLimit = std::cos(o.maxNormalDeviationDeg * 3.14159265358979323846 / 180);
-  // Whether a may collapse into b; `ab` and `sides`: the edge's live faces (edgeFaces), which the
-  // collapse then takes.
+  // Whether a may collapse into b; `ab` and `sides`: the edge's live faces (as edgeFaces finds
+  // them), which the collapse then takes.
   auto legal = [&](uint32_t a, uint32_t b, uint32_t ab[2], uint32_t &sides) -> Block {
-    sides = edgeFaces(a, b, ab);
-    if (sides == 0)
-      return Block::kNoEdge; // no longer an edge
     ringOf(a, ringA);
+    const Neighbour *edge = ringA.find(b);
+    if (!edge)
+      return Block::kNoEdge; // no longer an edge
+    sides = std::min(edge->faces, 2u), ab[0] = edge->first, ab[1] = edge->second;
     // A seam or boundary vertex slides only along its line: exactly two special edges, and
     // this one of them.
     int specials = 0;
@@ -374,7 +374,6 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
           throw Error("lod: internal error, a render vertex has no partner");
         m.vertex[f][k] = b;
         m.render[f][k] = pairs[q].second;
-        facesOf[b].push_back(f);
       }
       for (size_t q = 0; q < pairCount; ++q) {
         removed.push_back(pairs[q].first);
@@ -382,12 +381,9 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
         cost[pairs[q].first] = c.cost;
       }
       quadric.merge(b, a);
-      facesOf[a].clear();
+      facesOf.handOn(a, b, [&](uint32_t f) { return alive[f] != 0; });
       ++stamp[a], ++stamp[b];
       progress = true;
-      auto &fb = facesOf[b];
-      fb.erase(std::remove_if(fb.begin(), fb.end(), [&](uint32_t f) { return !alive[f]; }),
-               fb.end());
       ringOf(b, ringB);
       refusals.collapsed();
       refusals.changed(b);
