@@ -25,23 +25,45 @@ using Triangle = K::Triangle_3;
 using Tree = CGAL::AABB_tree<
     CGAL::AABB_traits<K, CGAL::AABB_triangle_primitive<K, std::vector<Triangle>::const_iterator>>>;
 
-// Whether the ray surely crosses the triangle: well inside it (barycentric margin 1e-7) and well
-// ahead of the origin, by Moller-Trumbore. False when unsure: the caller asks CGAL then, so a
-// yes here is one CGAL's test gives too.
-bool surelyCrosses(const K::Ray_3 &ray, const Triangle &tri) {
-  const auto vec = [](const K::Point_3 &p) { return glm::dvec3(p.x(), p.y(), p.z()); };
-  const glm::dvec3 o = vec(ray.source()), a = vec(tri[0]);
-  const glm::dvec3 w(ray.to_vector().x(), ray.to_vector().y(), ray.to_vector().z());
-  const glm::dvec3 e1 = vec(tri[1]) - a, e2 = vec(tri[2]) - a, pv = glm::cross(w, e2);
-  const double det = glm::dot(e1, pv);
-  if (!(std::abs(det) > 1e-30))
-    return false;
-  const glm::dvec3 tv = o - a, qv = glm::cross(tv, e1);
-  const double bu = glm::dot(tv, pv) / det, bv = glm::dot(w, qv) / det;
-  const double t = glm::dot(e2, qv) / det;
+// Whether the ray crosses the triangle, by Moller-Trumbore with margins: kYes well inside it
+// (barycentric margin 1e-7) and well ahead of the origin, kNo well outside it or well behind the
+// origin, kUnsure near an edge, near the origin or nearly parallel to the plane: the caller asks
+// CGAL then, so the answers here are the ones CGAL's test gives (the sample outfits' packs are
+// byte-identical). About 2 of 5 rays the blocker cache tries miss: answering those here, not in
+// CGAL, and each triangle's edges kept (Edges), the sample dress's visibility 6.7 -> 6.1 s.
+enum class Crossing { kNo, kYes, kUnsure };
+// A triangle as crossing() reads it: a corner, the edges from it and their squared lengths.
+struct Edges {
+  glm::dvec3 a, e1, e2;
+  double l1, l2;
+};
+Edges edgesOf(const glm::dvec3 &a, const glm::dvec3 &b, const glm::dvec3 &c) {
+  const glm::dvec3 e1 = b - a, e2 = c - a;
+  return {a, e1, e2, glm::dot(e1, e1), glm::dot(e2, e2)};
+}
+// The ray from o along w.
+Crossing crossing(const glm::dvec3 &o, const glm::dvec3 &w, const Edges &t) {
+  const glm::dvec3 pv = glm::cross(w, t.e2);
+  const double det = glm::dot(t.e1, pv);
   constexpr double margin = 1e-7;
-  return bu > margin && bv > margin && bu + bv < 1 - margin &&
-         t * glm::length(w) > margin * (glm::length(e1) + glm::length(e2));
+  const double w2 = glm::dot(w, w);
+  if (!(det * det > margin * margin * w2 * t.l1 * t.l2)) // nearly parallel, or degenerate
+    return Crossing::kUnsure;
+  const glm::dvec3 tv = o - t.a;
+  const double bu = glm::dot(tv, pv) / det;
+  if (bu < -margin || bu > 1 + margin)
+    return Crossing::kNo;
+  const glm::dvec3 qv = glm::cross(tv, t.e1);
+  const double bv = glm::dot(w, qv) / det;
+  if (bv < -margin || bu + bv > 1 + margin)
+    return Crossing::kNo;
+  const double ahead = glm::dot(t.e2, qv) / det * std::sqrt(w2),
+               near = margin * (std::sqrt(t.l1) + std::sqrt(t.l2));
+  if (ahead < -near)
+    return Crossing::kNo;
+  if (bu > margin && bv > margin && bu + bv < 1 - margin && ahead > near)
+    return Crossing::kYes;
+  return Crossing::kUnsure;
 }
 
 // Per occluder (an index into `occluders`), the occluders across its edges (by vertex index;
@@ -148,14 +170,16 @@ std::vector<uint8_t> hiddenBodyFaces(const Character &merged, uint32_t bodyTrian
   // Per (body face, point, direction): the occluder that blocked that ray in the last frame that
   // cast it (kNone: none yet). Bodies move little between frames, so the same triangle, or the
   // one that blocked a neighbouring ray, usually blocks the ray again: tested alone first (the
-  // predicate the tree's own test uses, after a quick sure-hit test), they answer most rays
-  // without a tree query (sample dress: 98% of them). When none blocks, the tree answers, so
-  // every answer is the tree's: the hidden faces are the same bits as without the cache.
+  // predicate the tree's own test uses, after a quick test that is sure of most answers), they
+  // answer most rays without a tree query (sample dress: 98% of them). When none blocks, the tree
+  // answers, so every answer is the tree's: the hidden faces are the same bits as without the
+  // cache.
   constexpr uint32_t kNone = UINT32_MAX;
   const size_t raysPerFace = size_t(o.points) * directions.size();
   std::vector<uint32_t> blocker(size_t(bodyTriangles) * raysPerFace, kNone);
   const auto across = edgeNeighbours(idx, occluders);
   std::vector<Triangle> soup;
+  std::vector<Edges> soupEdges; // soup's triangles as crossing() reads them
   std::vector<uint32_t> soupOf(occluders.size()), occluderOf; // occluder <-> soup triangle
   for (const auto &pose : frames) {
     if (candidates.empty())
@@ -163,6 +187,7 @@ std::vector<uint8_t> hiddenBodyFaces(const Character &merged, uint32_t bodyTrian
     const auto p = posed(merged, pose);
     auto point = [&](uint32_t v) { return K::Point_3(p[v].x, p[v].y, p[v].z); };
     soup.clear();
+    soupEdges.clear();
     occluderOf.clear();
     for (uint32_t k = 0; k < occluders.size(); ++k) {
       const uint32_t t = occluders[k];
@@ -170,6 +195,7 @@ std::vector<uint8_t> hiddenBodyFaces(const Character &merged, uint32_t bodyTrian
       soupOf[k] = tri.is_degenerate() ? kNone : uint32_t(soup.size());
       if (!tri.is_degenerate()) {
         soup.push_back(tri);
+        soupEdges.push_back(edgesOf(p[idx[3 * t]], p[idx[3 * t + 1]], p[idx[3 * t + 2]]));
         occluderOf.push_back(k);
       }
     }
@@ -178,11 +204,14 @@ std::vector<uint8_t> hiddenBodyFaces(const Character &merged, uint32_t bodyTrian
     // Whether the ray is blocked, remembering by what: the guesses first, then the occluders
     // within two edge steps of its last blocker (the ray slid off it onto a neighbour), then
     // the tree.
-    const auto blocked = [&](const K::Ray_3 &ray, uint32_t &last,
-                             std::initializer_list<uint32_t> guesses) {
+    const auto blocked = [&](const glm::dvec3 &o, const glm::dvec3 &w, const K::Ray_3 &ray,
+                             uint32_t &last, std::initializer_list<uint32_t> guesses) {
       const auto blocks = [&](uint32_t k) {
-        return k != kNone && soupOf[k] != kNone &&
-               (surelyCrosses(ray, soup[soupOf[k]]) || CGAL::do_intersect(ray, soup[soupOf[k]]));
+        if (k == kNone || soupOf[k] == kNone)
+          return false;
+        const Crossing c = crossing(o, w, soupEdges[soupOf[k]]);
+        return c == Crossing::kYes ||
+               (c == Crossing::kUnsure && CGAL::do_intersect(ray, soup[soupOf[k]]));
       };
       for (auto g = guesses.begin(); g != guesses.end(); ++g)
         if (std::find(guesses.begin(), g, *g) == g && blocks(*g)) {
@@ -233,7 +262,7 @@ std::vector<uint8_t> hiddenBodyFaces(const Character &merged, uint32_t bodyTrian
           const uint32_t before = j > 0 ? last[r - 1] : kNone;
           const uint32_t after = j + 1 < directions.size() ? last[r + 1] : kNone;
           const uint32_t other = k > 0 ? last[r - directions.size()] : kNone;
-          if (!blocked(ray, last[r], {last[r], before, after, other})) {
+          if (!blocked(q, w, ray, last[r], {last[r], before, after, other})) {
             seen[i] = 1;
             break;
           }
