@@ -202,8 +202,10 @@ std::vector<uint8_t> hiddenBodyFaces(const Character &merged, uint32_t bodyTrian
     Tree tree(soup.begin(), soup.end());
     tree.build();
     // Whether the ray is blocked, remembering by what: the guesses first, then the occluders
-    // within two edge steps of its last blocker (the ray slid off it onto a neighbour), then
-    // the tree.
+    // within kSteps edge steps of its last blocker (the ray slid off it onto a neighbour), then
+    // the tree. A tree query costs about what 100 of these tests do: within 3 steps, the sample
+    // dress's visibility took 6.0 -> 5.7 s (2 steps before; 4: the same, 6: 6.0 s).
+    constexpr int kSteps = 3;
     const auto blocked = [&](const glm::dvec3 &o, const glm::dvec3 &w, const K::Ray_3 &ray,
                              uint32_t &last, std::initializer_list<uint32_t> guesses) {
       const auto blocks = [&](uint32_t k) {
@@ -218,14 +220,24 @@ std::vector<uint8_t> hiddenBodyFaces(const Character &merged, uint32_t bodyTrian
           last = *g;
           return true;
         }
-      if (last != kNone)
-        for (uint32_t a : across[last])
-          if (a != kNone)
-            for (uint32_t k : {a, across[a][0], across[a][1], across[a][2]})
-              if (k != last && blocks(k)) {
-                last = k;
-                return true;
+      if (last != kNone) { // nearest first, each occluder once
+        std::array<uint32_t, 64> near{last};
+        size_t n = 1, from = 0;
+        for (int step = 0; step < kSteps; ++step) {
+          const size_t to = n;
+          for (size_t i = from; i < to; ++i)
+            for (uint32_t k : across[near[i]])
+              if (k != kNone && n < near.size() &&
+                  std::find(near.data(), near.data() + n, k) == near.data() + n) {
+                near[n++] = k;
+                if (blocks(k)) {
+                  last = k;
+                  return true;
+                }
               }
+          from = to;
+        }
+      }
       const auto hit = tree.any_intersected_primitive(ray);
       if (!hit)
         return false;
