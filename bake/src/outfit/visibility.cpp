@@ -15,6 +15,7 @@
 #include "crowd/bake/outfit_bake.h"
 #include "crowd/bake/parallel.h"
 #include "crowd/formats/error.h"
+#include "ray_crossing.h"
 
 namespace crowd {
 
@@ -24,47 +25,6 @@ using K = CGAL::Simple_cartesian<double>;
 using Triangle = K::Triangle_3;
 using Tree = CGAL::AABB_tree<
     CGAL::AABB_traits<K, CGAL::AABB_triangle_primitive<K, std::vector<Triangle>::const_iterator>>>;
-
-// Whether the ray crosses the triangle, by Moller-Trumbore with margins: kYes well inside it
-// (barycentric margin 1e-7) and well ahead of the origin, kNo well outside it or well behind the
-// origin, kUnsure near an edge, near the origin or nearly parallel to the plane: the caller asks
-// CGAL then, so the answers here are the ones CGAL's test gives (the sample outfits' packs are
-// byte-identical). About 2 of 5 rays the blocker cache tries miss: answering those here, not in
-// CGAL, and each triangle's edges kept (Edges), the sample dress's visibility 6.7 -> 6.1 s.
-enum class Crossing { kNo, kYes, kUnsure };
-// A triangle as crossing() reads it: a corner, the edges from it and their squared lengths.
-struct Edges {
-  glm::dvec3 a, e1, e2;
-  double l1, l2;
-};
-Edges edgesOf(const glm::dvec3 &a, const glm::dvec3 &b, const glm::dvec3 &c) {
-  const glm::dvec3 e1 = b - a, e2 = c - a;
-  return {a, e1, e2, glm::dot(e1, e1), glm::dot(e2, e2)};
-}
-// The ray from o along w.
-Crossing crossing(const glm::dvec3 &o, const glm::dvec3 &w, const Edges &t) {
-  const glm::dvec3 pv = glm::cross(w, t.e2);
-  const double det = glm::dot(t.e1, pv);
-  constexpr double margin = 1e-7;
-  const double w2 = glm::dot(w, w);
-  if (!(det * det > margin * margin * w2 * t.l1 * t.l2)) // nearly parallel, or degenerate
-    return Crossing::kUnsure;
-  const glm::dvec3 tv = o - t.a;
-  const double bu = glm::dot(tv, pv) / det;
-  if (bu < -margin || bu > 1 + margin)
-    return Crossing::kNo;
-  const glm::dvec3 qv = glm::cross(tv, t.e1);
-  const double bv = glm::dot(w, qv) / det;
-  if (bv < -margin || bu + bv > 1 + margin)
-    return Crossing::kNo;
-  const double ahead = glm::dot(t.e2, qv) / det * std::sqrt(w2),
-               near = margin * (std::sqrt(t.l1) + std::sqrt(t.l2));
-  if (ahead < -near)
-    return Crossing::kNo;
-  if (bu > margin && bv > margin && bu + bv < 1 - margin && ahead > near)
-    return Crossing::kYes;
-  return Crossing::kUnsure;
-}
 
 // Per occluder (an index into `occluders`), the occluders across its edges (by vertex index;
 // kNone where the edge is open, or where a third face shares it).
@@ -179,7 +139,7 @@ std::vector<uint8_t> hiddenBodyFaces(const Character &merged, uint32_t bodyTrian
   std::vector<uint32_t> blocker(size_t(bodyTriangles) * raysPerFace, kNone);
   const auto across = edgeNeighbours(idx, occluders);
   std::vector<Triangle> soup;
-  std::vector<Edges> soupEdges; // soup's triangles as crossing() reads them
+  std::vector<outfit::Edges> soupEdges; // soup's triangles as crossing() reads them
   std::vector<uint32_t> soupOf(occluders.size()), occluderOf; // occluder <-> soup triangle
   for (const auto &pose : frames) {
     if (candidates.empty())
@@ -195,7 +155,7 @@ std::vector<uint8_t> hiddenBodyFaces(const Character &merged, uint32_t bodyTrian
       soupOf[k] = tri.is_degenerate() ? kNone : uint32_t(soup.size());
       if (!tri.is_degenerate()) {
         soup.push_back(tri);
-        soupEdges.push_back(edgesOf(p[idx[3 * t]], p[idx[3 * t + 1]], p[idx[3 * t + 2]]));
+        soupEdges.push_back(outfit::edgesOf(p[idx[3 * t]], p[idx[3 * t + 1]], p[idx[3 * t + 2]]));
         occluderOf.push_back(k);
       }
     }
@@ -213,9 +173,9 @@ std::vector<uint8_t> hiddenBodyFaces(const Character &merged, uint32_t bodyTrian
       const auto blocks = [&](uint32_t k) {
         if (k == kNone || soupOf[k] == kNone)
           return false;
-        const Crossing c = crossing(o, w, soupEdges[soupOf[k]]);
-        return c == Crossing::kYes ||
-               (c == Crossing::kUnsure && CGAL::do_intersect(ray, soup[soupOf[k]]));
+        const outfit::Crossing c = outfit::crossing(o, w, soupEdges[soupOf[k]]);
+        return c == outfit::Crossing::kYes ||
+               (c == outfit::Crossing::kUnsure && CGAL::do_intersect(ray, soup[soupOf[k]]));
       };
       for (auto g = guesses.begin(); g != guesses.end(); ++g)
         if (std::find(guesses.begin(), g, *g) == g && blocks(*g)) {
