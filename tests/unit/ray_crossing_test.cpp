@@ -1,7 +1,8 @@
 // The outfit bake's quick ray-triangle test (bake/src/outfit/ray_crossing.h) answers only where
 // CGAL's test, which the bake's hidden faces are defined by, gives the same answer: on rays aimed
 // at random points of the triangle's plane, at its edges and corners within 1e-16 to 1e-6, grazing
-// its plane and starting on or near it, at scales from a millimetre to a kilometre.
+// its plane from near and from far, and starting on or near it, at scales from a millimetre to a
+// kilometre.
 #include <gtest/gtest.h>
 
 #include <random>
@@ -98,6 +99,22 @@ TEST(RayCrossing, SureAnswersAreCgalsOnGrazingRaysAndOriginsOnThePlane) {
           o = at(a, b, c, bary(random), bary(random)) + n * (tilt * scale * unit(random) * 1e-6);
           w = glm::dvec3(unit(random), unit(random), unit(random));
         }
+      });
+}
+
+TEST(RayCrossing, SureAnswersAreCgalsOnRaysGrazingThePlaneFromFar) {
+  // From up to 10^4 triangle sizes away along an edge's direction, at angles down to 1e-16 to
+  // the plane: with the parallel guard blind to the distance, 2 of these rays had a sure answer
+  // CGAL's test did not give.
+  cast(
+      4, 400000,
+      [](auto &random, auto a, auto b, auto c, auto n, double scale, glm::dvec3 &o, glm::dvec3 &w) {
+        std::uniform_real_distribution<double> unit(-1.0, 1.0), bary(-0.2, 1.2);
+        const double tilt = std::pow(10.0, -16 * std::abs(unit(random)));
+        const double far = std::pow(10.0, 4 * std::abs(unit(random))) * scale;
+        const glm::dvec3 target = at(a, b, c, bary(random), bary(random));
+        o = target - glm::normalize(b - a) * far + n * (tilt * far * unit(random));
+        w = target - o;
       });
 }
 

@@ -3,6 +3,7 @@
 // parallel to the triangle go to CGAL. tests/unit/ray_crossing_test.cpp checks every sure answer
 // against CGAL's, on rays aimed at the triangles' edges, grazing them and starting on them.
 #pragma once
+#include <algorithm>
 #include <cmath>
 
 #include <glm/glm.hpp>
@@ -30,10 +31,15 @@ inline Crossing crossing(const glm::dvec3 &o, const glm::dvec3 &w, const Edges &
   const glm::dvec3 pv = glm::cross(w, t.e2);
   const double det = glm::dot(t.e1, pv);
   constexpr double margin = 1e-7;
-  const double w2 = glm::dot(w, w);
-  if (!(det * det > margin * margin * w2 * t.l1 * t.l2)) // nearly parallel, or degenerate
-    return Crossing::kUnsure;
+  // Nearly parallel to the plane, or degenerate: the sine of the ray's angle to the plane
+  // (det / (|w| |e1| |e2|), about) at most 1e-7 times the origin's distance in the shorter
+  // edge's lengths (at least 1): rounding moves the crossing by about 1e-16 of that distance
+  // over the sine, and CGAL's test by as much.
   const glm::dvec3 tv = o - t.a;
+  const double w2 = glm::dot(w, w), shorter = std::min(t.l1, t.l2);
+  if (!(det * det * shorter >
+        margin * margin * w2 * t.l1 * t.l2 * std::max(shorter, glm::dot(tv, tv))))
+    return Crossing::kUnsure;
   const double bu = glm::dot(tv, pv) / det;
   if (bu < -margin || bu > 1 + margin)
     return Crossing::kNo;
