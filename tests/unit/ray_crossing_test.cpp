@@ -5,6 +5,7 @@
 // kilometre.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 #include <CGAL/Simple_cartesian.h>
@@ -20,8 +21,8 @@ struct Tally {
   size_t rays = 0, unsure = 0;
 };
 
-// Casts `rays` rays at random triangles; each ray from the ray(...) maker, given the triangle's
-// corners and normal. Every answer crossing() is sure of must be CGAL's.
+// Casts `rays` rays at random triangles; each ray from makeRay, given the triangle's corners and
+// normal. Every answer crossing() is sure of must be CGAL's.
 template <class MakeRay> Tally cast(uint32_t seed, size_t rays, MakeRay makeRay) {
   std::mt19937 random(seed);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
@@ -35,7 +36,8 @@ template <class MakeRay> Tally cast(uint32_t seed, size_t rays, MakeRay makeRay)
       continue; // degenerate: the bake never casts at those
     glm::dvec3 o, w;
     makeRay(random, a, b, c, glm::normalize(n), scale, o, w);
-    const Crossing got = crowd::outfit::crossing(o, w, crowd::outfit::edgesOf(a, b, c));
+    const Crossing got =
+        crowd::outfit::crossing(o, w, crowd::outfit::edgesOf(a, b, c, glm::length(o - a)));
     const K::Triangle_3 tri(K::Point_3(a.x, a.y, a.z), K::Point_3(b.x, b.y, b.z),
                             K::Point_3(c.x, c.y, c.z));
     const K::Ray_3 ray(K::Point_3(o.x, o.y, o.z), K::Vector_3(w.x, w.y, w.z));

@@ -149,13 +149,18 @@ std::vector<uint8_t> hiddenBodyFaces(const Character &merged, uint32_t bodyTrian
     soup.clear();
     soupEdges.clear();
     occluderOf.clear();
+    glm::dvec3 low = p[0], high = p[0]; // every ray starts and every occluder lies in this box
+    for (const glm::dvec3 &x : p)
+      low = glm::min(low, x), high = glm::max(high, x);
+    const double span = glm::length(high - low) + 2 * nudge; // the farthest a ray starts
     for (uint32_t k = 0; k < occluders.size(); ++k) {
       const uint32_t t = occluders[k];
       Triangle tri(point(idx[3 * t]), point(idx[3 * t + 1]), point(idx[3 * t + 2]));
       soupOf[k] = tri.is_degenerate() ? kNone : uint32_t(soup.size());
       if (!tri.is_degenerate()) {
         soup.push_back(tri);
-        soupEdges.push_back(outfit::edgesOf(p[idx[3 * t]], p[idx[3 * t + 1]], p[idx[3 * t + 2]]));
+        soupEdges.push_back(
+            outfit::edgesOf(p[idx[3 * t]], p[idx[3 * t + 1]], p[idx[3 * t + 2]], span));
         occluderOf.push_back(k);
       }
     }
