@@ -1,9 +1,12 @@
 // crowdbake: the command-line front of the bake library. Sub-commands like git; every
 // failure is one line on stderr and a non-zero exit (1 bad input or failed bake, 2 bad usage).
+#include <algorithm>
 #include <cctype>
 #include <cstdio>
 #include <iostream>
-#include <map>
+#include <iterator>
+#include <string>
+#include <string_view>
 
 #include "args.h"
 #include "commands.h"
@@ -243,30 +246,34 @@ int main(int argc, char **argv) {
   // input and run under the resource guard; they (large arrays, long runs) also start again on
   // huge pages (useHugePages). The quick commands start once: a second start loads crowdbake and
   // its libraries again, tens of milliseconds.
+  // A constant table: nothing to allocate (or throw) before the try below.
   struct Command {
+    std::string_view name;
     int (*run)(int, char **);
     bool bake;
   };
-  const std::map<std::string, Command> commands = {
-      {"build", {cmdBuild, true}},
-      {"build-task", {cmdBuildTask, true}},
-      {"samples", {cmdSamples, false}},
-      {"anim", {[](int c, char **v) { return cmdAnim(c, v, "anim"); }, true}},
-      {"lod", {[](int c, char **v) { return cmdAnim(c, v, "lod"); }, true}},
-      {"impostor", {cmdImpostor, true}},
-      {"outfits", {cmdOutfits, true}},
-      {"inspect", {cmdInspect, false}},
-      {"verify", {cmdVerify, false}},
-      {"export", {cmdExport, false}},
-      {"pose", {cmdPose, false}},
-      {"cloth", {cmdCloth, true}},
-      {"terrain", {cmdTerrain, true}},
-      {"diff", {cmdDiff, false}},
-      {"report", {cmdReport, false}},
+  static constexpr Command kCommands[] = {
+      {"build", cmdBuild, true},
+      {"build-task", cmdBuildTask, true},
+      {"samples", cmdSamples, false},
+      {"anim", [](int c, char **v) { return cmdAnim(c, v, "anim"); }, true},
+      {"lod", [](int c, char **v) { return cmdAnim(c, v, "lod"); }, true},
+      {"impostor", cmdImpostor, true},
+      {"outfits", cmdOutfits, true},
+      {"inspect", cmdInspect, false},
+      {"verify", cmdVerify, false},
+      {"export", cmdExport, false},
+      {"pose", cmdPose, false},
+      {"cloth", cmdCloth, true},
+      {"terrain", cmdTerrain, true},
+      {"diff", cmdDiff, false},
+      {"report", cmdReport, false},
   };
-  const std::string command = argc > 1 ? argv[1] : "";
-  const auto it = commands.find(command);
-  if (it != commands.end() && it->second.bake)
+  const std::string_view command = argc > 1 ? argv[1] : "";
+  const Command *const it = std::find_if(std::begin(kCommands), std::end(kCommands),
+                                         [&](const Command &c) { return c.name == command; });
+  const bool known = it != std::end(kCommands);
+  if (known && it->bake)
     crowd::useHugePages(argv);
   crowd::keepFreedMemory();
   try {
@@ -282,9 +289,9 @@ int main(int argc, char **argv) {
       std::cout << crowd::kBakerVersion << "\nbuilt with " << crowd::toolchain() << "\n";
       return 0;
     }
-    if (it == commands.end())
-      throw UsageError("unknown command '" + command + "' (see crowdbake --help)");
-    return it->second.run(argc, argv);
+    if (!known)
+      throw UsageError("unknown command '" + std::string(command) + "' (see crowdbake --help)");
+    return it->run(argc, argv);
   } catch (const std::exception &e) {
     printFailure(e);
     return dynamic_cast<const UsageError *>(&e) ? 2 : 1;
