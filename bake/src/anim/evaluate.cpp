@@ -139,21 +139,24 @@ std::vector<double> morphWeights(const Character &c, const AnimationClip *clip, 
   return weights;
 }
 
+glm::dvec3 skinPosition(const SkinnedMesh &m, const std::vector<glm::dmat4> &joints,
+                        const std::vector<double> &morphWeights, size_t v) {
+  glm::dvec3 morphed(m.positions[v]);
+  for (size_t k = 0; k < m.morphs.size(); ++k)
+    morphed += morphWeights[k] * glm::dvec3(m.morphs[k].positions[v]);
+  glm::dvec4 p(morphed, 1.0);
+  glm::dvec3 acc(0.0);
+  for (int k = 0; k < 4; ++k)
+    if (m.weights[v][k] != 0)
+      acc += double(m.weights[v][k]) * glm::dvec3(joints[m.joints[v][size_t(k)]] * p);
+  return acc;
+}
+
 std::vector<glm::dvec3> skinPositions(const Character &c, const std::vector<glm::dmat4> &joints,
                                       const std::vector<double> &morphWeights) {
-  const auto &m = c.mesh;
-  std::vector<glm::dvec3> out(m.vertexCount());
-  for (size_t v = 0; v < out.size(); ++v) {
-    glm::dvec3 morphed(m.positions[v]);
-    for (size_t k = 0; k < m.morphs.size(); ++k)
-      morphed += morphWeights[k] * glm::dvec3(m.morphs[k].positions[v]);
-    glm::dvec4 p(morphed, 1.0);
-    glm::dvec3 acc(0.0);
-    for (int k = 0; k < 4; ++k)
-      if (m.weights[v][k] != 0)
-        acc += double(m.weights[v][k]) * glm::dvec3(joints[m.joints[v][size_t(k)]] * p);
-    out[v] = acc;
-  }
+  std::vector<glm::dvec3> out(c.mesh.vertexCount());
+  for (size_t v = 0; v < out.size(); ++v)
+    out[v] = skinPosition(c.mesh, joints, morphWeights, v);
   return out;
 }
 

@@ -17,6 +17,8 @@
 # The files are committed (tests must not need Blender); rerun this script to remake them (the
 # same characters; the bytes may differ from run to run), or some of them by name:
 #   blender -b --factory-startup --python tests/data/blender/make_characters.py -- mirrored
+# Bench inputs (not committed) by name only, written into $CROWD_BLENDER_OUT:
+#   many_clips.glb  a dense biped (23k triangles) with 24 clips (tests/bench/anim_speed.sh)
 import math
 import os
 import sys
@@ -371,7 +373,49 @@ def mirrored():
     export(os.path.join(HERE, 'mirrored.glb'))
 
 
+def many_clips():
+    """A bench input, not committed (tests/bench/anim_speed.sh makes it): a dense biped (23k
+    triangles, smooth) with 24 clips of 0.5-2.8 s, every bone keyed, every fourth clip in steps
+    (CONSTANT keys): a library character with many clips."""
+    reset()
+    bones = [('root', None, (0, 0, 0.9), (0, 0, 1.1)), ('spine', 'root', (0, 0, 1.1), (0, 0, 1.4)),
+             ('head', 'spine', (0, 0, 1.4), (0, 0, 1.7))]
+    for s, x in (('L', 1), ('R', -1)):
+        bones += [(f'arm.{s}', 'spine', (x * 0.2, 0, 1.35), (x * 0.5, 0, 1.35)),
+                  (f'fore.{s}', f'arm.{s}', (x * 0.5, 0, 1.35), (x * 0.75, 0, 1.35)),
+                  (f'leg.{s}', 'root', (x * 0.1, 0, 0.9), (x * 0.1, 0, 0.5)),
+                  (f'shin.{s}', f'leg.{s}', (x * 0.1, 0, 0.5), (x * 0.1, 0, 0.05))]
+    rig = armature('Rig', bones)
+    bm = bmesh.new()
+    add_part(bm, 'cylinder', (0, 0, 1.15), (0.35, 0.22, 0.55), segments=32)
+    add_part(bm, 'sphere', (0, 0, 1.55), (0.22, 0.22, 0.28), segments=32)
+    for x in (1, -1):
+        add_part(bm, 'cylinder', (x * 0.47, 0, 1.35), (0.1, 0.1, 0.6),
+                 rotation=(0, math.pi / 2, 0), segments=24)
+        add_part(bm, 'cylinder', (x * 0.1, 0, 0.47), (0.13, 0.13, 0.86), segments=24)
+    bmesh.ops.subdivide_edges(bm, edges=bm.edges[:], cuts=2, use_grid_fill=True)
+    bmesh.ops.triangulate(bm, faces=bm.faces[:])
+    body = mesh_object('Body', bm, rig, texture_material('Skin'))
+    skin(body, rig, 4)
+    fps = bpy.context.scene.render.fps
+    for k in range(24):
+        seconds = 0.5 + 0.1 * k
+        keys = {}
+        for j, pb in enumerate(rig.pose.bones):
+            keys[pb.name] = [(seconds * step / 8, (0.6 * math.sin(2 * math.pi * step / 8 + j + k),
+                                                   0.2 * (k % 3) * math.sin(j + step), 0))
+                             for step in range(9)]
+        action(rig, f'clip{k:02d}', seconds, keys)
+        if k % 4 == 3:
+            for fc in bpy.data.actions[f'clip{k:02d}'].fcurves:
+                for key in fc.keyframe_points:
+                    key.interpolation = 'CONSTANT'
+    export(os.path.join(OUT, 'many_clips.glb'))
+
+
 MAKERS = {'trooper': trooper, 'crawler': crawler, 'robot': robot, 'morph_biped': morph_biped,
           'two_rigs': two_rigs, 'mirrored': mirrored}
+BENCH_MAKERS = {'many_clips': many_clips}  # by name only, into $CROWD_BLENDER_OUT
+OUT = os.environ.get('CROWD_BLENDER_OUT', HERE)
 for name in sys.argv[sys.argv.index('--') + 1:] if '--' in sys.argv else MAKERS:
-    MAKERS[name]()
+    {**MAKERS, **BENCH_MAKERS}[name]()

@@ -15,7 +15,10 @@ std::vector<glm::dmat4> jointMatrices(const Character &c, const AnimationClip *c
 // Morph target weights at time t of `clip` (null: the rest pose): the mesh's defaults where no
 // channel drives a target.
 std::vector<double> morphWeights(const Character &c, const AnimationClip *clip, double t);
-// Vertex positions for the given joint matrices and morph weights: morphed, then skinned.
+// Vertex v's position for the given joint matrices and morph weights: morphed, then skinned.
+glm::dvec3 skinPosition(const SkinnedMesh &m, const std::vector<glm::dmat4> &joints,
+                        const std::vector<double> &morphWeights, size_t v);
+// Every vertex's (skinPosition).
 std::vector<glm::dvec3> skinPositions(const Character &c, const std::vector<glm::dmat4> &joints,
                                       const std::vector<double> &morphWeights);
 // The vertices at time t of `clip` (null: the rest pose), exactly: the reference every accuracy
