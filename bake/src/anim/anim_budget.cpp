@@ -30,11 +30,11 @@ std::vector<double> ratesFor(const BudgetSearch &s, double source) {
 
 // Largest vertex error of each texture, against exact evaluation, at the clip's frame times
 // (`joints`: their exact matrices), its mid-frames and the seeded random times. Squared
-// distances until the end: the root of the largest is the largest root, to the bit. Where the
-// mesh has no morph targets, only the vertices whose SkinErrorBound exceeds the largest error
-// found so far are skinned: the same figures, to the bit, in a fraction of the time (the whole
-// anim bake of many_clips, 23k triangles and 24 clips, 0.39 of the time; of CesiumMan and Fox
-// 0.68: tests/bench/anim_speed.sh).
+// distances until the end: the root of the largest is the largest root, to the bit. Only the
+// vertices whose SkinErrorBound exceeds the largest error found so far are skinned: the same
+// figures, to the bit, in a fraction of the time (the whole anim bake of many_clips, 23k triangles
+// and 24 clips: 0.33 of the time; CesiumMan 0.64, Fox 0.79, the humanoid 0.86, against e46ceff
+// in tests/bench/anim_speed.sh).
 std::vector<double> maxErrors(const Character &c, const ClipFrames &f,
                               const std::vector<std::vector<glm::dmat4>> &joints,
                               const std::vector<std::vector<double>> &morphs,
@@ -50,9 +50,8 @@ std::vector<double> maxErrors(const Character &c, const ClipFrames &f,
   const SkinnedMesh &m = c.mesh;
   const size_t frames = f.count, mids = f.count - 1, np = textures.size();
   const size_t n = frames + mids + randomTimes.size(), vertices = m.vertexCount();
-  std::optional<SkinErrorBound> bound;
-  if (!morphFrames && m.morphs.empty())
-    bound.emplace(m, skin, textures[0].jointCount);
+  const SkinErrorBound bound(m, skin, textures[0].jointCount);
+  const bool morphed = morphFrames || !m.morphs.empty(); // no block bounds
   // The random times first, then the mid-frames, then the frames (where the textures hold the
   // exact matrices: the least error): each group starts from the largest error those before it
   // found, so that fewer of its vertices are skinned.
@@ -78,11 +77,10 @@ std::vector<double> maxErrors(const Character &c, const ClipFrames &f,
     }
     const runtime::ClipTime at{&clip, frame, alpha};
     std::vector<std::vector<runtime::JointRows>> sampled;
-    std::vector<SkinErrorBound::Terms> terms;
+    std::vector<SkinErrorBound::Terms> terms; // per precision
     for (const auto &texture : textures) {
       sampled.push_back(runtime::sampleJoints(texture, clip, frame, alpha));
-      if (bound)
-        terms.push_back(bound->terms(sampled.back(), *exactJoints));
+      terms.push_back(bound.terms(sampled.back(), *exactJoints));
     }
     double *largest = &perTime[k * np];
     std::copy(before.begin(), before.end(), largest);
@@ -93,20 +91,22 @@ std::vector<double> maxErrors(const Character &c, const ClipFrames &f,
       return true;
     };
     for (uint32_t v = 0; v < vertices; ++v) {
-      if (bound && v % SkinErrorBound::kBlock == 0 &&
-          below([&](const auto &t) { return bound->block(v / SkinErrorBound::kBlock, t); })) {
+      if (!morphed && v % SkinErrorBound::kBlock == 0 &&
+          below([&](const auto &t) { return bound.block(v / SkinErrorBound::kBlock, t); })) {
         v += SkinErrorBound::kBlock - 1;
         continue;
       }
+      const glm::vec3 bind = morphedBind(m, morphFrames, at, v); // the same for every p
+      const glm::dvec3 exactBind = morphed ? morphedPosition(m, *exactMorphs, v) : glm::dvec3(0);
       bool skinned = false;
       glm::dvec3 exact;
-      glm::vec3 bind;
       for (size_t p = 0; p < np; ++p) {
-        if (bound && bound->vertex(v, terms[p]) <= largest[p])
+        const double most =
+            morphed ? bound.morphedVertex(v, terms[p], bind, exactBind) : bound.vertex(v, terms[p]);
+        if (most <= largest[p])
           continue; // cannot raise the largest (a NaN bound can)
         if (!skinned) {
           exact = skinPosition(m, *exactJoints, *exactMorphs, v);
-          bind = morphedBind(m, morphFrames, at, v); // the same for every p
           skinned = true;
         }
         const glm::dvec3 off = glm::dvec3(runtime::skinVertex(sampled[p], skin, v, bind)) - exact;

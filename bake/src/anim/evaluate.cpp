@@ -139,12 +139,17 @@ std::vector<double> morphWeights(const Character &c, const AnimationClip *clip, 
   return weights;
 }
 
-glm::dvec3 skinPosition(const SkinnedMesh &m, const std::vector<glm::dmat4> &joints,
-                        const std::vector<double> &morphWeights, size_t v) {
+glm::dvec3 morphedPosition(const SkinnedMesh &m, const std::vector<double> &morphWeights,
+                           size_t v) {
   glm::dvec3 morphed(m.positions[v]);
   for (size_t k = 0; k < m.morphs.size(); ++k)
     morphed += morphWeights[k] * glm::dvec3(m.morphs[k].positions[v]);
-  glm::dvec4 p(morphed, 1.0);
+  return morphed;
+}
+
+glm::dvec3 skinPosition(const SkinnedMesh &m, const std::vector<glm::dmat4> &joints,
+                        const std::vector<double> &morphWeights, size_t v) {
+  glm::dvec4 p(morphedPosition(m, morphWeights, v), 1.0);
   glm::dvec3 acc(0.0);
   for (int k = 0; k < 4; ++k)
     if (m.weights[v][k] != 0)

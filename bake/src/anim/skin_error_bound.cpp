@@ -59,19 +59,20 @@ SkinErrorBound::Terms SkinErrorBound::terms(const std::vector<runtime::JointRows
                                             const std::vector<glm::dmat4> &exact) const {
   Terms out(centre_.size());
   for (size_t j = 0; j < out.size(); ++j) {
-    double turn = 0, size = 0, shift = 0;
+    double turn = 0, size = 0, shift = 0, exactSize = 0;
     glm::dvec3 atCentre(0.0);
     for (int r = 0; r < 3; ++r)
       for (int col = 0; col < 4; ++col) {
         const double value = rows[j][size_t(r)][col], off = value - exact[j][col][r];
         atCentre[r] += off * (col < 3 ? centre_[j][col] : 1.0);
         if (col < 3)
-          turn += off * off, size += value * value;
+          turn += off * off, size += value * value,
+              exactSize += exact[j][col][r] * exact[j][col][r];
         else
           shift += value * value;
       }
     out[j] = {std::sqrt(turn), glm::length(atCentre) + kUlps * std::sqrt(shift),
-              kUlps * std::sqrt(size)};
+              kUlps * std::sqrt(size), std::sqrt(exactSize)};
   }
   return out;
 }
@@ -81,9 +82,24 @@ double SkinErrorBound::vertex(uint32_t v, const Terms &t) const {
   double most = 0;
   for (size_t k = 0; k < 4; ++k)
     if (w[k] != 0) { // as the skinning skips it
-      const auto &[turn, atCentre, rounding] = t[size_t(ids[k])];
+      const auto &[turn, atCentre, rounding, exactSize] = t[size_t(ids[k])];
       most += std::abs(double(w[k])) *
               (turn * apart_[4 * size_t(v) + k] + atCentre + rounding * reach_[v]);
+    }
+  most *= kRoundingOfTheBound;
+  return most * most;
+}
+
+double SkinErrorBound::morphedVertex(uint32_t v, const Terms &t, const glm::dvec3 &drawn,
+                                     const glm::dvec3 &exact) const {
+  const float *ids = &skin_.texels[size_t(v) * 8], *w = ids + 4;
+  const double reach = glm::length(drawn), morphOff = glm::length(drawn - exact);
+  double most = 0;
+  for (size_t k = 0; k < 4; ++k)
+    if (w[k] != 0) {
+      const auto &[turn, atCentre, rounding, exactSize] = t[size_t(ids[k])];
+      most += std::abs(double(w[k])) * (turn * glm::length(drawn - centre_[size_t(ids[k])]) +
+                                        atCentre + rounding * reach + exactSize * morphOff);
     }
   most *= kRoundingOfTheBound;
   return most * most;
@@ -93,7 +109,7 @@ double SkinErrorBound::block(uint32_t b, const Terms &t) const {
   double most = 0;
   for (size_t i = blockStart_[b]; i < blockStart_[b + 1]; ++i) {
     const BlockTerm &bt = blockTerms_[i];
-    const auto &[turn, atCentre, rounding] = t[bt.joint];
+    const auto &[turn, atCentre, rounding, exactSize] = t[bt.joint];
     most += turn * bt.apart + atCentre * bt.weight + rounding * bt.reach;
   }
   most *= kRoundingOfTheBound;

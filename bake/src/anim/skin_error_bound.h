@@ -14,6 +14,11 @@
 // last place of the sum of their terms' sizes, which a row r, t holds to |r| |p| + |t|) and,
 // with room to spare, of the double one. (With |(p, 1)| in place of |p| and the translation in
 // R_j, gltfpack's quantized positions, in the thousands, left 91% of the vertices to skin.)
+//
+// With morph targets the player skins p' (its morph slots, weights blended between frames), the
+// exact skinning p: the error is sum_k w_k (E_j (p', 1) + M_j (p' - p)), M_j the exact matrix's
+// 3x3 part, so p' takes p's place above and each influence adds |M_j| |p' - p|. Blocks are not
+// bounded then (the caller works out p' and p vertex by vertex).
 #pragma once
 #include <array>
 #include <cstdint>
@@ -30,8 +35,8 @@ namespace crowd {
 class SkinErrorBound {
 public:
   static constexpr uint32_t kBlock = 32; // vertices a block
-  // Per joint at one time: |A_j|, |E_j c1| + 16 eps |t_j| and 16 eps |R_j|.
-  using Terms = std::vector<std::array<double, 3>>;
+  // Per joint at one time: |A_j|, |E_j c1| + 16 eps |t_j|, 16 eps |R_j| and |M_j|.
+  using Terms = std::vector<std::array<double, 4>>;
 
   SkinErrorBound(const SkinnedMesh &m, const pack::SkinTexture &skin, size_t jointCount);
   // The terms of joint rows `rows` against the exact matrices `exact` (one per joint).
@@ -40,6 +45,10 @@ public:
   // The bound of vertex v, and one of every vertex in block b (vertices b kBlock on), squared.
   double vertex(uint32_t v, const Terms &t) const;
   double block(uint32_t b, const Terms &t) const;
+  // The bound of vertex v, squared, where the player skins `drawn` and the exact skinning
+  // `exact` (their morphed positions).
+  double morphedVertex(uint32_t v, const Terms &t, const glm::dvec3 &drawn,
+                       const glm::dvec3 &exact) const;
 
 private:
   // Per joint a block's vertices use: the largest over them of its three terms' factors (the

@@ -397,7 +397,6 @@ def many_clips():
     bmesh.ops.triangulate(bm, faces=bm.faces[:])
     body = mesh_object('Body', bm, rig, texture_material('Skin'))
     skin(body, rig, 4)
-    fps = bpy.context.scene.render.fps
     for k in range(24):
         seconds = 0.5 + 0.1 * k
         keys = {}

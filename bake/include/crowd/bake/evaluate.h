@@ -15,6 +15,8 @@ std::vector<glm::dmat4> jointMatrices(const Character &c, const AnimationClip *c
 // Morph target weights at time t of `clip` (null: the rest pose): the mesh's defaults where no
 // channel drives a target.
 std::vector<double> morphWeights(const Character &c, const AnimationClip *clip, double t);
+// Vertex v's bind-pose position morphed by the given weights.
+glm::dvec3 morphedPosition(const SkinnedMesh &m, const std::vector<double> &morphWeights, size_t v);
 // Vertex v's position for the given joint matrices and morph weights: morphed, then skinned.
 glm::dvec3 skinPosition(const SkinnedMesh &m, const std::vector<glm::dmat4> &joints,
                         const std::vector<double> &morphWeights, size_t v);
