@@ -38,6 +38,7 @@ TEST(SkinErrorBound, NoVertexErrsPastItsBoundOnAnyRealModel) {
     }
     const auto morphFrames = buildMorphs(m, morphs);
     const bool morphed = !m.morphs.empty();
+    ASSERT_EQ(bound.blocks(), !morphed) << file;
     pack::Clip packClip;
     packClip.fps = float(f.fps);
     packClip.frameCount = f.count;

@@ -39,7 +39,7 @@ std::vector<double> maxErrors(const Character &c, const ClipFrames &f,
                               const std::vector<std::vector<glm::dmat4>> &joints,
                               const std::vector<std::vector<double>> &morphs,
                               const std::vector<pack::AnimationTexture> &textures,
-                              const pack::SkinTexture &skin,
+                              const pack::SkinTexture &skin, const SkinErrorBound &bound,
                               const std::optional<pack::Morphs> &morphFrames,
                               const std::vector<double> &randomTimes,
                               const std::vector<std::vector<glm::dmat4>> &randomJoints,
@@ -50,8 +50,7 @@ std::vector<double> maxErrors(const Character &c, const ClipFrames &f,
   const SkinnedMesh &m = c.mesh;
   const size_t frames = f.count, mids = f.count - 1, np = textures.size();
   const size_t n = frames + mids + randomTimes.size(), vertices = m.vertexCount();
-  const SkinErrorBound bound(m, skin, textures[0].jointCount);
-  const bool morphed = morphFrames || !m.morphs.empty(); // no block bounds
+  const bool morphed = !m.morphs.empty();
   // The random times first, then the mid-frames, then the frames (where the textures hold the
   // exact matrices: the least error): each group starts from the largest error those before it
   // found, so that fewer of its vertices are skinned.
@@ -91,7 +90,7 @@ std::vector<double> maxErrors(const Character &c, const ClipFrames &f,
       return true;
     };
     for (uint32_t v = 0; v < vertices; ++v) {
-      if (!morphed && v % SkinErrorBound::kBlock == 0 &&
+      if (bound.blocks() && v % SkinErrorBound::kBlock == 0 &&
           below([&](const auto &t) { return bound.block(v / SkinErrorBound::kBlock, t); })) {
         v += SkinErrorBound::kBlock - 1;
         continue;
@@ -130,7 +129,7 @@ std::vector<double> maxErrors(const Character &c, const ClipFrames &f,
 // budget; best[p] gets the option chosen for precision p.
 ClipBudget searchClip(const Character &c, const AnimationClip &clip, size_t clipIndex,
                       const BudgetSearch &s, const pack::SkinTexture &skin,
-                      std::vector<size_t> &best) {
+                      const SkinErrorBound &bound, std::vector<size_t> &best) {
   ClipBudget cb;
   cb.clip = clip.name;
   cb.sourceFps = sourceRate(clip);
@@ -176,8 +175,8 @@ ClipBudget searchClip(const Character &c, const AnimationClip &clip, size_t clip
     for (size_t p : open)
       textures.push_back(
           buildAnimationTexture(joints, c.jointCount(), *s.tried[p], s.maxWidth, s.matrixJoints));
-    const auto errors = maxErrors(c, f, joints, morphs, textures, skin, morphFrames, randomTimes,
-                                  randomJoints, randomMorphs, s.threads);
+    const auto errors = maxErrors(c, f, joints, morphs, textures, skin, bound, morphFrames,
+                                  randomTimes, randomJoints, randomMorphs, s.threads);
     std::vector<size_t> still;
     for (size_t k = 0; k < open.size(); ++k) {
       const size_t p = open[k];
@@ -219,13 +218,14 @@ BudgetChoice chooseByBudget(const Character &c, const std::vector<const Animatio
                             const BudgetSearch &s) {
   const size_t np = s.tried.size();
   const pack::SkinTexture skin = buildSkinTexture(c.mesh, s.maxWidth);
+  const SkinErrorBound bound(c.mesh, skin, c.jointCount());
   BudgetChoice out;
   std::vector<std::vector<size_t>> best(clips.size(), std::vector<size_t>(np, SIZE_MAX));
   for (size_t ci = 0; ci < clips.size(); ++ci) {
     if (s.step)
       s.step("error budget: clip " + std::to_string(ci + 1) + " of " +
              std::to_string(clips.size()) + " (" + clips[ci]->name + ")");
-    out.clips.push_back(searchClip(c, *clips[ci], ci, s, skin, best[ci]));
+    out.clips.push_back(searchClip(c, *clips[ci], ci, s, skin, bound, best[ci]));
   }
   // The precision: fewest bytes among those meeting the budget everywhere, else the smallest
   // worst error (within 1%, the fewer bytes).

@@ -32,6 +32,8 @@ SkinErrorBound::SkinErrorBound(const SkinnedMesh &m, const pack::SkinTexture &sk
     for (size_t k = 0; k < 4; ++k)
       apart_[4 * v + k] = glm::length(p - centre_[id(v, k)]);
   }
+  if (!m.morphs.empty())
+    return; // the caller bounds vertex by vertex
   blockStart_.push_back(0);
   for (size_t first = 0; first < vertices; first += kBlock) {
     const auto begin = std::ptrdiff_t(blockTerms_.size());
@@ -77,32 +79,30 @@ SkinErrorBound::Terms SkinErrorBound::terms(const std::vector<runtime::JointRows
   return out;
 }
 
-double SkinErrorBound::vertex(uint32_t v, const Terms &t) const {
+double SkinErrorBound::sum(uint32_t v, const Terms &t, const double *apart, double reach,
+                           double morphOff) const {
   const float *ids = &skin_.texels[size_t(v) * 8], *w = ids + 4;
   double most = 0;
   for (size_t k = 0; k < 4; ++k)
     if (w[k] != 0) { // as the skinning skips it
       const auto &[turn, atCentre, rounding, exactSize] = t[size_t(ids[k])];
       most += std::abs(double(w[k])) *
-              (turn * apart_[4 * size_t(v) + k] + atCentre + rounding * reach_[v]);
+              (turn * apart[k] + atCentre + rounding * reach + exactSize * morphOff);
     }
   most *= kRoundingOfTheBound;
   return most * most;
 }
 
+double SkinErrorBound::vertex(uint32_t v, const Terms &t) const {
+  return sum(v, t, &apart_[4 * size_t(v)], reach_[v], 0.0);
+}
+
 double SkinErrorBound::morphedVertex(uint32_t v, const Terms &t, const glm::dvec3 &drawn,
                                      const glm::dvec3 &exact) const {
-  const float *ids = &skin_.texels[size_t(v) * 8], *w = ids + 4;
-  const double reach = glm::length(drawn), morphOff = glm::length(drawn - exact);
-  double most = 0;
+  std::array<double, 4> apart;
   for (size_t k = 0; k < 4; ++k)
-    if (w[k] != 0) {
-      const auto &[turn, atCentre, rounding, exactSize] = t[size_t(ids[k])];
-      most += std::abs(double(w[k])) * (turn * glm::length(drawn - centre_[size_t(ids[k])]) +
-                                        atCentre + rounding * reach + exactSize * morphOff);
-    }
-  most *= kRoundingOfTheBound;
-  return most * most;
+    apart[k] = glm::length(drawn - centre_[size_t(skin_.texels[size_t(v) * 8 + k])]);
+  return sum(v, t, apart.data(), glm::length(drawn), glm::length(drawn - exact));
 }
 
 double SkinErrorBound::block(uint32_t b, const Terms &t) const {

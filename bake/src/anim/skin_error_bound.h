@@ -2,8 +2,7 @@
 // from a texture: runtime::skinVertex) lies from the same vertex skinned exactly (double
 // precision, the exact joint matrices: skinPosition), from the joints' errors alone: the bake's
 // error budget measures the largest error over every vertex at each time it tries, and a vertex
-// or a block of vertices whose bound is below the largest found so far cannot change it. Meshes
-// with morph targets are not bounded (their bind positions differ too).
+// or a block of vertices whose bound is below the largest found so far cannot change it.
 //
 // The bound of vertex p with influences (w_k, joint j_k): sum_k |w_k| (|A_j| |p - c_j| + |E_j c1|
 // + 16 eps (|R_j| |p| + |t_j|)), where R_j is joint j's sampled 3x3 part and t_j its translation,
@@ -18,7 +17,7 @@
 // With morph targets the player skins p' (its morph slots, weights blended between frames), the
 // exact skinning p: the error is sum_k w_k (E_j (p', 1) + M_j (p' - p)), M_j the exact matrix's
 // 3x3 part, so p' takes p's place above and each influence adds |M_j| |p' - p|. Blocks are not
-// bounded then (the caller works out p' and p vertex by vertex).
+// bounded then (the caller works out p' and p vertex by vertex): blocks() is false.
 #pragma once
 #include <array>
 #include <cstdint>
@@ -44,6 +43,7 @@ public:
               const std::vector<glm::dmat4> &exact) const;
   // The bound of vertex v, and one of every vertex in block b (vertices b kBlock on), squared.
   double vertex(uint32_t v, const Terms &t) const;
+  bool blocks() const { return !blockStart_.empty(); } // false for a mesh with morph targets
   double block(uint32_t b, const Terms &t) const;
   // The bound of vertex v, squared, where the player skins `drawn` and the exact skinning
   // `exact` (their morphed positions).
@@ -51,6 +51,9 @@ public:
                        const glm::dvec3 &exact) const;
 
 private:
+  // The bound of vertex v, squared, with `apart` its influences' |p - c_j|, `reach` |p| and
+  // `morphOff` |p' - p|.
+  double sum(uint32_t v, const Terms &t, const double *apart, double reach, double morphOff) const;
   // Per joint a block's vertices use: the largest over them of its three terms' factors (the
   // sum of the vertex's weights on the joint times their distances to c_j, of its weights, and
   // of its weights times |p|).
@@ -62,7 +65,7 @@ private:
   std::vector<glm::dvec3> centre_; // per joint
   std::vector<double> apart_;      // per vertex and influence: |p - c_j|
   std::vector<double> reach_;      // per vertex: |p|
-  std::vector<size_t> blockStart_; // into blockTerms_, per block and one past the last
+  std::vector<size_t> blockStart_; // into blockTerms_, per block and one past the last; or empty
   std::vector<BlockTerm> blockTerms_;
 };
 
