@@ -24,15 +24,19 @@ glm::dquat slerp(glm::dquat a, glm::dquat b, double s) {
   return a * (std::sin((1 - s) * theta) / sn) + b * (std::sin(s * theta) / sn);
 }
 
-// Value of a channel at time t: `out` gets ch.components values.
-void sample(const Channel &ch, double t, double *out) {
+} // namespace
+
+void sampleChannel(const Channel &ch, double t, double *out, bool fromLeft) {
   const bool rotation = ch.path == ChannelPath::Rotation;
   const size_t n = ch.components;
   const bool cubic = ch.interpolation == Interpolation::CubicSpline;
   const size_t stride = cubic ? 3 * n : n;
   const size_t valueOffset = cubic ? n : 0; // cubic keys are (in-tangent, value, out-tangent)
   const auto &times = ch.times;
-  size_t k1 = size_t(std::upper_bound(times.begin(), times.end(), t) - times.begin());
+  // From the left, a cut's first key ends the interval before it; otherwise its second key holds.
+  size_t k1 = size_t((fromLeft ? std::lower_bound(times.begin(), times.end(), t)
+                               : std::upper_bound(times.begin(), times.end(), t)) -
+                     times.begin());
   if (k1 == 0 || k1 == times.size()) {
     size_t k = k1 == 0 ? 0 : times.size() - 1;
     for (size_t c = 0; c < n; ++c)
@@ -77,8 +81,6 @@ void sample(const Channel &ch, double t, double *out) {
   }
 }
 
-} // namespace
-
 std::vector<glm::dmat4> nodeGlobals(const Character &c, const AnimationClip *clip, double t) {
   std::vector<glm::dvec3> tr(c.nodes.size()), sc(c.nodes.size());
   std::vector<glm::dquat> rot(c.nodes.size());
@@ -92,7 +94,7 @@ std::vector<glm::dmat4> nodeGlobals(const Character &c, const AnimationClip *cli
       if (ch.path == ChannelPath::Weights)
         continue;
       double v[4];
-      sample(ch, t, v);
+      sampleChannel(ch, t, v);
       size_t n = size_t(ch.node);
       if (ch.path == ChannelPath::Translation)
         tr[n] = {v[0], v[1], v[2]};
@@ -134,7 +136,7 @@ std::vector<double> morphWeights(const Character &c, const AnimationClip *clip, 
       if (ch.path != ChannelPath::Weights)
         continue;
       if (const MorphGroup *g = c.morphGroupOf(ch.node))
-        sample(ch, t, &weights[g->first]);
+        sampleChannel(ch, t, &weights[g->first]);
     }
   return weights;
 }

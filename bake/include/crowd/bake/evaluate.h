@@ -8,6 +8,10 @@
 
 namespace crowd {
 
+// A channel's value at time t, as glTF interpolates it: `out` gets ch.components values
+// (rotations normalized). At a key time the key's value; `fromLeft`: the limit from before t,
+// which differs only at a cut (two keys at one time: the first) and under STEP (the key before).
+void sampleChannel(const Channel &ch, double t, double *out, bool fromLeft = false);
 // Global transform of every node at time t of `clip` (null: the rest pose).
 std::vector<glm::dmat4> nodeGlobals(const Character &c, const AnimationClip *clip, double t);
 // Joint matrices (global joint transform x inverse bind) at time t.

@@ -1,0 +1,66 @@
+// Compression of a character's clips into joint tracks (formats/joint_tracks.h) within an error
+// budget measured on skinned vertices. Samples sit on the source keys (the union of the clip's
+// channels' key times, cuts kept), so between keys the decoder interpolates as glTF does;
+// CUBICSPLINE spans get samples added until linear interpolation follows them. Each track is
+// default, constant or animated; an animated track's bit rate is the fewest bits that keep every
+// joint's error (on the box of the vertices it moves) within the budget, raised one bit at a
+// time on the track that lowers the worst joint's error most. Then every vertex is measured at
+// the samples, between them and at seeded random times, with the runtime's single-precision
+// decoder (runtime/track_pose.h); where that misses the budget, the joints' tolerance tightens.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "crowd/bake/character.h"
+#include "crowd/formats/joint_tracks.h"
+
+namespace crowd {
+
+// The skeleton the tracks drive, and per track node the Character node it stands for.
+struct TrackRig {
+  pack::TrackSkeleton skeleton;
+  std::vector<int> sourceNode;
+};
+TrackRig trackRig(const Character &c);
+
+struct TrackCompressionOptions {
+  double errorBudgetMm = 1.0; // the largest vertex error at any time, mm at a 1.8 m character
+  double mmPerUnit = 1.0;     // model units to those millimetres (millimetresPerUnit)
+  int threads = 0;            // 0: all cores; output bytes never depend on it
+  void validate() const;      // throws crowd::Error naming the field
+};
+
+// What a compressed clip holds and how far it errs, errors in millimetres at 1.8 m.
+struct TrackClipFigures {
+  std::string clip;
+  uint32_t keys = 0;    // distinct source key times (a cut counts twice)
+  uint32_t samples = 0; // stored: the keys plus those added on CUBICSPLINE spans
+  uint32_t defaultTracks = 0, constantTracks = 0, animatedTracks = 0;
+  double meanBits = 0; // per component, over the animated tracks
+  uint64_t bytes = 0;  // pack::clipBytes
+  double maxAtSamplesMm = 0, maxAtMidsMm = 0, maxAtRandomMm = 0;
+  double meanAtRandomMm = 0;
+  bool met = false; // every figure within the budget
+  double maxAnyTimeMm() const;
+};
+
+struct CompressedClip {
+  pack::TrackClip clip;
+  TrackClipFigures figures;
+};
+
+// Throws crowd::Error on a key that is NaN or infinite, naming the clip, node and key.
+CompressedClip compressClip(const Character &c, const TrackRig &rig, const AnimationClip &clip,
+                            size_t clipIndex, const TrackCompressionOptions &options);
+
+// The largest and mean vertex errors (model units) of `tracks` against exact evaluation of
+// `clip`, at each of `seconds` (since the clip's start): the runtime decoder's palette skins
+// every vertex in single precision. Morph weights are the exact ones on both sides.
+struct VertexErrors {
+  double max = 0, mean = 0;
+};
+VertexErrors trackErrors(const Character &c, const TrackRig &rig, const pack::TrackClip &tracks,
+                         const AnimationClip &clip, const std::vector<double> &seconds,
+                         int threads);
+
+} // namespace crowd

@@ -1,0 +1,719 @@
+#include "crowd/bake/track_compression.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "crowd/bake/anim_frames.h"
+#include "crowd/bake/evaluate.h"
+#include "crowd/bake/parallel.h"
+#include "crowd/formats/error.h"
+#include "crowd/runtime/track_pose.h"
+
+namespace crowd {
+namespace {
+
+// Animated tracks start here and rise a bit at a time: fewer bits rarely hold a joint that moves.
+constexpr uint32_t kFirstBits = 1;
+// Share of the budget the joints' boxes may take at the samples: the rest is left to the
+// interpolation between them and to single precision, which only the vertex measure sees.
+constexpr double kSampleShare = 0.9;
+// Share the tracks turned constant may take together, before bits are allotted.
+constexpr double kConstantShare = 0.25;
+// Bisections of one span between keys where a CUBICSPLINE channel curves.
+constexpr int kMaxSplits = 10;
+// Rounds of tightening the joints' tolerance where the vertex measure misses the budget.
+constexpr int kTighteningRounds = 8;
+// Key times within this share of a step of a uniform grid are stored as the grid.
+constexpr double kUniformSlack = 1e-5;
+
+glm::dmat4 trsMatrix(const glm::dquat &r, const glm::dvec3 &t, const glm::dvec3 &s) {
+  glm::dmat4 m = glm::mat4_cast(r);
+  for (int col = 0; col < 3; ++col)
+    m[col] *= s[col];
+  m[3] = glm::dvec4(t, 1.0);
+  return m;
+}
+
+glm::dquat rotationOf(const std::array<float, 3> &xyz) {
+  const double x = xyz[0], y = xyz[1], z = xyz[2];
+  return glm::normalize(glm::dquat(std::sqrt(std::max(0.0, 1.0 - x * x - y * y - z * z)), x, y, z));
+}
+
+// The range a float min and extent cover: min rounded down, extent up, so both ends are inside.
+void floatRange(double lo, double hi, float &min, float &extent) {
+  min = float(lo);
+  if (double(min) > lo)
+    min = std::nextafter(min, -INFINITY);
+  extent = float(hi - double(min));
+  while (double(min) + double(extent) < hi)
+    extent = std::nextafter(extent, INFINITY);
+}
+
+float dequantize(float min, float extent, uint32_t q, uint32_t bits) {
+  const float top = float((uint64_t(1) << bits) - 1);
+  return min + extent * (float(q) / top);
+}
+
+uint32_t quantize(double v, float min, float extent, uint32_t bits) {
+  const double top = double((uint64_t(1) << bits) - 1);
+  if (!(extent > 0))
+    return 0;
+  const double q = std::round((v - double(min)) / double(extent) * top);
+  return uint32_t(std::clamp(q, 0.0, top));
+}
+
+class ClipCompressor {
+public:
+  ClipCompressor(const Character &c, const TrackRig &rig, const AnimationClip &clip,
+                 double tolerance, int threads)
+      : c_(c), rig_(rig), clip_(clip), tolerance_(tolerance), threads_(threads),
+        nodes_(rig.skeleton.nodeCount()) {
+    checkFinite();
+    mapChannels();
+    buildShells();
+    buildTimes();
+  }
+
+  uint32_t keys() const { return keys_; }
+
+  // Samples added where CUBICSPLINE spans curve away from linear interpolation.
+  void refineCurves() {
+    bool curved = false;
+    for (const Channel *ch : channelOf_)
+      curved |= ch && ch->interpolation == Interpolation::CubicSpline;
+    if (!curved)
+      return;
+    Samples out{{times_.front()}, {sampleAt_.front()}, {fromLeft_.front()}};
+    for (size_t i = 0; i + 1 < times_.size(); ++i) {
+      if (sampleAt_[i + 1] > sampleAt_[i])
+        split(sampleAt_[i], sampleAt_[i + 1], 0, out);
+      out.times.push_back(times_[i + 1]);
+      out.at.push_back(sampleAt_[i + 1]);
+      out.left.push_back(fromLeft_[i + 1]);
+    }
+    times_ = std::move(out.times);
+    sampleAt_ = std::move(out.at);
+    fromLeft_ = std::move(out.left);
+  }
+
+  // The exact values at the samples, each track's kind, and the lossless start.
+  void sampleTracks() {
+    const size_t n = times_.size();
+    exact_.assign(nodes_ * 3, std::vector<std::array<double, 3>>(n));
+    exactGlobals_.assign(n, std::vector<glm::dmat4>(nodes_));
+    std::vector<std::vector<Trs>> poses(n);
+    parallelFor(n, threads_, [&](size_t s) {
+      poses[s] = exactPose(sampleAt_[s], fromLeft_[s]);
+      exactGlobals_[s] = globals(poses[s]);
+    });
+    for (size_t s = 0; s < n; ++s)
+      for (size_t k = 0; k < nodes_; ++k) {
+        glm::dquat q = poses[s][k].r;
+        if (q.w < 0)
+          q = -q;
+        exact_[k * 3 + 0][s] = {q.x, q.y, q.z};
+        exact_[k * 3 + 1][s] = {poses[s][k].t.x, poses[s][k].t.y, poses[s][k].t.z};
+        exact_[k * 3 + 2][s] = {poses[s][k].s.x, poses[s][k].s.y, poses[s][k].s.z};
+      }
+    tracks_.assign(nodes_ * 3, {});
+    deq_.assign(nodes_ * 3, {});
+    for (size_t t = 0; t < nodes_ * 3; ++t)
+      classify(t);
+    local_.assign(n, std::vector<glm::dmat4>(nodes_));
+    global_.assign(n, std::vector<glm::dmat4>(nodes_));
+    for (size_t k = 0; k < nodes_; ++k)
+      updateLocal(k);
+    updateGlobals(kEveryNode);
+  }
+
+  // Animated tracks that can be constant within a share of the budget become so.
+  void makeConstant() {
+    const double limit = kConstantShare * tolerance_;
+    for (size_t t = 0; t < tracks_.size(); ++t) {
+      if (tracks_[t].kind != pack::TrackKind::Animated)
+        continue;
+      const pack::Track before = tracks_[t];
+      const auto beforeValues = deq_[t];
+      pack::Track &track = tracks_[t];
+      std::array<double, 3> mid;
+      for (int c = 0; c < 3; ++c)
+        mid[size_t(c)] = double(track.min[size_t(c)]) + 0.5 * double(track.extent[size_t(c)]);
+      if (t % 3 == 0) { // a rotation: the middle of the box, back on the sphere
+        const double len2 = mid[0] * mid[0] + mid[1] * mid[1] + mid[2] * mid[2];
+        if (len2 > 1)
+          for (double &v : mid)
+            v /= std::sqrt(len2);
+      }
+      track.kind = pack::TrackKind::Constant;
+      track.bits = 0;
+      track.extent = {};
+      for (int c = 0; c < 3; ++c)
+        track.min[size_t(c)] = float(mid[size_t(c)]);
+      deq_[t].assign(times_.size(), track.min);
+      if (!commitWithin(t / 3, limit)) {
+        track = before;
+        deq_[t] = beforeValues;
+        commitWithin(t / 3, INFINITY);
+      }
+    }
+  }
+
+  // Every animated track from kFirstBits, raised until each joint's box errs within `share` of
+  // the tolerance at every sample.
+  void allotBits(double share) {
+    const double limit = share * tolerance_;
+    for (size_t t = 0; t < tracks_.size(); ++t)
+      if (tracks_[t].kind == pack::TrackKind::Animated && tracks_[t].bits == 0) {
+        setBits(t, kFirstBits);
+      }
+    for (size_t k = 0; k < nodes_; ++k)
+      updateLocal(k);
+    updateGlobals(kEveryNode);
+    for (;;) {
+      size_t worst = SIZE_MAX;
+      double worstError = limit;
+      for (size_t j = 0; j < jointError_.size(); ++j)
+        if (jointError_[j] > worstError)
+          worst = j, worstError = jointError_[j];
+      if (worst == SIZE_MAX)
+        return;
+      if (!raiseFor(worst))
+        return; // every track on its chain is at full precision
+    }
+  }
+
+  const std::vector<double> &times() const { return times_; }
+  const std::vector<double> &sampleTimes() const { return sampleAt_; }
+
+  pack::TrackClip build() const {
+    pack::TrackClip out;
+    out.name = clip_.name;
+    out.times.reserve(times_.size());
+    for (double t : times_)
+      out.times.push_back(float(t));
+    out.tracks = tracks_;
+    uint64_t at = 0;
+    for (size_t t = 0; t < out.tracks.size(); ++t) {
+      pack::Track &track = out.tracks[t];
+      if (track.kind != pack::TrackKind::Animated)
+        continue;
+      track.firstBit = at;
+      for (size_t s = 0; s < times_.size(); ++s)
+        for (int c = 0; c < 3; ++c, at += track.bits)
+          pack::writeBits(out.stream, at, track.bits,
+                          quantize(exact_[t][s][size_t(c)], track.min[size_t(c)],
+                                   track.extent[size_t(c)], track.bits));
+    }
+    return out;
+  }
+
+private:
+  struct Trs {
+    glm::dquat r;
+    glm::dvec3 t, s;
+  };
+
+  void checkFinite() const {
+    for (const Channel &ch : clip_.channels)
+      for (size_t i = 0; i < ch.values.size(); ++i)
+        if (!std::isfinite(ch.values[i]))
+          throw Error("clip '" + clip_.name + "': node '" + c_.nodes[size_t(ch.node)].name +
+                      "': key " + std::to_string(i / std::max<size_t>(ch.components, 1)) +
+                      " is NaN or infinite");
+  }
+
+  void mapChannels() {
+    std::vector<int> index(c_.nodes.size(), -1);
+    for (size_t k = 0; k < nodes_; ++k)
+      index[size_t(rig_.sourceNode[k])] = int(k);
+    channelOf_.assign(nodes_ * 3, nullptr);
+    for (const Channel &ch : clip_.channels) {
+      if (ch.path == ChannelPath::Weights || index[size_t(ch.node)] < 0)
+        continue;
+      const size_t p = ch.path == ChannelPath::Rotation      ? 0
+                       : ch.path == ChannelPath::Translation ? 1
+                                                             : 2;
+      channelOf_[size_t(index[size_t(ch.node)]) * 3 + p] = &ch;
+    }
+  }
+
+  // Per joint, the corners of the bind-pose box of the vertices it moves, in the joint's frame:
+  // the largest error of an affine map over the box is at one of them.
+  void buildShells() {
+    const SkinnedMesh &m = c_.mesh;
+    const size_t joints = c_.jointCount();
+    std::vector<glm::dvec3> lo(joints, glm::dvec3(INFINITY)), hi(joints, glm::dvec3(-INFINITY));
+    for (size_t v = 0; v < m.vertexCount(); ++v)
+      for (int i = 0; i < 4; ++i)
+        if (m.weights[v][i] > 0) {
+          const size_t j = m.joints[v][i];
+          lo[j] = glm::min(lo[j], glm::dvec3(m.positions[v]));
+          hi[j] = glm::max(hi[j], glm::dvec3(m.positions[v]));
+        }
+    shells_.assign(joints, {});
+    jointError_.assign(joints, 0.0);
+    for (size_t j = 0; j < joints; ++j) {
+      if (lo[j].x > hi[j].x)
+        continue; // moves no vertex
+      for (int corner = 0; corner < 8; ++corner) {
+        const glm::dvec3 p(corner & 1 ? hi[j].x : lo[j].x, corner & 2 ? hi[j].y : lo[j].y,
+                           corner & 4 ? hi[j].z : lo[j].z);
+        shells_[j].push_back(glm::dvec3(c_.inverseBind[j] * glm::dvec4(p, 1.0)));
+      }
+    }
+  }
+
+  // Every channel's key times (seconds since the clip's start), a cut's time twice. Times on a
+  // uniform grid (within kUniformSlack of a step) are moved onto it, so the table is one step.
+  void buildTimes() {
+    std::map<double, uint32_t> count;
+    for (const Channel *ch : channelOf_) {
+      if (!ch)
+        continue;
+      std::map<double, uint32_t> own;
+      for (double t : ch->times)
+        ++own[t - clip_.start];
+      for (const auto &[t, n] : own)
+        count[t] = std::max(count[t], n);
+    }
+    if (count.empty())
+      count[0.0] = 1;
+    for (const auto &[t, n] : count)
+      for (uint32_t i = 0; i < n; ++i) {
+        times_.push_back(std::max(t, 0.0));
+        fromLeft_.push_back(i + 1 < n); // the first of a cut ends the span before it
+      }
+    keys_ = uint32_t(times_.size());
+    // Values are sampled at the keys' own times and stored at times a float holds: a key time
+    // rounded down would sample a STEP key's predecessor.
+    sampleAt_ = times_;
+    for (double &t : times_)
+      t = double(float(t));
+    const size_t n = times_.size();
+    if (n < 3 || times_.front() != 0.0)
+      return;
+    const double step = times_.back() / double(n - 1);
+    for (size_t i = 0; i < n; ++i)
+      if (!(std::abs(times_[i] - double(i) * step) <= kUniformSlack * step))
+        return;
+    const float stepF = float(step);
+    for (size_t i = 0; i < n; ++i)
+      times_[i] = double(float(double(i) * double(stepF)));
+  }
+
+  std::vector<Trs> exactPose(double t, bool fromLeft) const {
+    std::vector<Trs> pose(nodes_);
+    for (size_t k = 0; k < nodes_; ++k) {
+      const Node &node = c_.nodes[size_t(rig_.sourceNode[k])];
+      pose[k] = {node.rotation, node.translation, node.scale};
+      for (int p = 0; p < 3; ++p) {
+        const Channel *ch = channelOf_[k * 3 + size_t(p)];
+        if (!ch)
+          continue;
+        double v[4];
+        sampleChannel(*ch, clip_.start + t, v, fromLeft);
+        if (p == 0)
+          pose[k].r = glm::dquat(v[3], v[0], v[1], v[2]);
+        else if (p == 1)
+          pose[k].t = {v[0], v[1], v[2]};
+        else
+          pose[k].s = {v[0], v[1], v[2]};
+      }
+    }
+    return pose;
+  }
+
+  std::vector<glm::dmat4> globals(const std::vector<Trs> &pose) const {
+    std::vector<glm::dmat4> g(nodes_);
+    for (size_t k = 0; k < nodes_; ++k) {
+      const Node &node = c_.nodes[size_t(rig_.sourceNode[k])];
+      const glm::dmat4 local =
+          node.hasMatrix ? node.matrix : trsMatrix(pose[k].r, pose[k].t, pose[k].s);
+      const int parent = rig_.skeleton.parents[k];
+      g[k] = parent >= 0 ? g[size_t(parent)] * local : local;
+    }
+    return g;
+  }
+
+  // The largest error over joints' boxes between two sets of globals.
+  double poseError(const std::vector<glm::dmat4> &a, const std::vector<glm::dmat4> &b) const {
+    double worst = 0;
+    for (size_t j = 0; j < shells_.size(); ++j)
+      worst = std::max(worst, jointError(j, a, b));
+    return worst;
+  }
+  double jointError(size_t j, const std::vector<glm::dmat4> &a,
+                    const std::vector<glm::dmat4> &b) const {
+    const size_t k = rig_.skeleton.jointNodes[j];
+    double worst = 0;
+    for (const glm::dvec3 &p : shells_[j])
+      worst = std::max(worst, glm::length(glm::dvec3(a[k] * glm::dvec4(p, 1.0)) -
+                                          glm::dvec3(b[k] * glm::dvec4(p, 1.0))));
+    return worst;
+  }
+
+  // Bisects (t0, t1) while linear interpolation of the exact values at its ends departs from
+  // the exact pose at its quarter points by more than a quarter of the tolerance.
+  struct Samples {
+    std::vector<double> times, at;
+    std::vector<uint8_t> left;
+  };
+  void split(double t0, double t1, int depth, Samples &out) const {
+    if (depth >= kMaxSplits)
+      return;
+    const auto a = exactPose(t0, false), b = exactPose(t1, true);
+    double worst = 0;
+    for (double s : {0.25, 0.5, 0.75}) {
+      std::vector<Trs> mix(nodes_);
+      for (size_t k = 0; k < nodes_; ++k) {
+        const Channel *r = channelOf_[k * 3];
+        const bool holdR = r && r->interpolation == Interpolation::Step;
+        mix[k].r =
+            holdR
+                ? a[k].r
+                : glm::dquat(runtime::slerpShorter(glm::quat(a[k].r), glm::quat(b[k].r), float(s)));
+        const Channel *tc = channelOf_[k * 3 + 1], *sc = channelOf_[k * 3 + 2];
+        mix[k].t =
+            tc && tc->interpolation == Interpolation::Step ? a[k].t : glm::mix(a[k].t, b[k].t, s);
+        mix[k].s =
+            sc && sc->interpolation == Interpolation::Step ? a[k].s : glm::mix(a[k].s, b[k].s, s);
+      }
+      worst =
+          std::max(worst, poseError(globals(mix), globals(exactPose(t0 + (t1 - t0) * s, false))));
+    }
+    if (worst <= 0.25 * tolerance_)
+      return;
+    const double mid = 0.5 * (t0 + t1);
+    split(t0, mid, depth + 1, out);
+    out.times.push_back(double(float(mid)));
+    out.at.push_back(double(float(mid)));
+    out.left.push_back(0);
+    split(mid, t1, depth + 1, out);
+  }
+
+  void classify(size_t t) {
+    pack::Track &track = tracks_[t];
+    const Channel *ch = channelOf_[t];
+    const Node &node = c_.nodes[size_t(rig_.sourceNode[t / 3])];
+    if (!ch || node.hasMatrix)
+      return; // Default
+    track.step = ch->interpolation == Interpolation::Step;
+    const auto &v = exact_[t];
+    std::array<double, 3> lo = v[0], hi = v[0];
+    for (const auto &x : v)
+      for (int c = 0; c < 3; ++c)
+        lo[size_t(c)] = std::min(lo[size_t(c)], x[size_t(c)]),
+        hi[size_t(c)] = std::max(hi[size_t(c)], x[size_t(c)]);
+    std::array<double, 3> rest;
+    if (t % 3 == 0) {
+      glm::dquat q = node.rotation;
+      if (q.w < 0)
+        q = -q;
+      rest = {q.x, q.y, q.z};
+    } else {
+      const glm::dvec3 r = t % 3 == 1 ? node.translation : node.scale;
+      rest = {r.x, r.y, r.z};
+    }
+    bool atRest = true, constant = true;
+    for (int c = 0; c < 3; ++c) {
+      const double scale = std::max(1.0, std::abs(rest[size_t(c)]));
+      atRest &= std::abs(lo[size_t(c)] - rest[size_t(c)]) <= 1e-7 * scale &&
+                std::abs(hi[size_t(c)] - rest[size_t(c)]) <= 1e-7 * scale;
+      constant &= hi[size_t(c)] - lo[size_t(c)] <= 1e-9 * scale;
+    }
+    if (atRest)
+      return;
+    if (constant) {
+      track.kind = pack::TrackKind::Constant;
+      for (int c = 0; c < 3; ++c)
+        track.min[size_t(c)] = float(lo[size_t(c)]);
+      deq_[t].assign(v.size(), track.min);
+      return;
+    }
+    track.kind = pack::TrackKind::Animated;
+    for (int c = 0; c < 3; ++c)
+      floatRange(lo[size_t(c)], hi[size_t(c)], track.min[size_t(c)], track.extent[size_t(c)]);
+    setBits(t, pack::kMaxTrackBits);
+    track.bits = 0; // lossless until allotBits sets it
+  }
+
+  void setBits(size_t t, uint32_t bits) {
+    pack::Track &track = tracks_[t];
+    track.bits = uint8_t(bits);
+    deq_[t].resize(times_.size());
+    for (size_t s = 0; s < times_.size(); ++s)
+      for (int c = 0; c < 3; ++c) {
+        const size_t cc = size_t(c);
+        deq_[t][s][cc] =
+            dequantize(track.min[cc], track.extent[cc],
+                       quantize(exact_[t][s][cc], track.min[cc], track.extent[cc], bits), bits);
+      }
+  }
+
+  // The local matrix of track node k at sample s as the tracks now stand.
+  glm::dmat4 decodedLocal(size_t k, size_t s) const {
+    const Node &node = c_.nodes[size_t(rig_.sourceNode[k])];
+    if (node.hasMatrix)
+      return node.matrix;
+    glm::dquat r = node.rotation;
+    glm::dvec3 tr = node.translation, sc = node.scale;
+    if (tracks_[k * 3].kind != pack::TrackKind::Default)
+      r = rotationOf(deq_[k * 3][s]);
+    if (tracks_[k * 3 + 1].kind != pack::TrackKind::Default)
+      tr = {deq_[k * 3 + 1][s][0], deq_[k * 3 + 1][s][1], deq_[k * 3 + 1][s][2]};
+    if (tracks_[k * 3 + 2].kind != pack::TrackKind::Default)
+      sc = {deq_[k * 3 + 2][s][0], deq_[k * 3 + 2][s][1], deq_[k * 3 + 2][s][2]};
+    return trsMatrix(r, tr, sc);
+  }
+
+  void updateLocal(size_t k) {
+    for (size_t s = 0; s < times_.size(); ++s)
+      local_[s][k] = decodedLocal(k, s);
+  }
+
+  static constexpr size_t kEveryNode = SIZE_MAX;
+  // Globals of node `from` and every node below it (kEveryNode: of every root's), then the
+  // errors of their joints.
+  void updateGlobals(size_t from) {
+    std::vector<uint8_t> below(nodes_, from == kEveryNode);
+    const auto &parents = rig_.skeleton.parents;
+    if (from == kEveryNode)
+      from = 0;
+    for (size_t k = from; k < nodes_; ++k)
+      below[k] = below[k] || k == from || (parents[k] >= 0 && below[size_t(parents[k])]);
+    parallelFor(times_.size(), threads_, [&](size_t s) {
+      for (size_t k = from; k < nodes_; ++k)
+        if (below[k])
+          global_[s][k] =
+              parents[k] >= 0 ? global_[s][size_t(parents[k])] * local_[s][k] : local_[s][k];
+    });
+    for (size_t j = 0; j < shells_.size(); ++j)
+      if (below[rig_.skeleton.jointNodes[j]]) {
+        double worst = 0;
+        for (size_t s = 0; s < times_.size(); ++s)
+          worst = std::max(worst, jointError(j, global_[s], exactGlobals_[s]));
+        jointError_[j] = worst;
+      }
+  }
+
+  // Applies track node k's current values; true when every joint then errs within `limit`.
+  bool commitWithin(size_t k, double limit) {
+    updateLocal(k);
+    updateGlobals(k);
+    return std::all_of(jointError_.begin(), jointError_.end(),
+                       [&](double e) { return e <= limit; });
+  }
+
+  // One more bit on the animated track of joint j's chain that lowers j's error most.
+  bool raiseFor(size_t j) {
+    std::vector<size_t> chain; // track nodes from the root down to j's
+    for (int k = int(rig_.skeleton.jointNodes[j]); k >= 0; k = rig_.skeleton.parents[size_t(k)])
+      chain.push_back(size_t(k));
+    std::reverse(chain.begin(), chain.end());
+    size_t best = SIZE_MAX;
+    double bestError = INFINITY;
+    for (size_t at = 0; at < chain.size(); ++at)
+      for (size_t p = 0; p < 3; ++p) {
+        const size_t t = chain[at] * 3 + p;
+        if (tracks_[t].kind != pack::TrackKind::Animated || tracks_[t].bits >= pack::kMaxTrackBits)
+          continue;
+        const auto saved = deq_[t];
+        setBits(t, tracks_[t].bits + 1u);
+        double worst = 0;
+        for (size_t s = 0; s < times_.size(); ++s) {
+          const size_t k = chain[at];
+          const int parent = rig_.skeleton.parents[k];
+          glm::dmat4 g = decodedLocal(k, s);
+          if (parent >= 0)
+            g = global_[s][size_t(parent)] * g;
+          for (size_t below = at + 1; below < chain.size(); ++below)
+            g = g * local_[s][chain[below]];
+          for (const glm::dvec3 &q : shells_[j])
+            worst = std::max(worst, glm::length(glm::dvec3(g * glm::dvec4(q, 1.0)) -
+                                                glm::dvec3(exactGlobals_[s][chain.back()] *
+                                                           glm::dvec4(q, 1.0))));
+        }
+        tracks_[t].bits = uint8_t(tracks_[t].bits - 1u);
+        deq_[t] = saved;
+        if (best == SIZE_MAX || worst < bestError ||
+            (worst == bestError && tracks_[t].bits < tracks_[best].bits))
+          best = t, bestError = worst;
+      }
+    if (best == SIZE_MAX)
+      return false;
+    setBits(best, tracks_[best].bits + 1u);
+    updateLocal(best / 3);
+    updateGlobals(best / 3);
+    return true;
+  }
+
+  const Character &c_;
+  const TrackRig &rig_;
+  const AnimationClip &clip_;
+  double tolerance_;
+  int threads_;
+  size_t nodes_;
+  std::vector<const Channel *> channelOf_;      // per track, its channel or null
+  std::vector<std::vector<glm::dvec3>> shells_; // per joint
+  std::vector<double> times_;     // per sample, since the clip's start, as stored (floats)
+  std::vector<double> sampleAt_;  // per sample, the time its values are sampled at
+  std::vector<uint8_t> fromLeft_; // per sample: the first of a cut
+  uint32_t keys_ = 0;
+  std::vector<std::vector<std::array<double, 3>>> exact_; // per track, per sample
+  std::vector<std::vector<glm::dmat4>> exactGlobals_;     // per sample, per track node
+  std::vector<pack::Track> tracks_;
+  std::vector<std::vector<std::array<float, 3>>> deq_;  // per track, per sample: as decoded
+  std::vector<std::vector<glm::dmat4>> local_, global_; // per sample, per track node: decoded
+  std::vector<double> jointError_; // per joint: the largest over the samples of its box's error
+};
+
+} // namespace
+
+TrackRig trackRig(const Character &c) {
+  std::vector<uint8_t> keep(c.nodes.size(), 0);
+  for (int j : c.jointNodes)
+    for (int n = j; n >= 0 && !keep[size_t(n)]; n = c.nodes[size_t(n)].parent)
+      keep[size_t(n)] = 1;
+  TrackRig rig;
+  std::vector<int> index(c.nodes.size(), -1);
+  for (int n : c.nodeOrder) {
+    if (!keep[size_t(n)])
+      continue;
+    const Node &node = c.nodes[size_t(n)];
+    index[size_t(n)] = int(rig.sourceNode.size());
+    rig.sourceNode.push_back(n);
+    rig.skeleton.parents.push_back(node.parent >= 0 ? index[size_t(node.parent)] : -1);
+    std::array<float, 12> rest{};
+    if (node.hasMatrix) {
+      for (int row = 0; row < 3; ++row)
+        for (int col = 0; col < 4; ++col)
+          rest[size_t(row * 4 + col)] = float(node.matrix[col][row]);
+    } else {
+      rest = {float(node.rotation.x),
+              float(node.rotation.y),
+              float(node.rotation.z),
+              float(node.rotation.w),
+              float(node.translation.x),
+              float(node.translation.y),
+              float(node.translation.z),
+              float(node.scale.x),
+              float(node.scale.y),
+              float(node.scale.z),
+              0.0f,
+              0.0f};
+    }
+    rig.skeleton.rest.push_back(rest);
+    rig.skeleton.restIsMatrix.push_back(node.hasMatrix ? 1 : 0);
+  }
+  for (int j : c.jointNodes)
+    rig.skeleton.jointNodes.push_back(uint32_t(index[size_t(j)]));
+  return rig;
+}
+
+void TrackCompressionOptions::validate() const {
+  if (!(errorBudgetMm > 0) || !std::isfinite(errorBudgetMm))
+    throw Error("errorBudgetMm: " + std::to_string(errorBudgetMm) + " is not a positive number");
+  if (!(mmPerUnit > 0) || !std::isfinite(mmPerUnit))
+    throw Error("mmPerUnit: " + std::to_string(mmPerUnit) + " is not a positive number");
+  if (threads < 0)
+    throw Error("threads: " + std::to_string(threads) + " is negative");
+}
+
+double TrackClipFigures::maxAnyTimeMm() const {
+  return std::max({maxAtSamplesMm, maxAtMidsMm, maxAtRandomMm});
+}
+
+VertexErrors trackErrors(const Character &c, const TrackRig &rig, const pack::TrackClip &tracks,
+                         const AnimationClip &clip, const std::vector<double> &seconds,
+                         int threads) {
+  const SkinnedMesh &m = c.mesh;
+  std::vector<float> inverseBind(c.jointCount() * 16);
+  for (size_t j = 0; j < c.jointCount(); ++j)
+    for (int k = 0; k < 16; ++k)
+      inverseBind[j * 16 + size_t(k)] = float(c.inverseBind[j][k / 4][k % 4]);
+  std::vector<double> largest(seconds.size(), 0.0), sum(seconds.size(), 0.0);
+  parallelFor(seconds.size(), threads, [&](size_t i) {
+    const double t = clip.start + seconds[i];
+    const auto palette = runtime::skinningPalette(
+        rig.skeleton, runtime::decodeLocalPose(rig.skeleton, tracks, float(seconds[i])),
+        inverseBind);
+    const auto exact = jointMatrices(c, &clip, t);
+    const auto weights = morphWeights(c, &clip, t);
+    for (size_t v = 0; v < m.vertexCount(); ++v) {
+      const glm::dvec3 bindD =
+          m.morphs.empty() ? glm::dvec3(m.positions[v]) : morphedPosition(m, weights, v);
+      const glm::vec4 bind(glm::vec3(bindD), 1.0f);
+      glm::vec3 skinned(0.0f);
+      for (int k = 0; k < 4; ++k)
+        if (m.weights[v][k] > 0)
+          skinned += m.weights[v][k] * glm::vec3(palette[m.joints[v][k]] * bind);
+      const double e = glm::length(glm::dvec3(skinned) - skinPosition(m, exact, weights, v));
+      largest[i] = std::max(largest[i], e);
+      sum[i] += e;
+    }
+  });
+  VertexErrors out;
+  for (size_t i = 0; i < seconds.size(); ++i) {
+    out.max = std::max(out.max, largest[i]);
+    out.mean += sum[i];
+  }
+  const double count = double(seconds.size()) * double(std::max<size_t>(m.vertexCount(), 1));
+  out.mean = seconds.empty() ? 0.0 : out.mean / count;
+  return out;
+}
+
+CompressedClip compressClip(const Character &c, const TrackRig &rig, const AnimationClip &clip,
+                            size_t clipIndex, const TrackCompressionOptions &options) {
+  options.validate();
+  const double budget = options.errorBudgetMm / options.mmPerUnit; // model units
+  ClipCompressor compressor(c, rig, clip, budget, options.threads);
+  compressor.refineCurves();
+  compressor.sampleTracks();
+  compressor.makeConstant();
+  const auto &times = compressor.times();
+  std::vector<double> mids;
+  for (size_t i = 0; i + 1 < times.size(); ++i)
+    if (times[i + 1] > times[i])
+      mids.push_back(0.5 * (times[i] + times[i + 1]));
+  const double duration = clip.end - clip.start;
+  const std::vector<double> random =
+      duration > 0 ? seededTimes(clipIndex, duration) : std::vector<double>{};
+
+  CompressedClip out;
+  TrackClipFigures &f = out.figures;
+  double share = kSampleShare;
+  for (int round = 0; round < kTighteningRounds; ++round) {
+    compressor.allotBits(share);
+    out.clip = compressor.build();
+    const VertexErrors atSamples =
+        trackErrors(c, rig, out.clip, clip, compressor.sampleTimes(), options.threads);
+    const VertexErrors atMids = trackErrors(c, rig, out.clip, clip, mids, options.threads);
+    const VertexErrors atRandom = trackErrors(c, rig, out.clip, clip, random, options.threads);
+    f.maxAtSamplesMm = atSamples.max * options.mmPerUnit;
+    f.maxAtMidsMm = atMids.max * options.mmPerUnit;
+    f.maxAtRandomMm = atRandom.max * options.mmPerUnit;
+    f.meanAtRandomMm = atRandom.mean * options.mmPerUnit;
+    f.met = f.maxAnyTimeMm() <= options.errorBudgetMm;
+    if (f.met)
+      break;
+    share *= 0.9 * options.errorBudgetMm / f.maxAnyTimeMm();
+  }
+  f.clip = clip.name;
+  f.keys = compressor.keys();
+  f.samples = uint32_t(out.clip.times.size());
+  double bits = 0;
+  for (const pack::Track &t : out.clip.tracks) {
+    f.defaultTracks += t.kind == pack::TrackKind::Default;
+    f.constantTracks += t.kind == pack::TrackKind::Constant;
+    if (t.kind == pack::TrackKind::Animated) {
+      ++f.animatedTracks;
+      bits += t.bits;
+    }
+  }
+  f.meanBits = f.animatedTracks ? bits / f.animatedTracks : 0.0;
+  f.bytes = pack::clipBytes(out.clip);
+  return out;
+}
+
+} // namespace crowd

@@ -1,0 +1,78 @@
+// Compressed joint animation: per clip, each skeleton node's local rotation, translation and
+// scale as tracks sampled on the clip's own keys (one time table per clip, so a decoder finds
+// any time's two samples without state), each track default (the node's rest value), constant,
+// or animated: range-reduced per clip and quantized at its own bit rate. Plain data and the
+// bit reads a decoder needs; runtime/track_pose.h decodes poses from it.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace crowd::pack {
+
+inline constexpr uint32_t kMaxTrackBits = 24; // a float's mantissa: more would not be stored
+inline constexpr uint32_t kTracksPerNode = 3; // rotation, translation, scale, in that order
+
+enum class TrackKind : uint8_t {
+  Default = 0,  // the node's rest value: nothing stored
+  Constant = 1, // one value for the whole clip: `min`
+  Animated = 2, // a value per sample, `bits` per component
+};
+
+// Rotations are stored as x, y, z of the unit quaternion with w >= 0 (w = sqrt(1 - x²-y²-z²)),
+// translations and scales as x, y, z.
+struct Track {
+  TrackKind kind = TrackKind::Default;
+  bool step = false; // Animated: each sample holds until the next (glTF STEP); else lerp / slerp
+  uint8_t bits = 0;  // Animated: per component, 1..kMaxTrackBits
+  // Animated: component c of a sample is min[c] + extent[c] * q / (2^bits - 1), q its stored
+  // integer; Constant: min is the value.
+  std::array<float, 3> min{}, extent{};
+  uint64_t firstBit = 0; // Animated: where its samples start in TrackClip::stream
+};
+
+struct TrackClip {
+  std::string name;
+  // Seconds since the clip's start, non-decreasing, the first 0. Two equal neighbours are a cut:
+  // the first ends the interval before it, the second starts the one after.
+  std::vector<float> times;
+  std::vector<Track> tracks; // kTracksPerNode per node of the TrackSkeleton, node by node
+  // Every Animated track's samples one after another, a sample's 3 components `bits` each, low
+  // bits first within 32-bit words.
+  std::vector<uint32_t> stream;
+  float duration() const { return times.empty() ? 0.0f : times.back(); }
+};
+
+// The node hierarchy the tracks drive: every ancestor of a joint and the joints themselves.
+struct TrackSkeleton {
+  std::vector<int32_t> parents; // per node: -1 or an earlier node
+  // Per node: its rest rotation (xyzw), translation, scale, or, for a node whose rest transform
+  // is a matrix (never animated), 12 floats of that matrix's first three rows.
+  std::vector<std::array<float, 12>> rest;
+  std::vector<uint8_t> restIsMatrix;
+  std::vector<uint32_t> jointNodes; // per joint, its node
+  size_t nodeCount() const { return parents.size(); }
+};
+
+struct JointTracks {
+  TrackSkeleton skeleton;
+  std::vector<TrackClip> clips;
+};
+
+// `bits` (<= 32) bits of `stream` starting at bit `at`.
+uint32_t readBits(const std::vector<uint32_t> &stream, uint64_t at, uint32_t bits);
+// Appends `bits` bits of `value` at bit `at` (the stream grows as needed).
+void writeBits(std::vector<uint32_t> &stream, uint64_t at, uint32_t bits, uint32_t value);
+// An Animated track's sample (its 3 components, dequantized).
+std::array<float, 3> trackSample(const TrackClip &clip, const Track &track, uint32_t sample);
+
+// What a clip takes stored: its name, time table (a step where the times are uniform), track
+// kinds (2 bits each), each Constant track's value and each Animated track's header and range,
+// and the sample stream. The skeleton is counted apart (skeletonBytes): every clip shares it.
+uint64_t clipBytes(const TrackClip &clip);
+uint64_t skeletonBytes(const TrackSkeleton &skeleton);
+// Whether times[i] is exactly float(i * step) for step = times[1] / 1 (then only step is stored).
+bool uniformTimes(const std::vector<float> &times);
+
+} // namespace crowd::pack
