@@ -469,6 +469,21 @@ AnimationPack loadAnimationPack(const Reader &reader) {
                   std::to_string(p.mesh.vertexCount()) + ", the animation texture " +
                   std::to_string(p.animation.frameCount) + ")");
   }
+  if (const ChunkEntry *tracks = reader.find(kJointTracks)) {
+    p.tracks = decodeJointTracks(reader.payload(*tracks), ctx(kJointTracks));
+    if (p.tracks->skeleton.jointNodes.size() != p.skeleton.jointCount())
+      throw Error(ctx(kJointTracks) +
+                  ", field 'joint count': " + std::to_string(p.tracks->skeleton.jointNodes.size()) +
+                  " but the skeleton has " + std::to_string(p.skeleton.jointCount()));
+    if (p.tracks->clips.size() != p.clips.size())
+      throw Error(ctx(kJointTracks) +
+                  ", field 'clip count': " + std::to_string(p.tracks->clips.size()) +
+                  " but the clip table has " + std::to_string(p.clips.size()));
+    for (size_t i = 0; i < p.clips.size(); ++i)
+      if (p.tracks->clips[i].name != p.clips[i].name)
+        throw Error(ctx(kJointTracks) + ", field 'clip name': clip " + std::to_string(i) + " is '" +
+                    p.tracks->clips[i].name + "', the clip table's '" + p.clips[i].name + "'");
+  }
   if (p.animation.jointCount != p.skeleton.jointCount())
     throw Error(ctx(kAnimationTexture) +
                 ", field 'joint count': " + std::to_string(p.animation.jointCount) +
@@ -511,6 +526,8 @@ std::vector<uint8_t> packBytes(const AnimationPack &p) {
     w.add(kMorphs, kChunkVersion, encode(*p.morphs));
   if (p.looks)
     w.add(kLooks, kChunkVersion, encode(*p.looks));
+  if (p.tracks)
+    w.add(kJointTracks, kChunkVersion, encode(*p.tracks));
   return w.bytes();
 }
 

@@ -1,5 +1,10 @@
 #include "crowd/formats/joint_tracks.h"
 
+#include <cmath>
+
+#include "crowd/formats/bytes.h"
+#include "crowd/formats/limits.h"
+
 namespace crowd::pack {
 
 uint32_t readBits(const std::vector<uint32_t> &stream, uint64_t at, uint32_t bits) {
@@ -49,24 +54,202 @@ bool uniformTimes(const std::vector<float> &times) {
   return true;
 }
 
-uint64_t clipBytes(const TrackClip &clip) {
-  uint64_t bytes = 4 + clip.name.size(); // length-prefixed name
-  bytes += 4 + 1;                        // sample count, time-table kind
-  bytes += uniformTimes(clip.times) ? 4 : 4 * clip.times.size();
-  bytes += (clip.tracks.size() * 2 + 7) / 8; // kinds, 2 bits each
-  for (const Track &t : clip.tracks)
+namespace {
+
+void putClip(ByteWriter &w, const TrackClip &clip) {
+  w.putString(clip.name);
+  w.put<uint32_t>(uint32_t(clip.times.size()));
+  const bool uniform = uniformTimes(clip.times);
+  w.put<uint8_t>(uniform ? 1 : 0);
+  if (uniform)
+    w.put<float>(clip.times[1]);
+  else
+    for (float t : clip.times)
+      w.put<float>(t);
+  for (size_t t = 0; t < clip.tracks.size(); t += 4) {
+    uint8_t kinds = 0;
+    for (size_t k = 0; k < 4 && t + k < clip.tracks.size(); ++k)
+      kinds = uint8_t(kinds | uint8_t(clip.tracks[t + k].kind) << (2 * k));
+    w.put<uint8_t>(kinds);
+  }
+  for (const Track &t : clip.tracks) {
     if (t.kind == TrackKind::Constant)
-      bytes += 12;
-    else if (t.kind == TrackKind::Animated)
-      bytes += 1 + 24; // bits and the step flag; min and extent
-  return bytes + 4 * clip.stream.size();
+      for (float v : t.min)
+        w.put<float>(v);
+    if (t.kind != TrackKind::Animated)
+      continue;
+    w.put<uint8_t>(uint8_t(t.bits | (t.step ? 0x80 : 0)));
+    for (float v : t.min)
+      w.put<float>(v);
+    for (float v : t.extent)
+      w.put<float>(v);
+  }
+  w.put<uint32_t>(uint32_t(clip.stream.size()));
+  for (uint32_t word : clip.stream)
+    w.put<uint32_t>(word);
+}
+
+void putSkeleton(ByteWriter &w, const TrackSkeleton &s) {
+  w.put<uint32_t>(uint32_t(s.nodeCount()));
+  for (size_t n = 0; n < s.nodeCount(); ++n) {
+    w.put<int32_t>(s.parents[n]);
+    w.put<uint8_t>(s.restIsMatrix[n]);
+    for (size_t k = 0; k < (s.restIsMatrix[n] ? 12u : 10u); ++k)
+      w.put<float>(s.rest[n][k]);
+  }
+  w.put<uint32_t>(uint32_t(s.jointNodes.size()));
+  for (uint32_t node : s.jointNodes)
+    w.put<uint32_t>(node);
+}
+
+float finiteFloat(ByteReader &r, const char *field) {
+  const float v = r.get<float>(field);
+  if (!std::isfinite(v))
+    r.fail(field, "a value is NaN or infinite");
+  return v;
+}
+
+TrackSkeleton getSkeleton(ByteReader &r) {
+  TrackSkeleton s;
+  const uint32_t nodes = r.get<uint32_t>("node count");
+  if (nodes == 0 || nodes > limits::kJoints * 2u)
+    r.fail("node count",
+           std::to_string(nodes) + " is not in 1.." + std::to_string(limits::kJoints * 2u));
+  for (uint32_t n = 0; n < nodes; ++n) {
+    const int32_t parent = r.get<int32_t>("parents");
+    if (parent < -1 || parent >= int32_t(n))
+      r.fail("parents", "node " + std::to_string(n) + " has parent " + std::to_string(parent) +
+                            " (a parent comes before its children)");
+    const uint8_t matrix = r.get<uint8_t>("rest is matrix");
+    if (matrix > 1)
+      r.fail("rest is matrix", "node " + std::to_string(n) + ": " + std::to_string(matrix));
+    std::array<float, 12> rest{};
+    for (size_t k = 0; k < (matrix ? 12u : 10u); ++k)
+      rest[k] = finiteFloat(r, "rest");
+    s.parents.push_back(parent);
+    s.restIsMatrix.push_back(matrix);
+    s.rest.push_back(rest);
+  }
+  const uint32_t joints = r.get<uint32_t>("joint count");
+  if (joints > limits::kJoints)
+    r.fail("joint count", std::to_string(joints) + " exceeds " + std::to_string(limits::kJoints));
+  for (uint32_t j = 0; j < joints; ++j) {
+    const uint32_t node = r.get<uint32_t>("joint nodes");
+    if (node >= nodes)
+      r.fail("joint nodes", "joint " + std::to_string(j) + " names node " + std::to_string(node) +
+                                " of " + std::to_string(nodes));
+    s.jointNodes.push_back(node);
+  }
+  return s;
+}
+
+TrackClip getClip(ByteReader &r, size_t nodes) {
+  TrackClip clip;
+  clip.name = r.getString("clip name");
+  const std::string where = "clip '" + clip.name + "': ";
+  const uint32_t samples = r.get<uint32_t>("sample count");
+  if (samples == 0 || samples > limits::kTrackSamples)
+    r.fail("sample count", where + std::to_string(samples) + " is not in 1.." +
+                               std::to_string(limits::kTrackSamples));
+  const uint8_t uniform = r.get<uint8_t>("time table");
+  if (uniform > 1 || (uniform && samples < 2))
+    r.fail("time table", where + "kind " + std::to_string(uniform) + " for " +
+                             std::to_string(samples) + " samples");
+  if (uniform) {
+    const float step = finiteFloat(r, "time step");
+    if (!(step > 0))
+      r.fail("time step", where + "not positive");
+    for (uint32_t i = 0; i < samples; ++i)
+      clip.times.push_back(float(double(i) * double(step)));
+  } else {
+    for (uint32_t i = 0; i < samples; ++i) {
+      clip.times.push_back(finiteFloat(r, "times"));
+      if (i ? clip.times[i] < clip.times[i - 1] : clip.times[0] != 0)
+        r.fail("times", where + "sample " + std::to_string(i) + " at " +
+                            std::to_string(clip.times[i]) +
+                            (i ? " is before the one before it" : " (the first is at 0)"));
+    }
+  }
+  const size_t tracks = nodes * kTracksPerNode;
+  clip.tracks.resize(tracks);
+  for (size_t t = 0; t < tracks; t += 4) {
+    const uint8_t kinds = r.get<uint8_t>("track kinds");
+    for (size_t k = 0; k < 4 && t + k < tracks; ++k) {
+      const uint8_t kind = (kinds >> (2 * k)) & 3;
+      if (kind > uint8_t(TrackKind::Animated))
+        r.fail("track kinds", where + "track " + std::to_string(t + k) + " has kind 3");
+      clip.tracks[t + k].kind = TrackKind(kind);
+    }
+  }
+  uint64_t bits = 0;
+  for (size_t t = 0; t < tracks; ++t) {
+    Track &track = clip.tracks[t];
+    if (track.kind == TrackKind::Constant)
+      for (float &v : track.min)
+        v = finiteFloat(r, "constant value");
+    if (track.kind != TrackKind::Animated)
+      continue;
+    const uint8_t b = r.get<uint8_t>("bits");
+    track.step = b & 0x80;
+    track.bits = b & 0x7f;
+    if (track.bits == 0 || track.bits > kMaxTrackBits)
+      r.fail("bits", where + "track " + std::to_string(t) + " has " + std::to_string(track.bits) +
+                         " bits (1.." + std::to_string(kMaxTrackBits) + ")");
+    for (float &v : track.min)
+      v = finiteFloat(r, "range");
+    for (float &v : track.extent) {
+      v = finiteFloat(r, "range");
+      if (v < 0)
+        r.fail("range", where + "track " + std::to_string(t) + " has a negative extent");
+    }
+    track.firstBit = bits;
+    bits += uint64_t(samples) * 3 * track.bits;
+  }
+  const uint32_t words = r.get<uint32_t>("stream");
+  if (uint64_t(words) * 32 < bits || uint64_t(words) > (bits + 31) / 32)
+    r.fail("stream", where + std::to_string(words) + " words for " + std::to_string(bits) +
+                         " bits of samples");
+  clip.stream.resize(words);
+  for (uint32_t &word : clip.stream)
+    word = r.get<uint32_t>("stream");
+  return clip;
+}
+
+} // namespace
+
+std::vector<uint8_t> encode(const JointTracks &tracks) {
+  ByteWriter w;
+  putSkeleton(w, tracks.skeleton);
+  w.put<uint32_t>(uint32_t(tracks.clips.size()));
+  for (const TrackClip &clip : tracks.clips)
+    putClip(w, clip);
+  return w.take();
+}
+
+JointTracks decodeJointTracks(std::span<const uint8_t> bytes, const std::string &context) {
+  ByteReader r(bytes, context);
+  JointTracks out;
+  out.skeleton = getSkeleton(r);
+  const uint32_t clips = r.get<uint32_t>("clip count");
+  if (clips > bytes.size()) // a clip takes at least 10 bytes
+    r.fail("clip count",
+           std::to_string(clips) + " clips in " + std::to_string(bytes.size()) + " bytes");
+  for (uint32_t c = 0; c < clips; ++c)
+    out.clips.push_back(getClip(r, out.skeleton.nodeCount()));
+  r.expectEnd();
+  return out;
+}
+
+uint64_t clipBytes(const TrackClip &clip) {
+  ByteWriter w;
+  putClip(w, clip);
+  return w.take().size();
 }
 
 uint64_t skeletonBytes(const TrackSkeleton &s) {
-  uint64_t bytes = 4 + 4 * s.parents.size() + 4 * s.jointNodes.size();
-  for (size_t n = 0; n < s.rest.size(); ++n)
-    bytes += 1 + (s.restIsMatrix[n] ? 48 : 40);
-  return bytes;
+  ByteWriter w;
+  putSkeleton(w, s);
+  return w.take().size();
 }
 
 } // namespace crowd::pack

@@ -187,6 +187,33 @@ Description describeLooks(std::span<const uint8_t> b, uint32_t, const std::strin
   return d;
 }
 
+Description describeJointTracks(std::span<const uint8_t> b, uint32_t, const std::string &ctx) {
+  const JointTracks t = decodeJointTracks(b, ctx);
+  Description d;
+  d.add("nodes", number(double(t.skeleton.nodeCount())))
+      .add("joints", number(double(t.skeleton.jointNodes.size())))
+      .add("skeleton_bytes", number(double(skeletonBytes(t.skeleton))));
+  Description::Table clips{
+      "track_clips",
+      {"clip", "samples", "time_table", "default", "constant", "animated", "mean_bits", "bytes"},
+      {}};
+  for (const TrackClip &c : t.clips) {
+    size_t kinds[3] = {0, 0, 0};
+    double bits = 0;
+    for (const Track &track : c.tracks) {
+      ++kinds[size_t(track.kind)];
+      bits += track.bits;
+    }
+    clips.rows.push_back({text(c.name), number(double(c.times.size())),
+                          text(uniformTimes(c.times) ? "uniform" : "keys"),
+                          number(double(kinds[0])), number(double(kinds[1])),
+                          number(double(kinds[2])), number(kinds[2] ? bits / double(kinds[2]) : 0),
+                          number(double(clipBytes(c)))});
+  }
+  d.tables = {clips};
+  return d;
+}
+
 Description describeSourceMap(std::span<const uint8_t> b, uint32_t, const std::string &ctx) {
   SourceMap m = decodeSourceMap(b, ctx);
   const auto made = std::count(m.ordinals.begin(), m.ordinals.end(), SourceMap::kMade);
@@ -352,6 +379,7 @@ const std::vector<ChunkCodec> &chunkCodecs() {
       {kSourceMap, "vertex sources", 1, kChunkVersion, describeSourceMap},
       {kMorphs, "morph targets", 1, kChunkVersion, describeMorphs},
       {kLooks, "sub-mesh looks", 1, kChunkVersion, describeLooks},
+      {kJointTracks, "joint tracks", 1, kChunkVersion, describeJointTracks},
       {kImpostor, "impostor", 1, kImpostorVersion, describeImpostor, imagesImpostor},
       {kCloth, "cloth loop", 1, kClothVersion, describeCloth},
       {kTerrain, "terrain", 1, kTerrainVersion, describeTerrain, imagesTerrain},

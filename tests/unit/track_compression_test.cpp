@@ -12,8 +12,10 @@
 #include "crowd/bake/import.h"
 #include "crowd/bake/track_compression.h"
 #include "crowd/formats/error.h"
+#include "crowd/formats/registry.h"
 #include "crowd/runtime/track_pose.h"
 #include "real_models.h"
+#include "sample_character.h"
 
 namespace crowd {
 namespace {
@@ -111,6 +113,95 @@ TEST(JointTracks, UniformTimesAreOneStep) {
   EXPECT_TRUE(pack::uniformTimes(t));
   t[20] = std::nextafter(t[20], 1.0f);
   EXPECT_FALSE(pack::uniformTimes(t));
+}
+
+// The sample humanoid baked with --tracks: its TRAK chunk, as written and as read back.
+const pack::AnimationPack &humanoidWithTracks() {
+  static const pack::AnimationPack p = [] {
+    Reporter r;
+    r.quiet = true;
+    AnimBakeOptions o;
+    o.tracks = true;
+    return bakeAnimation(test::sampleHumanoid(), o, r).pack;
+  }();
+  return p;
+}
+
+TEST(JointTracks, ChunkReadsBackAsWritten) {
+  const pack::AnimationPack &p = humanoidWithTracks();
+  ASSERT_TRUE(p.tracks);
+  const pack::Reader reader(pack::packBytes(p), "humanoid");
+  const pack::AnimationPack back = pack::loadAnimationPack(reader);
+  ASSERT_TRUE(back.tracks);
+  EXPECT_EQ(pack::encode(*back.tracks), pack::encode(*p.tracks));
+  ASSERT_EQ(back.tracks->clips.size(), p.clips.size());
+  for (size_t i = 0; i < p.clips.size(); ++i) {
+    const auto &a = p.tracks->clips[i], &b = back.tracks->clips[i];
+    EXPECT_EQ(a.times, b.times);
+    EXPECT_EQ(a.stream, b.stream);
+    for (float t : {0.0f, 0.37f * a.duration(), a.duration()}) {
+      const auto pa = runtime::decodeLocalPose(p.tracks->skeleton, a, t);
+      const auto pb = runtime::decodeLocalPose(back.tracks->skeleton, b, t);
+      EXPECT_EQ(pa.rotation, pb.rotation);
+      EXPECT_EQ(pa.translation, pb.translation);
+    }
+  }
+  EXPECT_NE(pack::verifyPack(reader).find("clips"), std::string::npos);
+}
+
+// Every field the decoder checks, damaged one at a time: a clear error naming it, never a crash.
+TEST(JointTracks, DamagedChunksAreClearErrors) {
+  const pack::JointTracks good = *humanoidWithTracks().tracks;
+  const auto expectError = [&](pack::JointTracks t, const std::string &field) {
+    const auto bytes = pack::encode(t);
+    try {
+      pack::decodeJointTracks(bytes, "TRAK");
+      ADD_FAILURE() << "no error for " << field;
+    } catch (const Error &e) {
+      EXPECT_NE(std::string(e.what()).find("field '" + field + "'"), std::string::npos) << e.what();
+    }
+  };
+  pack::JointTracks t = good;
+  t.skeleton.parents[1] = 5;
+  expectError(t, "parents");
+  t = good;
+  t.skeleton.jointNodes[0] = uint32_t(t.skeleton.nodeCount());
+  expectError(t, "joint nodes");
+  t = good;
+  t.skeleton.rest[0][4] = NAN;
+  expectError(t, "rest");
+  size_t animated = 0;
+  while (good.clips[0].tracks[animated].kind != pack::TrackKind::Animated)
+    ++animated;
+  t = good;
+  t.clips[0].tracks[animated].bits = 25;
+  expectError(t, "bits");
+  t = good;
+  t.clips[0].tracks[animated].extent[1] = -1;
+  expectError(t, "range");
+  t = good;
+  t.clips[0].stream.pop_back();
+  expectError(t, "stream");
+  t = good;
+  t.clips[0].times = {0.0f, 0.5f, 0.25f};
+  expectError(t, "times");
+  // Every byte cut off: an error, never a read past the end.
+  const auto bytes = pack::encode(good);
+  for (size_t n = 0; n < bytes.size(); n += 7)
+    EXPECT_THROW(pack::decodeJointTracks(std::span(bytes.data(), n), "TRAK"), Error) << n;
+}
+
+TEST(JointTracks, APackWhoseTracksNameOtherClipsIsRejected) {
+  pack::AnimationPack p = humanoidWithTracks();
+  p.tracks->clips[0].name = "not_" + p.clips[0].name;
+  const pack::Reader reader(pack::packBytes(p), "renamed");
+  try {
+    pack::loadAnimationPack(reader);
+    FAIL() << "no error";
+  } catch (const Error &e) {
+    EXPECT_NE(std::string(e.what()).find("chunk TRAK, field 'clip name'"), std::string::npos)
+        << e.what();
+  }
 }
 
 // Keys off any grid, 55 degrees apart (a robot's fast turns): samples on the keys hold them.

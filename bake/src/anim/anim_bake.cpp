@@ -94,6 +94,48 @@ void warnRootMotion(const std::vector<glm::dvec3> &first, const std::vector<glm:
   reporter.warn("root_motion", text);
 }
 
+// Every clip of the pack as joint tracks (pack.tracks), and their figures; the rest-pose clip
+// of a character without clips is one sample of default tracks.
+void compressTracks(const Character &c, const std::vector<const AnimationClip *> &sourceClips,
+                    const AnimBakeOptions &options, AnimBakeResult &result, Reporter &reporter) {
+  const TrackRig rig = trackRig(c);
+  pack::JointTracks tracks;
+  tracks.skeleton = rig.skeleton;
+  TrackCompressionOptions to;
+  to.errorBudgetMm = options.errorBudgetMm;
+  to.mmPerUnit = result.mmPerUnit;
+  to.threads = options.threads;
+  for (size_t ci = 0; ci < result.pack.clips.size(); ++ci) {
+    if (ci >= sourceClips.size()) {
+      pack::TrackClip rest;
+      rest.name = result.pack.clips[ci].name;
+      rest.times = {0.0f};
+      rest.tracks.resize(rig.skeleton.nodeCount() * pack::kTracksPerNode);
+      TrackClipFigures f;
+      f.clip = rest.name;
+      f.keys = f.samples = 1;
+      f.defaultTracks = uint32_t(rest.tracks.size());
+      f.bytes = pack::clipBytes(rest);
+      f.met = true;
+      result.tracks.push_back(f);
+      tracks.clips.push_back(std::move(rest));
+      continue;
+    }
+    reporter.step("joint tracks: clip " + std::to_string(ci + 1) + " of " +
+                  std::to_string(sourceClips.size()) + " (" + sourceClips[ci]->name + ")");
+    CompressedClip cc = compressClip(c, rig, *sourceClips[ci], ci, to);
+    cc.clip.name = result.pack.clips[ci].name;
+    if (!cc.figures.met)
+      reporter.warn("error_budget_not_met",
+                    "clip '" + cc.clip.name + "': its joint tracks err by up to " +
+                        std::to_string(cc.figures.maxAnyTimeMm()) + " mm, over the " +
+                        std::to_string(options.errorBudgetMm) + " mm budget");
+    result.tracks.push_back(cc.figures);
+    tracks.clips.push_back(std::move(cc.clip));
+  }
+  result.pack.tracks = std::move(tracks);
+}
+
 } // namespace
 
 AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
@@ -317,6 +359,9 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
                       " mm budget (a step between keys, or a motion faster than the rates tried, "
                       "cannot be met; see the report's options_tried)");
   }
+
+  if (options.tracks)
+    compressTracks(c, sourceClips, options, result, reporter);
 
   if (sourceClips.size() > 1)
     reporter.step("crossfades between " + std::to_string(sourceClips.size()) + " clips");

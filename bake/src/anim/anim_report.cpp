@@ -87,7 +87,30 @@ ordered_json animFigures(const AnimBakeResult &r) {
                                        {"max_error_any_time_mm", o.maxErrorMm},
                                        {"meets_budget", o.meets}});
     }
+    if (i < r.tracks.size()) { // AnimBakeOptions::tracks: the TRAK chunk's clip
+      const TrackClipFigures &t = r.tracks[i];
+      cj["tracks"] = {{"animation_bytes", t.bytes},
+                      {"keys", t.keys},
+                      {"samples", t.samples},
+                      {"default_tracks", t.defaultTracks},
+                      {"constant_tracks", t.constantTracks},
+                      {"animated_tracks", t.animatedTracks},
+                      {"mean_bits", t.meanBits},
+                      {"max_error_any_time_mm", t.maxAnyTimeMm()},
+                      {"max_error_at_samples_mm", t.maxAtSamplesMm},
+                      {"max_error_at_midsamples_mm", t.maxAtMidsMm},
+                      {"max_error_at_random_times_mm", t.maxAtRandomMm},
+                      {"mean_error_at_random_times_mm", t.meanAtRandomMm},
+                      {"meets_budget", t.met}};
+    }
     f["clips"].push_back(cj);
+  }
+  if (const auto &t = r.pack.tracks) { // what the TRAK chunk takes: the skeleton and every clip
+    uint64_t bytes = pack::skeletonBytes(t->skeleton);
+    for (const auto &clip : t->clips)
+      bytes += pack::clipBytes(clip);
+    f["tracks_bytes"] = bytes;
+    f["tracks_skeleton_bytes"] = pack::skeletonBytes(t->skeleton);
   }
   if (r.fades.pairs) // the player's crossfades between clips, against the exact fade
     f["crossfades"] = {{"pairs", r.fades.pairs},

@@ -96,6 +96,10 @@ void addAnimOptions(CLI::App &app, AnimBakeOptions &anim) {
       ->capture_default_str();
   app.add_option("--max-width", anim.maxWidth, "texture width limit in texels")
       ->capture_default_str();
+  app.add_flag("--tracks", anim.tracks,
+               "also store every clip as compressed joint tracks on its own keys (the TRAK "
+               "chunk, within the same error budget; the report's clips[].tracks), beside the "
+               "texture the player draws");
 }
 
 void addThreads(CLI::App &app, int &threads) {

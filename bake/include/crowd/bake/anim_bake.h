@@ -11,6 +11,7 @@
 #include "crowd/bake/character.h"
 #include "crowd/bake/morph_frames.h"
 #include "crowd/bake/report.h"
+#include "crowd/bake/track_compression.h"
 #include "crowd/formats/chunks.h"
 
 namespace crowd {
@@ -30,6 +31,9 @@ struct AnimBakeOptions {
   // character: the budget picks the fewest bytes that meet it (see anim_budget.h).
   double errorBudgetMm = 1.0;
   int threads = 0; // 0: all cores; output bytes never depend on it
+  // Also compress every clip into joint tracks (track_compression.h) within the same budget:
+  // the pack's optional TRAK chunk, beside the texture the player draws today.
+  bool tracks = false;
   // Throws crowd::Error naming the first field out of range ("fps: ...").
   void validate() const;
   // --fps and the manifest's "fps": "auto", "source" or a number in (0, 1000]; throws Error.
@@ -77,6 +81,7 @@ struct AnimBakeResult {
   BudgetChoice budget;         // how the rates and the precision were chosen, every option tried
   FadeAccuracy fades;          // at the baked precision
   MorphOverflow morphOverflow; // morph targets that did not fit a frame's slots
+  std::vector<TrackClipFigures> tracks; // with AnimBakeOptions::tracks: per clip of the pack
 };
 
 AnimBakeResult bakeAnimation(const Character &character, const AnimBakeOptions &options,

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "crowd/formats/container.h"
+#include "crowd/formats/joint_tracks.h"
 
 namespace crowd::pack {
 
@@ -24,6 +25,7 @@ inline constexpr uint32_t kOutfits = fourcc("OUTF");
 inline constexpr uint32_t kSourceMap = fourcc("SRCV");
 inline constexpr uint32_t kMorphs = fourcc("MRPH");
 inline constexpr uint32_t kLooks = fourcc("LOOK");
+inline constexpr uint32_t kJointTracks = fourcc("TRAK");
 // The version written of every chunk above (formats/src/registry.cpp says which are read).
 inline constexpr uint32_t kChunkVersion = 1;
 
@@ -258,6 +260,9 @@ struct AnimationPack {
   std::optional<SourceMap> sources; // optional chunk: every bake from glTF writes it
   std::optional<Morphs> morphs;     // optional chunk: when the mesh has morph targets
   std::optional<Looks> looks;       // optional chunk: every bake of an unclothed pack from glTF
+  // Optional chunk: compressed joint tracks of the same clips, in the clip table's order
+  // (crowdbake anim --tracks); the player draws from the animation texture until it decodes them.
+  std::optional<JointTracks> tracks;
 };
 AnimationPack loadAnimationPack(const Reader &reader);
 void writePack(const AnimationPack &pack, const std::string &path);

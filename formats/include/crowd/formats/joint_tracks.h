@@ -6,6 +6,7 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -67,12 +68,19 @@ void writeBits(std::vector<uint32_t> &stream, uint64_t at, uint32_t bits, uint32
 // An Animated track's sample (its 3 components, dequantized).
 std::array<float, 3> trackSample(const TrackClip &clip, const Track &track, uint32_t sample);
 
-// What a clip takes stored: its name, time table (a step where the times are uniform), track
-// kinds (2 bits each), each Constant track's value and each Animated track's header and range,
-// and the sample stream. The skeleton is counted apart (skeletonBytes): every clip shares it.
+// The chunk (TRAK): the skeleton (per node its parent, a matrix flag and its rest values; per
+// joint its node), then per clip its name, sample count, time table (one step where uniformTimes
+// holds, else every time), the tracks' kinds (2 bits each), each Constant track's value, each
+// Animated track's bits (the top bit: step) and range, and the sample stream. Little-endian,
+// unaligned: docs-grade byte counts, not GPU layout (the player uploads what it decodes).
+std::vector<uint8_t> encode(const JointTracks &tracks);
+// Checks everything local to the chunk (parents before children, joints' nodes, times
+// non-decreasing from 0, kinds, bits, ranges finite, every sample inside the stream).
+JointTracks decodeJointTracks(std::span<const uint8_t> bytes, const std::string &context);
+// What a clip takes in the chunk (the skeleton apart: every clip shares it), and the skeleton.
 uint64_t clipBytes(const TrackClip &clip);
 uint64_t skeletonBytes(const TrackSkeleton &skeleton);
-// Whether times[i] is exactly float(i * step) for step = times[1] / 1 (then only step is stored).
+// Whether times[i] is exactly float(i * double(times[1])): then only that step is stored.
 bool uniformTimes(const std::vector<float> &times);
 
 } // namespace crowd::pack

@@ -25,6 +25,8 @@ inline constexpr uint64_t kMorphOffsets = uint64_t(1) << 25;
 
 // Animation bakes: frames per clip.
 inline constexpr uint64_t kClipFrames = 65536; // 36 minutes at 30 fps
+// Compressed joint tracks: samples per clip (the source's keys, kept as they are).
+inline constexpr uint64_t kTrackSamples = uint64_t(1) << 22;
 
 // Cloth caches (PC2, MDD): frames per cache; vertices per frame is kVertices. A cache is
 // streamed, so its byte size is bounded only by the input byte bound.
