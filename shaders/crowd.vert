@@ -4,6 +4,9 @@
 // skin-weight texture, per-instance data from one buffer indexed by the instance's id (an instanced
 // attribute). An instance changing clip crossfades: both clips' joints blend as dual quaternions
 // (blendJoints in runtime/src/texture_skinning.cpp).
+// With compressed joint tracks (u_palettes), the joints come from skinning palettes instead:
+// the palette pass (shaders/palette.comp) decoded one per distinct clip time (a crossfade's
+// blended there), and each instance names its own.
 // A garment with a cloth loop plays the loop's frames instead of its skinning: rigidly on the
 // top joint, the loop frame following the body clip's phase (runtime/src/cloth_playback.cpp is
 // the CPU mirror); its normal comes from the screen-space derivatives (v_facet).
@@ -41,6 +44,8 @@ layout(std430, binding = 5) readonly buffer ClothVertices { ivec2 clothVertices[
 layout(std430, binding = 6) readonly buffer ClothLoops { ClothLoop clothLoops[]; };
 layout(std430, binding = 7) readonly buffer ClothPositions { uvec2 clothPositions[]; };
 layout(std430, binding = 8) readonly buffer JointTexels { ivec2 jointTexels[]; };
+layout(std430, binding = 9) readonly buffer JointPalettes { vec4 paletteRows[]; }; // 3 per joint
+layout(std430, binding = 10) readonly buffer InstancePalettes { int paletteOf[]; };
 
 uniform mat4 u_viewProjection;
 uniform float u_time;
@@ -53,6 +58,9 @@ uniform bool u_morphs;    // the pack has morph targets
 uniform bool u_cloth;     // the pack has cloth loops
 uniform int u_clothClips; // the pack's clips (the loop table's stride)
 uniform int u_rootJoint;
+uniform bool u_palettes; // joints from palettes (compressed joint tracks), not the texture
+uniform int u_joints;    // joints per palette
+uniform int u_palette;   // the naive path's instance's palette
 uniform mat4 u_rootBind; // the top joint's bind matrix
 // Naive path: one draw per instance, its data in uniforms instead of the buffer.
 uniform bool u_naive;
@@ -164,6 +172,11 @@ mat3x4 jointRows(int f0, int f1, float alpha, int joint) {
   return rowsOf(jointRigid(f0, f1, alpha, joint));
 }
 
+mat3x4 paletteJoint(int palette, int joint) {
+  int k = (palette * u_joints + joint) * 3;
+  return mat3x4(paletteRows[k], paletteRows[k + 1], paletteRows[k + 2]);
+}
+
 // The two frames of a clip around scene time u_time and the blend between them.
 struct ClipTime {
   int f0, f1;
@@ -230,16 +243,22 @@ bool clothAt(float clipIndex, float offset, float speed, ivec2 v, out vec3 bindP
   return true;
 }
 
+// A joint at one clip time: from the instance's palette where there is one (>= 0), which holds
+// a crossfade's blend already, else from the texture's frames.
+mat3x4 jointAt(int palette, ClipTime t, int joint) {
+  return palette >= 0 ? paletteJoint(palette, joint) : jointRows(t.f0, t.f1, t.alpha, joint);
+}
+
 // A garment vertex at one clip time: its loop's position on the top joint, or its skinning.
 vec3 clothOrSkinned(ClipTime t, float clipIndex, float offset, float speed, ivec2 v, vec4 ids,
-                    vec4 weights) {
+                    vec4 weights, int palette) {
   vec3 q;
   if (clothAt(clipIndex, offset, speed, v, q))
-    return vec4(q, 1.0) * jointRows(t.f0, t.f1, t.alpha, u_rootJoint);
+    return vec4(q, 1.0) * jointAt(palette, t, u_rootJoint);
   vec3 skinned = vec3(0);
   for (int k = 0; k < 4; ++k)
     if (weights[k] != 0.0)
-      skinned += weights[k] * (vec4(a_position, 1.0) * jointRows(t.f0, t.f1, t.alpha, int(ids[k])));
+      skinned += weights[k] * (vec4(a_position, 1.0) * jointAt(palette, t, int(ids[k])));
   return skinned;
 }
 
@@ -259,6 +278,7 @@ void main() {
   // The new clip's share of a crossfade (ClipState::weightAt); below 1 the old clip blends in.
   float weight = fade.x < 0.0 || fade.w <= 0.0 ? 1.0 : clamp((u_time - fade.z) / fade.w, 0.0, 1.0);
   ClipTime before = clipTime(max(fade.x, 0.0), fade.y, params.z);
+  int jointPalette = !u_palettes ? -1 : u_naive ? u_palette : paletteOf[a_instance];
 
   int texel = gl_VertexID * 2;
   vec4 ids = texelFetch(u_skin, ivec2(texel % u_skinWidth, texel / u_skinWidth), 0);
@@ -276,18 +296,19 @@ void main() {
   // A zero normal marks a flat-shaded vertex (the LOD bake's weld): shaded by its face too.
   v_facet = cloth.x >= 0 || dot(a_normal, a_normal) == 0.0 ? 1.0 : 0.0;
   if (cloth.x >= 0) { // a garment that may have a loop over the clip: mixed by position in a fade
-    skinned = clothOrSkinned(now, params.x, params.y, params.z, cloth, ids, weights);
+    skinned = clothOrSkinned(now, params.x, params.y, params.z, cloth, ids, weights, jointPalette);
     if (weight < 1.0)
-      skinned = mix(clothOrSkinned(before, max(fade.x, 0.0), fade.y, params.z, cloth, ids, weights),
+      skinned = mix(clothOrSkinned(before, max(fade.x, 0.0), fade.y, params.z, cloth, ids, weights,
+                                   jointPalette),
                     skinned, weight);
   } else
     for (int k = 0; k < 4; ++k) {
       if (weights[k] == 0.0)
         continue;
-      mat3x4 m = weight < 1.0
-                     ? rowsOf(mixRigid(jointRigid(before.f0, before.f1, before.alpha, int(ids[k])),
-                                       jointRigid(now.f0, now.f1, now.alpha, int(ids[k])), weight))
-                     : jointRows(now.f0, now.f1, now.alpha, int(ids[k]));
+      mat3x4 m = jointPalette >= 0 || weight >= 1.0
+                     ? jointAt(jointPalette, now, int(ids[k]))
+                     : rowsOf(mixRigid(jointRigid(before.f0, before.f1, before.alpha, int(ids[k])),
+                                       jointRigid(now.f0, now.f1, now.alpha, int(ids[k])), weight));
       skinned += weights[k] * (p * m);
       normal += weights[k] * (vec4(bindNormal, 0.0) * m);
     }

@@ -1,5 +1,5 @@
 # Writes OUT: a header with every shader as a raw string literal (run at build time):
-# shaders/NAME.vert becomes kNameVert, NAME.frag kNameFrag.
+# shaders/NAME.vert becomes kNameVert, NAME.frag kNameFrag, NAME.comp kNameComp.
 file(WRITE ${OUT}.tmp "// Generated from shaders/ by shaders/embed.cmake: do not edit.\n#pragma once\n")
 foreach(NAME crowd impostor environment)
   string(SUBSTRING ${NAME} 0 1 FIRST)
@@ -13,4 +13,6 @@ foreach(NAME crowd impostor environment)
     file(APPEND ${OUT}.tmp "inline constexpr const char* k${FIRST}${REST}${S}${TAIL} = R\"glsl(${TEXT})glsl\";\n")
   endforeach()
 endforeach()
+file(READ ${SRC}/palette.comp TEXT)
+file(APPEND ${OUT}.tmp "inline constexpr const char* kPaletteComp = R\"glsl(${TEXT})glsl\";\n")
 file(COPY_FILE ${OUT}.tmp ${OUT} ONLY_IF_DIFFERENT)

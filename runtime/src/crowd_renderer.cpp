@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <initializer_list>
 
 #include <epoxy/gl.h>
 #include <glm/gtc/type_ptr.hpp>
@@ -13,6 +14,7 @@
 #include "crowd/formats/error.h"
 #include "crowd/runtime/environment_renderer.h"
 #include "crowd/runtime/impostor_runtime.h"
+#include "crowd/runtime/palette_pass.h"
 #include "crowd/runtime/region_colour.h"
 #include "crowd/runtime/render_queues.h"
 #include "crowd/runtime/texture_skinning.h"
@@ -37,25 +39,35 @@ unsigned compile(GLenum type, const char *source, const char *name) {
   return s;
 }
 
-} // namespace
-
-unsigned buildProgram(const char *vertex, const char *fragment, const char *name) {
-  unsigned vs = compile(GL_VERTEX_SHADER, vertex, (std::string(name) + ".vert").c_str());
-  unsigned fs = compile(GL_FRAGMENT_SHADER, fragment, (std::string(name) + ".frag").c_str());
+// Links compiled shaders into a program (and deletes them); throws with the driver's log.
+unsigned link(std::initializer_list<unsigned> shaders, const std::string &what) {
   unsigned p = glCreateProgram();
-  glAttachShader(p, vs);
-  glAttachShader(p, fs);
+  for (unsigned s : shaders)
+    glAttachShader(p, s);
   glLinkProgram(p);
-  glDeleteShader(vs);
-  glDeleteShader(fs);
+  for (unsigned s : shaders)
+    glDeleteShader(s);
   int ok = 0;
   glGetProgramiv(p, GL_LINK_STATUS, &ok);
   if (!ok) {
     char log[4096];
     glGetProgramInfoLog(p, sizeof log, nullptr, log);
-    throw Error(std::string("shaders ") + name + " do not link: " + log);
+    throw Error(what + " do not link: " + log);
   }
   return p;
+}
+
+} // namespace
+
+unsigned buildProgram(const char *vertex, const char *fragment, const char *name) {
+  return link({compile(GL_VERTEX_SHADER, vertex, (std::string(name) + ".vert").c_str()),
+               compile(GL_FRAGMENT_SHADER, fragment, (std::string(name) + ".frag").c_str())},
+              std::string("shaders ") + name);
+}
+
+unsigned buildComputeProgram(const char *compute, const char *name) {
+  return link({compile(GL_COMPUTE_SHADER, compute, (std::string(name) + ".comp").c_str())},
+              std::string("shader ") + name);
 }
 
 constexpr size_t kInstanceFloats = 20;
@@ -81,10 +93,12 @@ struct CrowdRenderer::Character {
   double diffuseTexelsPerUnit = 0; // of the mesh's surface (runtime::diffuseTexelsPerUnit)
   // Per LOD level, per sub-mesh and one past the last: where its triangles start in buffers[2].
   std::vector<uint32_t> levelStarts;
-  std::vector<uint32_t> commands;  // glMultiDrawElementsIndirect's, 5 words each, by sub-mesh
-  std::vector<GLsizei> perSubMesh; // how many of them each sub-mesh has
-  std::vector<uint32_t> outfitOf;  // per instance: its outfit in the pack's table (0 if none)
-  RenderQueues queues[2];          // tagged, whole body (render_queues.h)
+  std::vector<uint32_t> commands;        // glMultiDrawElementsIndirect's, 5 words each, by sub-mesh
+  std::vector<GLsizei> perSubMesh;       // how many of them each sub-mesh has
+  std::vector<uint32_t> outfitOf;        // per instance: its outfit in the pack's table (0 if none)
+  RenderQueues queues[2];                // tagged, whole body (render_queues.h)
+  std::unique_ptr<PalettePass> palettes; // packs with joint tracks
+  bool skinFromPalettes = false;         // this frame's
 
   ~Character() {
     glDeleteVertexArrays(1, &vao);
@@ -203,6 +217,11 @@ CrowdRenderer::CrowdRenderer(const std::vector<const pack::AnimationPack *> &pac
       ++c->instanceCount;
     }
     updateClips(*c, characters_.size() - 1, 0.0);
+    if (p.tracks) {
+      if (!paletteProgram_)
+        paletteProgram_ = buildComputeProgram(kPaletteComp, "palette");
+      c->palettes = std::make_unique<PalettePass>(p, c->instanceCount);
+    }
     std::vector<float> clips;
     for (const auto &cl : p.clips)
       clips.insert(clips.end(),
@@ -333,6 +352,8 @@ CrowdRenderer::CrowdRenderer(const std::vector<const pack::AnimationPack *> &pac
 CrowdRenderer::~CrowdRenderer() {
   glDeleteProgram(program_);
   glDeleteProgram(impostorProgram_);
+  if (paletteProgram_)
+    glDeleteProgram(paletteProgram_);
 }
 
 void CrowdRenderer::writeClip(Character &c, size_t ci, uint32_t i, const ClipState &s, float speed,
@@ -436,6 +457,11 @@ void CrowdRenderer::drawCharacter(const Character &c, const CrowdSelection::Char
   glUniform1i(loc("u_clothClips"), int(c.cloth.clips));
   glUniform1i(loc("u_rootJoint"), int(c.cloth.rootJoint));
   glUniformMatrix4fv(loc("u_rootBind"), 1, GL_FALSE, glm::value_ptr(c.cloth.rootBind));
+  glUniform1i(loc("u_palettes"), c.skinFromPalettes ? 1 : 0);
+  if (c.skinFromPalettes) {
+    glUniform1i(loc("u_joints"), int(c.palettes->joints()));
+    c.palettes->bind();
+  }
   glBindBuffer(GL_DRAW_INDIRECT_BUFFER, c.buffers[10]);
   size_t command = 0;
   for (size_t s = 0; s < subMeshes; ++s) {
@@ -450,6 +476,8 @@ void CrowdRenderer::drawCharacter(const Character &c, const CrowdSelection::Char
           continue;
         glUniform4fv(rowsLoc, 3, &c.instanceData[i * kInstanceFloats]);
         glUniform4fv(paramsLoc, 2, &c.instanceData[i * kInstanceFloats + 12]);
+        if (c.skinFromPalettes)
+          glUniform1i(loc("u_palette"), c.palettes->paletteOf(i));
         glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT, offset);
         ++stats.drawCalls;
         stats.triangles += uint64_t(count / 3);
@@ -578,6 +606,21 @@ DrawStats CrowdRenderer::draw(const FrameView &view, float seconds, const DrawOp
                          chosen.impostorIds.data());
     glNamedBufferSubData(c->buffers[10], 0, GLsizeiptr(c->commands.size() * 4), c->commands.data());
 
+    // Skinning palettes for the instances drawn as geometry (all of them on the naive path).
+    c->skinFromPalettes = options.trackSkinning && c->palettes;
+    if (c->skinFromPalettes) {
+      const auto t1 = std::chrono::steady_clock::now();
+      std::vector<uint32_t> all;
+      if (naive)
+        for (uint32_t i = 0; i < c->instanceCount; ++i)
+          all.push_back(i);
+      stats.palettes += c->palettes->run(paletteProgram_, c->instanceData, kInstanceFloats,
+                                         naive ? all : chosen.ids, seconds, options.timePalettes);
+      stats.paletteGpuMs += c->palettes->gpuMilliseconds();
+      stats.paletteMs +=
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count();
+      glUseProgram(program_);
+    }
     // With a world, a shadow pass first (seed 003 §4.5): every character flat on its ground
     // along the light, each pixel darkened once (stencil), behind what is nearer (depth).
     for (int pass = world_ && !naive ? 0 : 1; pass < 2; ++pass) {

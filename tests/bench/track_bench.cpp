@@ -1,7 +1,8 @@
 // Compressed joint tracks against today's animation texture, in one run: per clip of each model
 // given (default: ../shared/assets/gltf and tests/data's Blender and gltfpack exports), the bytes
 // and the largest vertex error at any time measured (mm at 1.8 m) of both, the time each bake
-// took, and ACL 2.1's bytes where ../shared/anchors/acl_animation_bytes.csv has the clip.
+// took, the CPU time of one pose decoded from each (every joint's matrix at a time), and ACL
+// 2.1's bytes where ../shared/anchors/acl_animation_bytes.csv has the clip.
 //   track_bench [--budget MM] [--csv OUT.csv] [--anchors CSV] [MODEL.glb ...]
 #include <chrono>
 #include <cstdio>
@@ -16,6 +17,8 @@
 #include "crowd/bake/import.h"
 #include "crowd/bake/track_compression.h"
 #include "crowd/formats/error.h"
+#include "crowd/runtime/texture_skinning.h"
+#include "crowd/runtime/track_pose.h"
 
 namespace {
 
@@ -84,9 +87,10 @@ int main(int argc, char **argv) {
   std::ostringstream csv;
   csv << "model,clip,joints,keys,samples,default,constant,animated,mean_bits,tracks_bytes,"
          "tracks_max_mm,tracks_at_samples_mm,tracks_mids_mm,tracks_random_mm,tracks_s,"
-         "texture_bytes,texture_max_mm,texture_s,acl_bytes\n";
-  std::printf("%-28s %-14s %5s %5s %9s %8s %9s %8s %8s %6s %6s\n", "model", "clip", "keys", "samp",
-              "tracks B", "err mm", "texture B", "err mm", "ACL B", "x ACL", "x tex");
+         "tracks_pose_us,texture_bytes,texture_max_mm,texture_s,texture_pose_us,acl_bytes\n";
+  std::printf("%-28s %-14s %5s %5s %9s %8s %9s %8s %8s %6s %6s %7s %7s\n", "model", "clip", "keys",
+              "samp", "tracks B", "err mm", "texture B", "err mm", "ACL B", "x ACL", "x tex",
+              "pose us", "tex us");
   long totalTracks = 0, totalAcl = 0, totalTexture = 0, tracksWithAcl = 0, textureWithAcl = 0;
   double tracksSeconds = 0, textureSeconds = 0;
   for (const std::string &path : models) {
@@ -132,6 +136,29 @@ int main(int argc, char **argv) {
       for (const auto &o : cb.tried)
         if (o.precision == baseline.budget.precision && o.fps == cb.fps)
           textureBytes = o.bytes, textureError = o.maxErrorMm;
+      // One pose decoded, every joint's matrix, at 200 times over the clip: from the tracks
+      // (the palette pass's CPU mirror) and from the texture (the vertex shader's).
+      const auto &packClip = baseline.pack.clips[k];
+      const float duration = cc.clip.duration();
+      t0 = Clock::now();
+      float sink = 0;
+      for (int i = 0; i < 200; ++i) {
+        const float t = duration * float(i) / 199.0f;
+        sink += crowd::runtime::skinningPalette(
+            rig.skeleton, crowd::runtime::decodeLocalPose(rig.skeleton, cc.clip, t),
+            baseline.pack.skeleton.inverseBind)[0][3][0];
+      }
+      const double tracksPoseUs = secondsSince(t0) / 200 * 1e6;
+      t0 = Clock::now();
+      for (int i = 0; i < 200; ++i) {
+        const auto at = crowd::runtime::clipTimeAt(packClip, duration * float(i) / 199.0f);
+        sink += crowd::runtime::sampleJoints(baseline.pack.animation, packClip, at.frame,
+                                             at.alpha)[0][0]
+                    .w;
+      }
+      const double texturePoseUs = secondsSince(t0) / 200 * 1e6;
+      if (sink == 12345.678f)
+        std::printf(" ");
       const std::string clipName = clip.name.empty() ? "clip" + std::to_string(k) : clip.name;
       auto a = acl.find(model + "/" + clipName);
       if (a == acl.end())
@@ -145,20 +172,20 @@ int main(int argc, char **argv) {
         textureWithAcl += long(textureBytes);
       }
       std::printf(
-          "%-28s %-14s %5u %5u %9llu %8.3f %9llu %8.3f %8s %6s %6.3f%s\n",
+          "%-28s %-14s %5u %5u %9llu %8.3f %9llu %8.3f %8s %6s %6.3f %7.1f %7.1f%s\n",
           model.substr(0, 28).c_str(), clipName.substr(0, 14).c_str(), f.keys, f.samples,
           (unsigned long long)f.bytes, f.maxAnyTimeMm(), (unsigned long long)textureBytes,
           textureError, aclB ? std::to_string(aclB).c_str() : "-",
           aclB ? (std::ostringstream() << double(f.bytes) / double(aclB)).str().substr(0, 5).c_str()
                : "-",
-          textureBytes ? double(f.bytes) / double(textureBytes) : 0.0,
+          textureBytes ? double(f.bytes) / double(textureBytes) : 0.0, tracksPoseUs, texturePoseUs,
           f.met ? "" : "  MISSES the budget");
       csv << model << ',' << clipName << ',' << c.jointCount() << ',' << f.keys << ',' << f.samples
           << ',' << f.defaultTracks << ',' << f.constantTracks << ',' << f.animatedTracks << ','
           << f.meanBits << ',' << f.bytes << ',' << f.maxAnyTimeMm() << ',' << f.maxAtSamplesMm
           << ',' << f.maxAtMidsMm << ',' << f.maxAtRandomMm << ',' << trackTime << ','
-          << textureBytes << ',' << textureError << ',' << textureTime / double(c.clips.size())
-          << ',' << aclB << '\n';
+          << tracksPoseUs << ',' << textureBytes << ',' << textureError << ','
+          << textureTime / double(c.clips.size()) << ',' << texturePoseUs << ',' << aclB << '\n';
     }
     std::printf("%-28s skeleton %llu bytes (shared by its clips), texture bake %.2f s\n", "",
                 (unsigned long long)crowd::pack::skeletonBytes(rig.skeleton), textureTime);

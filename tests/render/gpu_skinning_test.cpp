@@ -25,7 +25,9 @@
 #include "crowd/bake/point_cache.h"
 #include "crowd/runtime/clip_switch.h"
 #include "crowd/runtime/cloth_playback.h"
+#include "crowd/runtime/crowd_renderer.h"
 #include "crowd/runtime/headless_gl.h"
+#include "crowd/runtime/palette_pass.h"
 #include "crowd/runtime/pose.h"
 #include "crowd/runtime/texture_skinning.h"
 #include "crowd/samples/cloth_caches.h"
@@ -68,8 +70,9 @@ const Baked &humanoid(const std::string &precision) {
   Baked b{importGltf(dir + "/humanoid.glb", {}, rep), {}};
   AnimBakeOptions o;
   const bool rows = precision == "qts+rows";
-  o.precision = rows ? "qts" : precision;
-  if (precision != "auto")
+  o.tracks = precision == "tracks"; // the default bake, with joint tracks
+  o.precision = rows ? "qts" : o.tracks ? "auto" : precision;
+  if (precision != "auto" && !o.tracks)
     o.fps = 30;
   b.result = bakeAnimation(b.character, o, rep);
   if (rows) { // the same frames, rebuilt with matrix joints
@@ -120,9 +123,11 @@ std::string Gl::why_;
 // One instance at the origin with `params` (clip, time offset, speed, palette) and `fade` (clip
 // faded from or -1, its time offset, fade start, fade length) at scene time `seconds`: the
 // shader's skinned positions.
+// `palettes`: the joints from its palette for this instance (instance 0), not the texture.
 std::vector<glm::vec3> shaderPositions(const pack::AnimationPack &p, glm::vec4 params,
                                        glm::vec4 fade, float seconds,
-                                       const runtime::ClothBuffers &cloth = {}) {
+                                       const runtime::ClothBuffers &cloth = {},
+                                       const runtime::PalettePass *palettes = nullptr) {
   unsigned vs = glCreateShader(GL_VERTEX_SHADER);
   glShaderSource(vs, 1, &kCrowdVert, nullptr);
   glCompileShader(vs);
@@ -209,6 +214,12 @@ std::vector<glm::vec3> shaderPositions(const pack::AnimationPack &p, glm::vec4 p
   glUniform1i(loc("u_clothClips"), int(cloth.clips));
   glUniform1i(loc("u_rootJoint"), int(cloth.rootJoint));
   glUniformMatrix4fv(loc("u_rootBind"), 1, GL_FALSE, &cloth.rootBind[0][0]);
+  glUniform1i(loc("u_palettes"), palettes ? 1 : 0);
+  if (palettes) {
+    glUniform1i(loc("u_joints"), int(palettes->joints()));
+    glUniform1i(loc("u_palette"), palettes->paletteOf(0));
+    palettes->bind();
+  }
   glBindBufferBase(GL_TRANSFORM_FEEDBACK_BUFFER, 0, buffers[4]);
   glBindVertexArray(vao);
   glEnable(GL_RASTERIZER_DISCARD);
@@ -305,6 +316,68 @@ TEST_F(Gl, CrossfadesMatchTheCpuMirrorAndTheExactBlend) {
       EXPECT_LE(exact.max * mm, 1.0);
     }
   }
+}
+
+// The palette pass (shaders/palette.comp) and the vertex shader skinning from its palettes,
+// against their CPU mirror (runtime/track_palettes.h) through a clip and a crossfade, and against
+// the glTF's exact joints at the clip's times.
+TEST_F(Gl, PalettesSkinAsTheirCpuMirrorAndTheSource) {
+  const Baked &b = humanoid("tracks");
+  const auto &p = b.result.pack;
+  const Character &c = b.character;
+  ASSERT_TRUE(p.tracks);
+  ASSERT_EQ(p.clips[0].name, "walk");
+  ASSERT_EQ(p.clips[1].name, "run");
+  const unsigned program = runtime::buildComputeProgram(kPaletteComp, "palette");
+  runtime::PalettePass pass(p, 1);
+  Errors mirror, exact;
+  // Run alone at 7 times (past its end: it loops), then walk (offset 0.3 s) fading into run
+  // (offset -2 s) over 0.3 s from 2 s on.
+  struct Case {
+    glm::vec4 params, fade;
+    float seconds;
+  };
+  std::vector<Case> cases;
+  for (float t : {0.0f, 0.13f, 0.4f, 0.5167f, 0.77f, 1.23f, 3.7f})
+    cases.push_back({{1, 0, 1, 0}, {-1, 0, 0, 0}, t});
+  for (int k = 0; k <= 8; ++k)
+    cases.push_back({{1, -2.0f, 1, 0}, {0, 0.3f, 2.0f, 0.3f}, 1.95f + 0.4f * float(k) / 8.0f});
+  for (const Case &k : cases) {
+    std::vector<float> data(20, 0.0f);
+    std::copy(&k.params.x, &k.params.x + 4, &data[12]);
+    std::copy(&k.fade.x, &k.fade.x + 4, &data[16]);
+    ASSERT_EQ(pass.run(program, data, 20, {0}, k.seconds), 1u);
+    const auto gpu = shaderPositions(p, k.params, k.fade, k.seconds, {}, &pass);
+    const runtime::PaletteRequest r = runtime::paletteRequest(p, k.params, k.fade, k.seconds);
+    const auto palette = runtime::decodePalette(p, r);
+    const bool fading = r.from >= 0;
+    std::vector<glm::dvec3> reference;
+    if (!fading) {
+      const AnimationClip &clip = c.clips[size_t(r.clip)];
+      reference =
+          skinPositions(c, jointMatrices(c, &clip, clip.start + r.seconds), c.mesh.morphDefaults);
+    }
+    for (size_t v = 0; v < gpu.size(); ++v) {
+      glm::vec3 cpu(0.0f);
+      for (int i = 0; i < 4; ++i) {
+        const float w = p.skin.texels[v * 8 + 4 + size_t(i)];
+        if (w != 0)
+          cpu += w * glm::vec3(palette[size_t(p.skin.texels[v * 8 + size_t(i)])] *
+                               glm::vec4(c.mesh.positions[v], 1.0f));
+      }
+      mirror.add(glm::length(gpu[v] - cpu));
+      if (!fading)
+        exact.add(glm::length(glm::dvec3(gpu[v]) - reference[v]));
+    }
+  }
+  glDeleteProgram(program);
+  const double mm = b.result.mmPerUnit;
+  std::printf("palettes: GPU vs CPU mirror max %.5f mm over %zu vertex times; GPU vs the glTF "
+              "at the clip's times max %.3f mm, mean %.4f mm\n",
+              mirror.max * mm, mirror.count, exact.max * mm, exact.mean() * mm);
+  EXPECT_LE(mirror.max * mm, 0.01);
+  EXPECT_LE(exact.max * mm, 1.0 + 0.01);
+  EXPECT_GT(mirror.count, 0u);
 }
 
 } // namespace

@@ -122,6 +122,12 @@ bool parse(int argc, char **argv, Options &o) {
   app.add_flag("--whole-body", o.draw.wholeBody,
                "clothed packs: draw the whole body under the garments (the naive method, for "
                "comparison) instead of each outfit's visible sub-meshes");
+  app.add_option_function<std::string>(
+         "--skinning", [&o](const std::string &how) { o.draw.trackSkinning = how == "tracks"; },
+         "texture: joints from the animation texture; tracks: packs with joint tracks (crowdbake "
+         "anim --tracks) skin from palettes a compute pass decodes each frame")
+      ->check(CLI::IsMember({"texture", "tracks"}))
+      ->default_str("texture");
   app.add_option("--clip", o.clip, "pack previews: show this clip only");
   app.add_option("--outfit", o.outfit, "pack previews: show this outfit only");
   app.add_option("--time", o.startTime, "scene time of the first frame, in seconds")
@@ -262,7 +268,9 @@ int headless(const Options &o, crowd::runtime::CrowdRenderer &renderer,
   const char *keys[9] = {"frame_ms", "gpu_ms",    "cull_select_ms", "draw_calls", "instances",
                          "visible",  "impostors", "triangles",      "vertices"};
   const int columns = vertexQuery ? 9 : 8;
-  double sums[9] = {}, agentsMs = 0;
+  double sums[9] = {}, agentsMs = 0, palettes = 0, paletteMs = 0, paletteGpuMs = 0;
+  crowd::runtime::DrawOptions draw = o.draw;
+  draw.timePalettes = draw.trackSkinning && !o.stats.empty();
   for (int f = 0; f < o.frames; ++f) {
     double t = o.startTime + f * o.step;
     auto t0 = std::chrono::steady_clock::now();
@@ -271,7 +279,7 @@ int headless(const Options &o, crowd::runtime::CrowdRenderer &renderer,
     glBeginQuery(GL_TIME_ELAPSED, query);
     if (vertexQuery)
       glBeginQuery(GL_VERTEX_SHADER_INVOCATIONS_ARB, vertexQuery);
-    auto stats = renderer.draw(frameView(scene.camera, t, o.width, o.height), float(t), o.draw);
+    auto stats = renderer.draw(frameView(scene.camera, t, o.width, o.height), float(t), draw);
     if (vertexQuery)
       glEndQuery(GL_VERTEX_SHADER_INVOCATIONS_ARB);
     glEndQuery(GL_TIME_ELAPSED);
@@ -297,6 +305,7 @@ int headless(const Options &o, crowd::runtime::CrowdRenderer &renderer,
       sums[k] += v[k];
     }
     agentsMs += stats.agentsMs;
+    palettes += stats.palettes, paletteMs += stats.paletteMs, paletteGpuMs += stats.paletteGpuMs;
     frames.push_back(row);
   }
   if (!o.screenshot.empty()) {
@@ -310,6 +319,12 @@ int headless(const Options &o, crowd::runtime::CrowdRenderer &renderer,
     summary["agents_ms"] = agentsMs / o.frames;
   for (int k = 0; k < columns; ++k)
     summary[keys[k]] = sums[k] / o.frames;
+  summary["skinning"] = o.draw.trackSkinning ? "tracks" : "texture";
+  if (o.draw.trackSkinning) { // per frame: palettes decoded, their CPU and GPU milliseconds
+    summary["palettes"] = palettes / o.frames;
+    summary["palette_cpu_ms"] = paletteMs / o.frames;
+    summary["palette_gpu_ms"] = paletteGpuMs / o.frames;
+  }
   summary["whole_body"] = o.draw.wholeBody;
   summary["budget"] = o.draw.budget;
   summary["detail"] = o.draw.detail; // 0: chosen under the budget

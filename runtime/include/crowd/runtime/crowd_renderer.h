@@ -8,9 +8,10 @@
 // hysteresis) as impostors, all of one type in one instanced draw. Instances of a clothed pack
 // (crowdbake outfits) draw their outfit's sub-meshes only, through per-sub-mesh render queues of
 // the visible instances (render_queues.h). Instances changing clip (clip_switch.h) crossfade on
-// the GPU. Garments with cloth loops (crowdbake cloth) play them in phase with the body clip
-// (cloth_playback.h). A scene's world (world.h) moves the instances as agents over its
-// environment, drawn first. Needs a current GL 4.5 context.
+// the GPU. Packs with joint tracks can skin from palettes decoded on the GPU each frame
+// (DrawOptions::trackSkinning, palette_pass.h). Garments with cloth loops (crowdbake cloth) play
+// them in phase with the body clip (cloth_playback.h). A scene's world (world.h) moves the
+// instances as agents over its environment, drawn first. Needs a current GL 4.5 context.
 #pragma once
 #include <cstdint>
 #include <memory>
@@ -41,6 +42,9 @@ struct DrawStats {
   double cullSelectMs = 0; // CPU time of the clip schedule, culling, the impostor split, LOD
                            // selection and queues
   double agentsMs = 0;     // CPU time of a world's agents up to the frame and their placing
+  uint32_t palettes = 0;   // DrawOptions::trackSkinning: palettes the palette pass decoded
+  double paletteMs = 0;    // CPU time of their requests and the pass's calls
+  double paletteGpuMs = 0; // DrawOptions::timePalettes: the pass's GPU time
 };
 
 class CrowdRenderer {
@@ -91,11 +95,12 @@ private:
   ClipSchedule schedule_;
   std::vector<std::unique_ptr<Character>> characters_;
   CrowdSelection selection_; // its characters are characters_, in order
-  unsigned program_ = 0, impostorProgram_ = 0;
+  unsigned program_ = 0, impostorProgram_ = 0, paletteProgram_ = 0;
   glm::vec3 light_;
 };
 
 // Compiles and links embedded shaders; throws crowd::Error with the driver's log.
 unsigned buildProgram(const char *vertex, const char *fragment, const char *name);
+unsigned buildComputeProgram(const char *compute, const char *name);
 
 } // namespace crowd::runtime

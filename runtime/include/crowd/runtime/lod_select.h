@@ -97,6 +97,10 @@ struct DrawOptions {
   double detail = 0;
   bool allImpostors =
       false; // hybrid: every instance with an impostor draws as one, at any distance
+  // Packs with joint tracks (crowdbake anim --tracks) skin from palettes the palette pass
+  // decodes from them each frame, not from the animation texture.
+  bool trackSkinning = false;
+  bool timePalettes = false; // with it: the palette pass's GPU time in DrawStats (waits for it)
 };
 
 // The CPU half of a frame for a whole crowd, apart from GL so the benchmark times the very

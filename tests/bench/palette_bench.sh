@@ -1,0 +1,69 @@
+#!/usr/bin/env bash
+# Skinning from compressed joint tracks against the animation texture, in one run: the sample
+# humanoid baked with --tracks (the pack holds both) in samples/scenes/crowd10k.json at 10k and
+# 30k walkers, crowdplay --skinning texture and --skinning tracks alternating, ROUNDS rounds,
+# drawn as the scene is (hybrid: the far ones impostors, not skinned) and as geometry only
+# (--geometry: every visible walker skinned; PATHS=hybrid leaves it out).
+# Prints per size and path the frame and GPU times (medians), the palettes decoded a frame and
+# the palette pass's GPU time and share; writes OUT/palette_bench.csv.
+# Usage: tests/bench/palette_bench.sh [OUT] [FRAMES] [ROUNDS] [SIZE]   (after ./run demo)
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+out=${1:-out/bench}
+frames=${2:-4}
+rounds=${3:-2}
+size=${4:-640x360}
+paths=${PATHS:-hybrid geometry}
+mkdir -p "$out"
+[ -f out/samples/humanoid.glb ] && [ -f out/humanoid_walk.impostor.crowdpack ] ||
+  { echo "run ./run demo first (it writes out/samples and the walk impostor)" >&2; exit 1; }
+display=()
+command -v Xvfb >/dev/null && display=(tests/scripts/xvfb.sh)
+pack=$out/humanoid_tracks.crowdpack
+build/bin/crowdbake lod out/samples/humanoid.glb --tracks -o "$pack" --quiet
+scene=$out/palette_bench_scene.json
+python3 - samples/scenes/crowd10k.json "$scene" "$(realpath "$pack")" \
+  "$(realpath out/humanoid_walk.impostor.crowdpack)" <<'PY'
+import json, sys
+s = json.load(open(sys.argv[1]))
+s["packs"][0]["path"], s["packs"][0]["impostor"] = sys.argv[3], sys.argv[4]
+json.dump(s, open(sys.argv[2], "w"), indent=1)
+PY
+csv=$out/palette_bench.csv
+echo "instances,path,skinning,round,frame_ms,gpu_ms,palettes,palette_gpu_ms,palette_cpu_ms" \
+  > "$csv"
+for round in $(seq "$rounds"); do
+  for path in $paths; do
+    flag=(); [ "$path" = geometry ] && flag=(--geometry)
+    for n in 10000 30000; do
+      for skinning in texture tracks; do
+        stats=$out/palette_${path}_${n}_${skinning}_$round.json
+        "${display[@]}" build/bin/crowdplay "$scene" --headless --frames "$frames" --step 2 \
+          --size "$size" --instances $n --skinning $skinning "${flag[@]}" --stats "$stats" \
+          >/dev/null
+        python3 - "$stats" $n "$path" $skinning "$round" >> "$csv" <<'PY'
+import json, sys
+s = json.load(open(sys.argv[1]))["summary"]
+print(",".join(sys.argv[2:6] + [f'{s["frame_ms"]:.2f}', f'{s["gpu_ms"]:.2f}',
+      f'{s.get("palettes", 0):.1f}', f'{s.get("palette_gpu_ms", 0):.3f}',
+      f'{s.get("palette_cpu_ms", 0):.3f}']))
+PY
+      done
+    done
+  done
+done
+python3 - "$csv" <<'PY'
+import csv, statistics, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+print(f"{'path':>8} {'instances':>9} {'skinning':>8} {'frame ms':>9} {'gpu ms':>8} "
+      f"{'palettes':>8} {'pass gpu ms':>11} {'pass share':>10} {'frame vs texture':>16}")
+for path in dict.fromkeys(r["path"] for r in rows):
+    for n in ["10000", "30000"]:
+        med = lambda k, col: statistics.median(float(r[col]) for r in rows if r["path"] == path
+                                               and r["instances"] == n and r["skinning"] == k)
+        base = med("texture", "frame_ms")
+        for k in ["texture", "tracks"]:
+            f, g, pg = med(k, "frame_ms"), med(k, "gpu_ms"), med(k, "palette_gpu_ms")
+            print(f"{path:>8} {n:>9} {k:>8} {f:9.1f} {g:8.1f} {med(k, 'palettes'):8.0f} "
+                  f"{pg:11.2f} {(pg / g if g else 0):10.3f} {f / base:16.3f}")
+PY
