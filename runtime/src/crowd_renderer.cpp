@@ -97,7 +97,7 @@ struct CrowdRenderer::Character {
   std::vector<GLsizei> perSubMesh;       // how many of them each sub-mesh has
   std::vector<uint32_t> outfitOf;        // per instance: its outfit in the pack's table (0 if none)
   RenderQueues queues[2];                // tagged, whole body (render_queues.h)
-  std::unique_ptr<PalettePass> palettes; // packs with joint tracks
+  std::unique_ptr<PalettePass> palettes; // packs with joint tracks, once drawn from them
   bool skinFromPalettes = false;         // this frame's
 
   ~Character() {
@@ -217,11 +217,6 @@ CrowdRenderer::CrowdRenderer(const std::vector<const pack::AnimationPack *> &pac
       ++c->instanceCount;
     }
     updateClips(*c, characters_.size() - 1, 0.0);
-    if (p.tracks) {
-      if (!paletteProgram_)
-        paletteProgram_ = buildComputeProgram(kPaletteComp, "palette");
-      c->palettes = std::make_unique<PalettePass>(p, c->instanceCount);
-    }
     std::vector<float> clips;
     for (const auto &cl : p.clips)
       clips.insert(clips.end(),
@@ -607,7 +602,16 @@ DrawStats CrowdRenderer::draw(const FrameView &view, float seconds, const DrawOp
     glNamedBufferSubData(c->buffers[10], 0, GLsizeiptr(c->commands.size() * 4), c->commands.data());
 
     // Skinning palettes for the instances drawn as geometry (all of them on the naive path).
-    c->skinFromPalettes = options.trackSkinning && c->palettes;
+    c->skinFromPalettes = options.trackSkinning && p.tracks;
+    if (c->skinFromPalettes && !c->palettes) { // built on first use: most frames draw textures
+      if (!paletteProgram_)
+        paletteProgram_ = buildComputeProgram(kPaletteComp, "palette");
+      try {
+        c->palettes = std::make_unique<PalettePass>(p, c->instanceCount);
+      } catch (const Error &e) {
+        throw Error("pack '" + scene_.packNames[ci] + "': " + e.what());
+      }
+    }
     if (c->skinFromPalettes) {
       const auto t1 = std::chrono::steady_clock::now();
       std::vector<uint32_t> all;

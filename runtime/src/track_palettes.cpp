@@ -59,9 +59,15 @@ TrackWords trackWords(const pack::AnimationPack &p) {
   }
   for (const pack::TrackClip &c : t.clips)
     for (const pack::Track &track : c.tracks) {
+      // The pass addresses a clip's stream with 32-bit bit offsets.
+      const uint64_t end = track.firstBit + uint64_t(c.times.size()) * 3 * track.bits;
+      if (end > kMaxClipStreamBits)
+        throw Error("clip '" + c.name + "': its joint tracks take " + std::to_string(end) +
+                    " bits, more than the palette pass addresses (" +
+                    std::to_string(kMaxClipStreamBits) + "); bake it shorter or split it");
       w.tracks.push_back(uint32_t(track.kind) | uint32_t(track.step) << 8 |
                          uint32_t(track.bits) << 16);
-      w.tracks.push_back(uint32_t(track.firstBit)); // a clip's stream stays under 2^32 bits
+      w.tracks.push_back(uint32_t(track.firstBit));
       for (float f : track.min)
         w.tracks.push_back(bitsOf(f));
       for (size_t k = 0; k < 3; ++k)

@@ -13,6 +13,7 @@
 #include "crowd/bake/track_compression.h"
 #include "crowd/formats/error.h"
 #include "crowd/formats/registry.h"
+#include "crowd/runtime/track_palettes.h"
 #include "crowd/runtime/track_pose.h"
 #include "real_models.h"
 #include "sample_character.h"
@@ -189,6 +190,25 @@ TEST(JointTracks, DamagedChunksAreClearErrors) {
   const auto bytes = pack::encode(good);
   for (size_t n = 0; n < bytes.size(); n += 7)
     EXPECT_THROW(pack::decodeJointTracks(std::span(bytes.data(), n), "TRAK"), Error) << n;
+}
+
+// A clip whose samples pass the 32-bit bit offsets of the palette pass: one clear error at load
+// (the pass would read the wrong samples), not a wrapped offset.
+TEST(JointTracks, AClipPastThePassesBitOffsetsIsAClearError) {
+  pack::AnimationPack p = humanoidWithTracks();
+  EXPECT_NO_THROW(runtime::trackWords(p));
+  auto &clip = p.tracks->clips[0];
+  for (auto &track : clip.tracks)
+    if (track.kind == pack::TrackKind::Animated)
+      track.firstBit = runtime::kMaxClipStreamBits; // as if the samples before filled 2^32 bits
+  try {
+    runtime::trackWords(p);
+    FAIL() << "no error";
+  } catch (const Error &e) {
+    EXPECT_NE(std::string(e.what()).find("clip '" + clip.name + "': its joint tracks take"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(JointTracks, APackWhoseTracksNameOtherClipsIsRejected) {

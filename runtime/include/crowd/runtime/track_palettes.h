@@ -27,7 +27,9 @@ struct TrackWords {
   std::vector<uint32_t> stream; // every clip's stream, one after another
   uint32_t nodes = 0, joints = 0, clips = 0;
 };
-// Throws crowd::Error when the pack has no tracks.
+// The most bits of samples one clip may hold for the pass (its bit offsets are 32-bit).
+inline constexpr uint64_t kMaxClipStreamBits = uint64_t(UINT32_MAX);
+// Throws crowd::Error when the pack has no tracks or a clip's samples pass kMaxClipStreamBits.
 TrackWords trackWords(const pack::AnimationPack &p);
 
 // What one palette shows: `clip` at `seconds` into it; in a crossfade, blended with `from` at
