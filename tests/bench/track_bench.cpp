@@ -1,6 +1,6 @@
 // Compressed joint tracks against today's animation texture, in one run: per clip of each model
-// given (default: ../shared/assets/gltf and tests/data's Blender and gltfpack exports), the bytes
-// and the largest vertex error at any time measured (mm at 1.8 m) of both, the time each bake
+// given (default: ../shared/assets/gltf and tests/data's Blender, gltfpack and keyed exports), the
+// bytes and the largest vertex error at any time measured (mm at 1.8 m) of both, the time each bake
 // took, the CPU time of one pose decoded from each (every joint's matrix at a time), and ACL
 // 2.1's bytes where ../shared/anchors/acl_animation_bytes.csv has the clip.
 //   track_bench [--budget MM] [--csv OUT.csv] [--anchors CSV] [MODEL.glb ...]

@@ -14,6 +14,11 @@
 #   two_rigs.glb    two armatures, each skinning its own mesh: two skins in one file
 #   mirrored.glb    rigid legs, the left the right one's copy under a negative scale (as modellers
 #                   mirror a part): glTF winds its triangles clockwise; a flat-shaded boot each
+#   ../keyed/keys.glb  clips exported as keyed, not sampled: CONSTANT keys (STEP), LINEAR keys
+#                   at uneven subframe times 40-70 degrees apart, Bezier keys (CUBICSPLINE). Kept
+#                   apart from the others: the animation texture cannot follow the first two
+#                   within the budget (compressed joint tracks can), and every test over the
+#                   real models holds the texture to it.
 # The files are committed (tests must not need Blender); rerun this script to remake them (the
 # same characters; the bytes may differ from run to run), or some of them by name:
 #   blender -b --factory-startup --python tests/data/blender/make_characters.py -- mirrored
@@ -373,6 +378,39 @@ def mirrored():
     export(os.path.join(HERE, 'mirrored.glb'))
 
 
+def keys():
+    """Clips keyed as an animator keys them and exported as keyed (no sampling): 'steps' in
+    CONSTANT keys (STEP), 'turns' in LINEAR keys at uneven subframe times, 40 to 70 degrees apart
+    (a fast robot's), 'swing' in Bezier keys (CUBICSPLINE)."""
+    reset()
+    bones = [('root', None, (0, 0, 0.0), (0, 0, 0.8)), ('spine', 'root', (0, 0, 0.8), (0, 0, 1.3)),
+             ('head', 'spine', (0, 0, 1.3), (0, 0, 1.8)),
+             ('arm', 'spine', (0.1, 0, 1.25), (0.7, 0, 1.25))]
+    rig = armature('KeysRig', bones)
+    bm = bmesh.new()
+    add_part(bm, 'cylinder', (0, 0, 0.65), (0.35, 0.35, 1.3), segments=12)
+    add_part(bm, 'sphere', (0, 0, 1.55), (0.35, 0.35, 0.4), segments=12)
+    add_part(bm, 'cylinder', (0.4, 0, 1.25), (0.1, 0.1, 0.6), rotation=(0, math.pi / 2, 0),
+             segments=8)
+    skin(mesh_object('KeysBody', bm, rig, plain_material('Keys', (0.6, 0.4, 0.3))), rig, 4)
+    action(rig, 'steps', 2.0, {
+        'spine': [(0, (0, 0, 0)), (0.5, (0.5, 0, 0)), (1.1, (-0.4, 0, 0)), (2.0, (0, 0, 0))],
+        'arm': [(0, (0, 0, 0)), (0.7, (0, 0, 1.0)), (1.4, (0, 0, -0.6)), (2.0, (0, 0, 0))]})
+    turns, t, angle = [], 0.0, 0.0
+    for k in range(24):  # steps of 19-37 ms (subframes at 24 fps), alternating turns
+        turns.append((t, (0, 0, angle)))
+        t += 0.019 + 0.018 * ((k * 7) % 5) / 4
+        angle += math.radians(40 + 30 * ((k * 3) % 4) / 3) * (1 if k % 2 == 0 else -0.8)
+    action(rig, 'turns', t, {'spine': turns, 'head': [(tk, (a[2] * 0.5, 0, 0)) for tk, a in turns]})
+    action(rig, 'swing', 2.0, {'spine': cycle(0.5, 2.0, 0.0, 1, 4),
+                               'arm': cycle(0.9, 2.0, 1.0, 2, 4)})
+    for name, mode in (('steps', 'CONSTANT'), ('turns', 'LINEAR')):
+        for fc in bpy.data.actions[name].fcurves:
+            for key in fc.keyframe_points:
+                key.interpolation = mode
+    export(os.path.join(HERE, '..', 'keyed', 'keys.glb'), export_force_sampling=False)
+
+
 def many_clips():
     """A bench input, not committed (tests/bench/anim_speed.sh makes it): a dense biped (23k
     triangles, smooth) with 24 clips of 0.5-2.8 s, every bone keyed, every fourth clip in steps
@@ -413,7 +451,7 @@ def many_clips():
 
 
 MAKERS = {'trooper': trooper, 'crawler': crawler, 'robot': robot, 'morph_biped': morph_biped,
-          'two_rigs': two_rigs, 'mirrored': mirrored}
+          'two_rigs': two_rigs, 'mirrored': mirrored, 'keys': keys}
 BENCH_MAKERS = {'many_clips': many_clips}  # by name only, into $CROWD_BLENDER_OUT
 OUT = os.environ.get('CROWD_BLENDER_OUT', HERE)
 for name in sys.argv[sys.argv.index('--') + 1:] if '--' in sys.argv else MAKERS:
