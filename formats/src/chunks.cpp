@@ -493,6 +493,24 @@ AnimationPack loadAnimationPack(const Reader &reader) {
       throw Error(ctx(kClips) + ", field 'first frame': clip '" + c.name +
                   "' runs past the texture's " + std::to_string(p.animation.frameCount) +
                   " frames");
+  // Every frame belongs to a clip (a pack without clips has nothing a consumer may play, and
+  // export, pose and the player index its first clip).
+  std::vector<std::pair<uint64_t, uint64_t>> spans; // [first, end) of each clip's frames
+  for (const auto &c : p.clips)
+    spans.push_back({c.firstFrame, uint64_t(c.firstFrame) + c.frameCount});
+  std::sort(spans.begin(), spans.end());
+  uint64_t covered = 0;
+  for (const auto &[first, end] : spans) {
+    if (first > covered)
+      break;
+    covered = std::max(covered, end);
+  }
+  if (covered < p.animation.frameCount)
+    throw Error(ctx(kClips) + ", field 'clip count': " +
+                (p.clips.empty() ? std::string("no clips, ")
+                                 : std::to_string(p.clips.size()) + " clips, ") +
+                "and frame " + std::to_string(covered) + " of the texture's " +
+                std::to_string(p.animation.frameCount) + " belongs to none");
   if (p.skin.vertexCount != p.mesh.vertexCount())
     throw Error(ctx(kSkinTexture) +
                 ", field 'vertex count': " + std::to_string(p.skin.vertexCount) +

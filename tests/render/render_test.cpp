@@ -727,6 +727,20 @@ TEST(Player, BadInputIsOneClearLine) {
 } // namespace
 
 namespace {
+// Issue 68: a pack whose clip table was emptied (checksums recomputed) drew the bind pose alone
+// and crashed with an impostor in a scene; the loader rejects it, in one line.
+TEST(Player, APackWhoseFramesNoClipOwnsIsOneClearLine) {
+  auto p = pack::loadAnimationPack(pack::Reader::open(work() + "/humanoid.crowdpack"));
+  p.clips.clear();
+  const std::string bad = work() + "/no_clips.crowdpack";
+  pack::writePack(p, bad);
+  auto scene = oneCharacter();
+  scene["packs"][0]["path"] = "no_clips.crowdpack";
+  for (const std::string &what : {bad, writeScene("no_clips", scene)})
+    test::expectOneLineError(run(std::string(CROWDPLAY) + " " + what + " --headless --frames 1"),
+                             "crowdplay", "chunk CLIP, field 'clip count': no clips");
+}
+
 TEST(Player, NoOpenGl45IsOneClearLine) {
   // Mesa honours MESA_GL_VERSION_OVERRIDE: a 3.3 driver cannot give the 4.5 core context.
   auto r = run("MESA_GL_VERSION_OVERRIDE=3.3 " + std::string(CROWDPLAY) + " " +

@@ -363,4 +363,34 @@ TEST(DamagedPack, TruncatedAndBitFlippedPacksFailVerify) {
   fs::remove_all(dir);
 }
 
+// Issue 68: a pack whose clip table was emptied, its checksums recomputed (what a bad tool or a
+// hand edit writes), crashed export (it previews the first clip). The loader every consumer uses
+// now rejects a texture whose frames belong to no clip: one line each, naming the chunk.
+TEST(DamagedPack, FramesThatNoClipOwnsAreRejectedByEveryConsumer) {
+  std::string dir = crowd::test::tempDir("robust_clips");
+  crowd::test::GltfBuilder waving; // the quad with clip "wave" (2 s)
+  waving.morphedQuad(2);
+  std::string input = waving.write(dir, "q");
+  ASSERT_EQ(crowdbake("anim " + input + " -o " + dir + "/p.crowdpack --quiet").code, 0);
+  crowd::pack::AnimationPack p =
+      crowd::pack::loadAnimationPack(crowd::pack::Reader::open(dir + "/p.crowdpack"));
+  ASSERT_EQ(p.clips.size(), 1u);
+  ASSERT_GT(p.animation.frameCount, 2u);
+  const std::string noClips = dir + "/no_clips.crowdpack", short_ = dir + "/short.crowdpack";
+  auto emptied = p;
+  emptied.clips.clear();
+  crowd::pack::writePack(emptied, noClips);
+  auto shortened = p; // the first clip one frame short: the texture's last frame is no clip's
+  shortened.clips.resize(1);
+  shortened.clips[0].frameCount = p.animation.frameCount - 1;
+  crowd::pack::writePack(shortened, short_);
+  const std::string none = "chunk CLIP, field 'clip count': no clips, and frame 0 of the",
+                    last = "frame " + std::to_string(p.animation.frameCount - 1) + " of the";
+  expectOneLineError(crowdbake("verify " + noClips), none);
+  expectOneLineError(crowdbake("export " + noClips + " --images " + dir + "/images"), none);
+  expectOneLineError(crowdbake("pose " + noClips + " -o " + dir + "/pose.ply"), none);
+  expectOneLineError(crowdbake("verify " + short_), last);
+  fs::remove_all(dir);
+}
+
 } // namespace
