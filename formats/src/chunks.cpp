@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 
 #include "crowd/formats/bytes.h"
@@ -516,11 +517,15 @@ AnimationPack loadAnimationPack(const Reader &reader) {
                 ", field 'vertex count': " + std::to_string(p.skin.vertexCount) +
                 " but the mesh has " + std::to_string(p.mesh.vertexCount()));
   for (uint32_t v = 0; v < p.skin.vertexCount; ++v)
-    for (int k = 0; k < 4; ++k)
-      if (p.skin.texels[size_t(v) * 8 + k] >= float(p.skeleton.jointCount()))
+    for (int k = 0; k < 4; ++k) {
+      const float id = p.skin.texels[size_t(v) * 8 + k]; // a whole joint index, as a float
+      if (!(id >= 0 && id < float(p.skeleton.jointCount()) && id == std::floor(id))) {
+        char text[32];
+        std::snprintf(text, sizeof text, "%g", double(id));
         throw Error(ctx(kSkinTexture) + ", field 'texels': vertex " + std::to_string(v) +
-                    " uses joint " + std::to_string(int(p.skin.texels[size_t(v) * 8 + k])) +
-                    " of " + std::to_string(p.skeleton.jointCount()));
+                    " uses joint " + text + " of " + std::to_string(p.skeleton.jointCount()));
+      }
+    }
   return p;
 }
 

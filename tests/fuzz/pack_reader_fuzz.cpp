@@ -11,6 +11,7 @@
 #include "crowd/formats/error.h"
 #include "crowd/formats/impostor.h"
 #include "crowd/formats/registry.h"
+#include "pack_repair.h"
 
 using namespace crowd::pack;
 
@@ -38,34 +39,11 @@ void readAll(std::vector<uint8_t> bytes) {
   }
 }
 
-void put32(std::vector<uint8_t> &b, size_t at, uint32_t v) { std::memcpy(&b[at], &v, 4); }
-
-std::vector<uint8_t> repaired(std::vector<uint8_t> b) {
-  if (b.size() < kHeaderSize)
-    return b;
-  uint64_t size = b.size();
-  std::memcpy(&b[16], &size, 8);
-  uint32_t count;
-  std::memcpy(&count, &b[12], 4);
-  if (count > kMaxChunks || kHeaderSize + uint64_t(count) * kTableEntrySize > b.size())
-    return b;
-  for (uint32_t i = 0; i < count; ++i) {
-    size_t e = kHeaderSize + i * kTableEntrySize;
-    uint64_t offset, length;
-    std::memcpy(&offset, &b[e + 8], 8);
-    std::memcpy(&length, &b[e + 16], 8);
-    if (offset <= b.size() && length <= b.size() - offset)
-      put32(b, e + 24, crc32(std::span<const uint8_t>(b).subspan(offset, length)));
-  }
-  put32(b, 24, crc32(std::span<const uint8_t>(b).subspan(kHeaderSize, count * kTableEntrySize)));
-  return b;
-}
-
 } // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
   std::vector<uint8_t> bytes(data, data + size);
   readAll(bytes);
-  readAll(repaired(std::move(bytes)));
+  readAll(crowd::fuzz::repaired(std::move(bytes)));
   return 0;
 }

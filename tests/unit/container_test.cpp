@@ -103,6 +103,19 @@ TEST(Container, CrossChunkChecksNameTheField) {
               std::string::npos)
         << e.what();
   }
+  // A joint id no int holds (pack_consumer_fuzz: UB where the message cast it to int), and
+  // negative, NaN or between two joints (the chunk's own checks): each named, never followed.
+  for (float id : {5.76461e17f, -1.0f, NAN, 0.5f}) {
+    p = tinyPack();
+    p.skin.texels[0] = id;
+    try {
+      loadAnimationPack(Reader(packBytes(p), "x.crowdpack"));
+      ADD_FAILURE() << "no error for joint id " << id;
+    } catch (const crowd::Error &e) {
+      EXPECT_NE(std::string(e.what()).find("chunk SKIN, field 'texels': "), std::string::npos)
+          << e.what();
+    }
+  }
   p = tinyPack();
   p.mesh.indices[1] = 9;
   EXPECT_THROW(loadAnimationPack(Reader(packBytes(p), "x")), crowd::Error);
