@@ -153,6 +153,20 @@ CrowdRenderer::CrowdRenderer(const std::vector<const pack::AnimationPack *> &pac
     c->pack = &p;
     c->impostor = pi < impostors.size() ? impostors[pi] : nullptr;
     checkTexturesFit(p, c->impostor, scene.packNames[pi]);
+    if (c->impostor) { // a scene's impostor pack drawn with this pack: its clip and outfit exist
+      const auto &m = *c->impostor;
+      const bool clip = std::any_of(p.clips.begin(), p.clips.end(),
+                                    [&](const pack::Clip &k) { return k.name == m.clip; });
+      const bool outfit =
+          m.outfit.empty() ||
+          (p.outfits && std::any_of(p.outfits->outfits.begin(), p.outfits->outfits.end(),
+                                    [&](const auto &o) { return o.name == m.outfit; }));
+      if (!clip || !outfit)
+        throw Error("pack '" + scene.packNames[pi] + "': its impostor shows " +
+                    (clip ? "outfit '" + m.outfit + "', which the pack does not have"
+                          : "clip '" + m.clip + "', which the pack does not have") +
+                    " (bake the impostor from this pack)");
+    }
     if (pi < cloths.size()) {
       try {
         c->cloth = clothBuffers(p, cloths[pi]);

@@ -741,6 +741,26 @@ TEST(Player, APackWhoseFramesNoClipOwnsIsOneClearLine) {
                              "crowdplay", "chunk CLIP, field 'clip count': no clips");
 }
 
+// An impostor pack a scene draws with a pack lacking the impostor's clip: one clear line.
+TEST(Player, AnImpostorOfAnotherClipIsOneClearLine) {
+  const std::string d = work();
+  ASSERT_EQ(run(std::string(CROWDBAKE) + " impostor " + d + "/humanoid.glb -o " + d +
+                "/run.impostor.crowdpack --clip run --frames 2 --views 4x2 --texels 16 --quiet")
+                .code,
+            0);
+  ASSERT_EQ(run(std::string(CROWDBAKE) + " anim " + d + "/humanoid.glb --clip walk -o " + d +
+                "/walk_only.crowdpack --quiet")
+                .code,
+            0);
+  auto scene = oneCharacter();
+  scene["packs"][0]["path"] = "walk_only.crowdpack";
+  scene["packs"][0]["impostor"] = "run.impostor.crowdpack";
+  test::expectOneLineError(run(std::string(CROWDPLAY) + " " + writeScene("other_clip", scene) +
+                               " --headless --frames 1"),
+                           "crowdplay",
+                           "its impostor shows clip 'run', which the pack does not have");
+}
+
 TEST(Player, NoOpenGl45IsOneClearLine) {
   // Mesa honours MESA_GL_VERSION_OVERRIDE: a 3.3 driver cannot give the 4.5 core context.
   auto r = run("MESA_GL_VERSION_OVERRIDE=3.3 " + std::string(CROWDPLAY) + " " +
