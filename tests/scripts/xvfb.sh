@@ -24,6 +24,20 @@ if [ -z "$number" ]; then
   sed 's/^/  Xvfb: /' "$dir/log" >&2
   exit 1
 fi
+# Ready is not always accepting: this stop's CI lost preview_keys to "Failed to open display :0"
+# with -displayfd's number in hand and an empty server log. Where xdotool is installed, a client
+# must connect (up to 10 s) before the command runs; one that never does is said so here.
+if command -v xdotool >/dev/null; then
+  for _ in $(seq 100); do
+    DISPLAY=:$number xdotool getdisplaygeometry >/dev/null 2>&1 && break
+    sleep 0.1
+  done
+  if ! DISPLAY=:$number xdotool getdisplaygeometry >/dev/null 2>&1; then
+    echo "xvfb.sh: display :$number accepts no client after 10 s; the X server's log:" >&2
+    if [ -s "$dir/log" ]; then sed 's/^/  Xvfb: /' "$dir/log" >&2; else echo "  (empty)" >&2; fi
+    exit 1
+  fi
+fi
 DISPLAY=:$number "$@"
 rc=$?
 if [ "$rc" != 0 ] && [ "$rc" != 77 ]; then
