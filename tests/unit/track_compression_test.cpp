@@ -13,6 +13,7 @@
 #include "crowd/bake/import.h"
 #include "crowd/bake/track_compression.h"
 #include "crowd/formats/error.h"
+#include "crowd/formats/limits.h"
 #include "crowd/formats/registry.h"
 #include "crowd/runtime/track_palettes.h"
 #include "crowd/runtime/track_pose.h"
@@ -394,6 +395,23 @@ TEST(TrackCompression, AHundredThousandKeys) {
   EXPECT_TRUE(cc.figures.met) << cc.figures.maxAnyTimeMm();
   EXPECT_EQ(cc.figures.samples, 100000u);
   EXPECT_LE(cc.figures.meanBits, 16);
+}
+
+// One key past what the TRAK decoder reads: one clear error before any sample is evaluated.
+TEST(TrackCompression, MoreKeysThanTracksHoldIsAClearError) {
+  Character c = chain(2);
+  const size_t n = size_t(limits::kTrackSamples) + 1;
+  std::vector<double> times(n), degrees(n);
+  for (size_t k = 0; k < n; ++k)
+    times[k] = double(k) / 1000.0, degrees[k] = double(k % 90);
+  c.clips.push_back(clipOf({rotationZ(1, Interpolation::Step, times, degrees)}));
+  try {
+    compress(c, 0);
+    FAIL() << "a clip of " << n << " keys compressed";
+  } catch (const Error &e) {
+    EXPECT_NE(std::string(e.what()).find("clip 'test': 4194305 samples"), std::string::npos)
+        << e.what();
+  }
 }
 
 // Blender's export of clips kept as keyed (tests/data/keyed/keys.glb): STEP keys, LINEAR keys at

@@ -8,6 +8,7 @@
 #include "crowd/bake/evaluate.h"
 #include "crowd/bake/parallel.h"
 #include "crowd/formats/error.h"
+#include "crowd/formats/limits.h"
 #include "crowd/runtime/track_pose.h"
 
 namespace crowd {
@@ -669,6 +670,13 @@ CompressedClip compressClip(const Character &c, const TrackRig &rig, const Anima
   const double budget = options.errorBudgetMm / options.mmPerUnit; // model units
   ClipCompressor compressor(c, rig, clip, budget, options.threads);
   compressor.refineCurves();
+  // The TRAK decoder's bound, checked before the samples are evaluated.
+  if (compressor.times().size() > limits::kTrackSamples)
+    throw Error("clip '" + clip.name + "': " + std::to_string(compressor.times().size()) +
+                " samples (its keys and those CUBICSPLINE spans need) are more than joint tracks "
+                "hold (" +
+                std::to_string(limits::kTrackSamples) +
+                "); bake it as a texture (without --tracks) or split the clip");
   compressor.sampleTracks();
   compressor.makeConstant();
   const auto &times = compressor.times();
