@@ -422,7 +422,16 @@ AnimationPack loadAnimationPack(const Reader &reader) {
   p.provenance = decodeProvenance(get(kProvenance), ctx(kProvenance));
   p.skeleton = decodeSkeleton(get(kSkeleton), ctx(kSkeleton));
   p.clips = decodeClips(get(kClips), ctx(kClips));
-  p.animation = decodeAnimationTexture(get(kAnimationTexture), ctx(kAnimationTexture));
+  const ChunkEntry *tracks = reader.find(kJointTracks);
+  if (reader.find(kAnimationTexture) || !tracks) {
+    p.animation = decodeAnimationTexture(get(kAnimationTexture), ctx(kAnimationTexture));
+  } else { // joint tracks alone: the clip table's frames stand for the texture's
+    p.animation.jointCount = p.skeleton.jointCount();
+    for (const auto &c : p.clips)
+      p.animation.frameCount = uint32_t(std::min<uint64_t>(
+          std::max<uint64_t>(p.animation.frameCount, uint64_t(c.firstFrame) + c.frameCount),
+          UINT32_MAX));
+  }
   p.skin = decodeSkinTexture(get(kSkinTexture), ctx(kSkinTexture));
   p.mesh = decodeMesh(get(kMesh), ctx(kMesh));
   if (const ChunkEntry *texture = reader.find(kDiffuseTexture)) {
@@ -470,7 +479,7 @@ AnimationPack loadAnimationPack(const Reader &reader) {
                   std::to_string(p.mesh.vertexCount()) + ", the animation texture " +
                   std::to_string(p.animation.frameCount) + ")");
   }
-  if (const ChunkEntry *tracks = reader.find(kJointTracks)) {
+  if (tracks) {
     p.tracks = decodeJointTracks(reader.payload(*tracks), ctx(kJointTracks));
     if (p.tracks->skeleton.jointNodes.size() != p.skeleton.jointCount())
       throw Error(ctx(kJointTracks) +
@@ -534,7 +543,10 @@ std::vector<uint8_t> packBytes(const AnimationPack &p) {
   w.add(kProvenance, kChunkVersion, encode(p.provenance));
   w.add(kSkeleton, kChunkVersion, encode(p.skeleton));
   w.add(kClips, kChunkVersion, encode(p.clips));
-  w.add(kAnimationTexture, kChunkVersion, encode(p.animation));
+  if (!p.hasTexture() && !p.tracks)
+    throw Error("the pack stores neither an animation texture nor joint tracks");
+  if (p.hasTexture())
+    w.add(kAnimationTexture, kChunkVersion, encode(p.animation));
   w.add(kSkinTexture, kChunkVersion, encode(p.skin));
   w.add(kMesh, kChunkVersion, encode(p.mesh));
   if (p.diffuse)

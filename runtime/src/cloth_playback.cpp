@@ -6,7 +6,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "crowd/formats/error.h"
-#include "crowd/runtime/texture_skinning.h"
+#include "crowd/runtime/pack_joints.h"
 
 namespace crowd::runtime {
 
@@ -88,7 +88,7 @@ ClothBuffers clothBuffers(const pack::AnimationPack &p, ClothLoops loops) {
       float phase = g.startCycle + float(f) / g.framesPerCycle;
       phase -= std::floor(phase);
       const auto at = clipTimeAt(c, phase * lastFrame(c) / c.fps);
-      const JointRows m = sampleJoint(p.animation, c, at.frame, at.alpha, b.rootJoint);
+      const JointRows m = sampleJoint(p, clip, at.frame, at.alpha, b.rootJoint);
       for (uint32_t v = 0; v < loop.vertexCount(); ++v) {
         const glm::vec4 q(clothBindPosition(b, g, {f, f, 0.0f}, v), 1.0f);
         const glm::vec3 world(glm::dot(m[0], q), glm::dot(m[1], q), glm::dot(m[2], q));
@@ -140,7 +140,7 @@ bool clothVertexAt(const pack::AnimationPack &pack, const ClothBuffers &b, uint3
   const glm::vec4 q(clothBindPosition(b, g, loopTimeAt(c, g, clipSeconds),
                                       uint32_t(b.vertices[2 * size_t(v) + 1])),
                     1.0f);
-  const JointRows m = sampleJoint(pack.animation, c, at.frame, at.alpha, b.rootJoint);
+  const JointRows m = sampleJoint(pack, clip, at.frame, at.alpha, b.rootJoint);
   position = glm::vec3(glm::dot(m[0], q), glm::dot(m[1], q), glm::dot(m[2], q));
   return true;
 }

@@ -123,7 +123,8 @@ void checkTexturesFit(const pack::AnimationPack &p, const pack::Impostor *m,
                   ", more than this OpenGL allows (" + std::to_string(side) + " texels a side, " +
                   std::to_string(layers) + " layers); bake it smaller");
   };
-  fit("animation", p.animation.width, p.animation.height);
+  if (p.hasTexture())
+    fit("animation", p.animation.width, p.animation.height);
   fit("skin weight", p.skin.width, p.skin.height);
   if (p.diffuse)
     fit("diffuse", p.diffuse->width, p.diffuse->height);
@@ -279,7 +280,8 @@ CrowdRenderer::CrowdRenderer(const std::vector<const pack::AnimationPack *> &pac
                          c->instanceData.data(),
                          schedule_.dynamic() || scene.world.enabled() ? GL_DYNAMIC_STORAGE_BIT : 0);
     upload(c->buffers[5], colours);
-    upload(c->buffers[16], jointTexelWords(p.animation));
+    upload(c->buffers[16], p.hasTexture() ? jointTexelWords(p.animation)
+                                          : std::vector<int32_t>(2, 0)); // unread, but bound
     upload(c->buffers[11], morphSlotWords(p.morphs ? &*p.morphs : nullptr));
     upload(c->buffers[12], p.morphs ? p.morphs->offsets : std::vector<float>(8, 0.0f));
     if (c->cloth.empty()) { // unread, but bound
@@ -328,12 +330,18 @@ CrowdRenderer::CrowdRenderer(const std::vector<const pack::AnimationPack *> &pac
       const unsigned buffers[3] = {c->buffers[9], c->buffers[17], c->buffers[18]};
       c->impostorGpu = uploadImpostor(*c->impostor, c->textures + 3, buffers);
     }
-    const auto &t = p.animation;
-    bool half = t.format == pack::TexelFormat::RGBA16F;
-    glTextureStorage2D(c->textures[0], 1, half ? GL_RGBA16F : GL_RGBA32F, GLsizei(t.width),
-                       GLsizei(t.height));
-    glTextureSubImage2D(c->textures[0], 0, 0, 0, GLsizei(t.width), GLsizei(t.height), GL_RGBA,
-                        half ? GL_HALF_FLOAT : GL_FLOAT, t.texels.data());
+    if (p.hasTexture()) {
+      const auto &t = p.animation;
+      bool half = t.format == pack::TexelFormat::RGBA16F;
+      glTextureStorage2D(c->textures[0], 1, half ? GL_RGBA16F : GL_RGBA32F, GLsizei(t.width),
+                         GLsizei(t.height));
+      glTextureSubImage2D(c->textures[0], 0, 0, 0, GLsizei(t.width), GLsizei(t.height), GL_RGBA,
+                          half ? GL_HALF_FLOAT : GL_FLOAT, t.texels.data());
+    } else { // joint tracks alone: unread (the palettes skin), but bound
+      const float zero[4] = {0, 0, 0, 0};
+      glTextureStorage2D(c->textures[0], 1, GL_RGBA32F, 1, 1);
+      glTextureSubImage2D(c->textures[0], 0, 0, 0, 1, 1, GL_RGBA, GL_FLOAT, zero);
+    }
     glTextureStorage2D(c->textures[1], 1, GL_RGBA32F, GLsizei(p.skin.width),
                        GLsizei(p.skin.height));
     glTextureSubImage2D(c->textures[1], 0, 0, 0, GLsizei(p.skin.width), GLsizei(p.skin.height),
@@ -616,7 +624,8 @@ DrawStats CrowdRenderer::draw(const FrameView &view, float seconds, const DrawOp
     glNamedBufferSubData(c->buffers[10], 0, GLsizeiptr(c->commands.size() * 4), c->commands.data());
 
     // Skinning palettes for the instances drawn as geometry (all of them on the naive path).
-    c->skinFromPalettes = options.trackSkinning && p.tracks;
+    // A pack of joint tracks alone skins from palettes whatever the option.
+    c->skinFromPalettes = p.tracks && (options.trackSkinning || !p.hasTexture());
     if (c->skinFromPalettes && !c->palettes) { // built on first use: most frames draw textures
       if (!paletteProgram_)
         paletteProgram_ = buildComputeProgram(kPaletteComp, "palette");

@@ -4,8 +4,8 @@
 
 #include "crowd/formats/error.h"
 #include "crowd/runtime/lod_select.h"
+#include "crowd/runtime/pack_joints.h"
 #include "crowd/runtime/render_queues.h"
-#include "crowd/runtime/texture_skinning.h"
 
 namespace crowd::runtime {
 
@@ -85,7 +85,7 @@ void poseAt(const pack::AnimationPack &pack, const PoseMesh &mesh, float seconds
   std::vector<JointRows> joints;
   if (mesh.clip) {
     frameAt(*mesh.clip, seconds, frame, alpha);
-    joints = sampleJoints(pack.animation, *mesh.clip, frame, alpha);
+    joints = sampleJoints(pack, size_t(mesh.clip - pack.clips.data()), frame, alpha);
   }
   const auto clip = mesh.clip ? uint32_t(mesh.clip - pack.clips.data()) : 0;
   // Cloth loop vertices and flat-shaded ones (a zero normal) get the normal of their faces.

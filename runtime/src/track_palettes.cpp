@@ -18,7 +18,7 @@ uint32_t bitsOf(float f) {
 
 const pack::JointTracks &tracksOf(const pack::AnimationPack &p) {
   if (!p.tracks)
-    throw Error("the pack has no joint tracks (bake it with crowdbake anim --tracks)");
+    throw Error("the pack has no joint tracks (bake it with crowdbake anim --store tracks)");
   return *p.tracks;
 }
 

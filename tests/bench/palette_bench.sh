@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Skinning from compressed joint tracks against the animation texture, in one run: the sample
-# humanoid baked with --tracks (the pack holds both) in samples/scenes/crowd10k.json at 10k and
+# humanoid baked with --store both in samples/scenes/crowd10k.json at 10k and
 # 30k walkers, crowdplay --skinning texture and --skinning tracks alternating, ROUNDS rounds,
 # drawn as the scene is (hybrid: the far ones impostors, not skinned) and as geometry only
 # (--geometry: every visible walker skinned; PATHS=hybrid leaves it out).
@@ -20,7 +20,7 @@ mkdir -p "$out"
 display=()
 command -v Xvfb >/dev/null && display=(tests/scripts/xvfb.sh)
 pack=$out/humanoid_tracks.crowdpack
-build/bin/crowdbake lod out/samples/humanoid.glb --tracks -o "$pack" --quiet
+build/bin/crowdbake lod out/samples/humanoid.glb --store both -o "$pack" --quiet
 scene=$out/palette_bench_scene.json
 python3 - samples/scenes/crowd10k.json "$scene" "$(realpath "$pack")" \
   "$(realpath out/humanoid_walk.impostor.crowdpack)" <<'PY'

@@ -70,9 +70,10 @@ const Baked &humanoid(const std::string &precision) {
   Baked b{importGltf(dir + "/humanoid.glb", {}, rep), {}};
   AnimBakeOptions o;
   const bool rows = precision == "qts+rows";
-  o.tracks = precision == "tracks"; // the default bake, with joint tracks
-  o.precision = rows ? "qts" : o.tracks ? "auto" : precision;
-  if (precision != "auto" && !o.tracks)
+  const bool tracks = precision == "tracks";
+  o.store = tracks ? "both" : o.store; // the default bake, with joint tracks
+  o.precision = rows ? "qts" : tracks ? "auto" : precision;
+  if (precision != "auto" && !tracks)
     o.fps = 30;
   b.result = bakeAnimation(b.character, o, rep);
   if (rows) { // the same frames, rebuilt with matrix joints

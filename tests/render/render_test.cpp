@@ -283,16 +283,20 @@ TEST(Player, CullingChangesNoPixel) {
 
 // Skinning from compressed joint tracks (palettes decoded by a compute pass) draws what the
 // animation texture draws: 16 walkers changing clip every 0.5-1.5 s with 0.3 s crossfades, at
-// three times; every instance gets a palette, and only as many as differ.
+// three times; every instance gets a palette, and only as many as differ. A pack of joint
+// tracks alone (--store tracks) draws the same with the player's default option.
 TEST(Player, TrackSkinningDrawsWhatTheTextureDraws) {
-  ASSERT_EQ(run(std::string(CROWDBAKE) + " anim " + work() + "/humanoid.glb --tracks -o " + work() +
-                "/humanoid_tracks.crowdpack --quiet")
-                .code,
-            0);
+  for (const char *store : {"both", "tracks"})
+    ASSERT_EQ(run(std::string(CROWDBAKE) + " anim " + work() + "/humanoid.glb --store " + store +
+                  " -o " + work() + "/humanoid_" + store + ".crowdpack --quiet")
+                  .code,
+              0);
   auto scene = smallCrowd();
-  scene["packs"][0]["path"] = "humanoid_tracks.crowdpack";
+  scene["packs"][0]["path"] = "humanoid_both.crowdpack";
   scene["instances"]["switch"] = {{"every", {{"min", 0.5}, {"max", 1.5}}}, {"fade", 0.3}};
   const std::string path = writeScene("tracks", scene);
+  scene["packs"][0]["path"] = "humanoid_tracks.crowdpack";
+  const std::string alone = writeScene("tracks_alone", scene);
   const std::string common = " --headless --frames 3 --step 0.7 --time 1 --size 320x180";
   std::map<std::string, Image> shots;
   for (const std::string skinning : {"texture", "tracks"}) {
@@ -310,12 +314,23 @@ TEST(Player, TrackSkinningDrawsWhatTheTextureDraws) {
       EXPECT_LE(s["palettes"].get<double>(), s["visible"].get<double>());
     }
   }
-  const Comparison c = compare(shots["texture"], shots["tracks"]);
-  std::printf("tracks against texture skinning: silhouette IoU %.4f, mean difference %.3f/255 "
-              "(%.3f where both cover)\n",
-              c.iou, c.mean, c.meanOverlap);
-  EXPECT_GE(c.iou, 0.98);
-  EXPECT_LE(c.meanOverlap, 2.0);
+  const std::string png = work() + "/skinning_alone.png", stats = work() + "/skinning_alone.json";
+  ASSERT_EQ(run(std::string(CROWDPLAY) + " " + alone + common + " --screenshot " + png +
+                " --stats " + stats)
+                .code,
+            0);
+  shots["tracks alone"] = readPng(png);
+  EXPECT_GT(summaryOf(stats)["summary"]["palettes"].get<double>(), 0.0);
+  for (const char *against : {"tracks", "tracks alone"}) {
+    const Comparison c = compare(shots["texture"], shots[against]);
+    std::printf("%s against texture skinning: silhouette IoU %.4f, mean difference %.3f/255 "
+                "(%.3f where both cover)\n",
+                against, c.iou, c.mean, c.meanOverlap);
+    EXPECT_GE(c.iou, 0.98);
+    EXPECT_LE(c.meanOverlap, 2.0);
+  }
+  EXPECT_EQ(compare(shots["tracks"], shots["tracks alone"]).mean, 0.0)
+      << "the same tracks drew differently without the texture beside them";
 }
 
 TEST(Player, BudgetedLodStaysWithinTheBudget) {

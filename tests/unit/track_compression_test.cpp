@@ -118,13 +118,13 @@ TEST(JointTracks, UniformTimesAreOneStep) {
   EXPECT_FALSE(pack::uniformTimes(t));
 }
 
-// The sample humanoid baked with --tracks: its TRAK chunk, as written and as read back.
+// The sample humanoid baked with --store both: its TRAK chunk, as written and as read back.
 const pack::AnimationPack &humanoidWithTracks() {
   static const pack::AnimationPack p = [] {
     Reporter r;
     r.quiet = true;
     AnimBakeOptions o;
-    o.tracks = true;
+    o.store = "both";
     return bakeAnimation(test::sampleHumanoid(), o, r).pack;
   }();
   return p;

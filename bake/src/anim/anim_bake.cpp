@@ -30,6 +30,25 @@ void AnimBakeOptions::validate() const {
     } catch (const Error &e) {
       throw Error(std::string("precision: ") + e.what() + " or auto");
     }
+  const auto &all = stores();
+  if (std::find(all.begin(), all.end(), store) == all.end())
+    throw Error("store: '" + store + "' is none of texture, tracks, both or auto");
+}
+
+const std::vector<std::string> &AnimBakeOptions::stores() {
+  static const std::vector<std::string> names = {"texture", "tracks", "both", "auto"};
+  return names;
+}
+
+uint64_t AnimBakeResult::textureBytes() const { return accuracy.at(baked).textureBytes; }
+
+uint64_t AnimBakeResult::tracksBytes() const {
+  if (!pack.tracks)
+    return 0;
+  uint64_t bytes = pack::skeletonBytes(pack.tracks->skeleton);
+  for (const auto &clip : pack.tracks->clips)
+    bytes += pack::clipBytes(clip);
+  return bytes;
 }
 
 double AnimBakeOptions::parseFps(const std::string &text) {
@@ -125,15 +144,70 @@ void compressTracks(const Character &c, const std::vector<const AnimationClip *>
                   std::to_string(sourceClips.size()) + " (" + sourceClips[ci]->name + ")");
     CompressedClip cc = compressClip(c, rig, *sourceClips[ci], ci, to);
     cc.clip.name = result.pack.clips[ci].name;
-    if (!cc.figures.met)
-      reporter.warn("error_budget_not_met",
-                    "clip '" + cc.clip.name + "': its joint tracks err by up to " +
-                        std::to_string(cc.figures.maxAnyTimeMm()) + " mm, over the " +
-                        std::to_string(options.errorBudgetMm) + " mm budget");
     result.tracks.push_back(cc.figures);
     tracks.clips.push_back(std::move(cc.clip));
   }
   result.pack.tracks = std::move(tracks);
+}
+
+std::string millimetres(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g mm", v);
+  return buf;
+}
+
+// One warning per clip whose stored animation errs over the budget.
+void warnOverBudget(const AnimBakeResult &result, Reporter &reporter) {
+  const std::string over = ", over the " + millimetres(result.errorBudgetMm) + " budget";
+  if (result.storesTexture())
+    for (const auto &a : result.accuracy[result.baked].clips)
+      if (a.maxAnyTime() * result.mmPerUnit > result.errorBudgetMm)
+        reporter.warn("error_budget_not_met",
+                      "clip '" + a.clip + "': the player errs by up to " +
+                          millimetres(a.maxAnyTime() * result.mmPerUnit) + " at " +
+                          result.budget.precision + over +
+                          " (a step between keys, or a motion faster than the rates tried, "
+                          "cannot be met by a texture; see the report's options_tried, or store "
+                          "joint tracks: --store auto)");
+  if (result.storesTracks())
+    for (const auto &t : result.tracks)
+      if (!t.met)
+        reporter.warn("error_budget_not_met", "clip '" + t.clip +
+                                                  "': its joint tracks err by up to " +
+                                                  millimetres(t.maxAnyTimeMm()) + over);
+}
+
+// What the pack stores (AnimBakeOptions::store); "auto" keeps the fewer bytes among the
+// encodings meeting the budget on every clip, else the one erring least.
+void chooseStore(const AnimBakeOptions &options, AnimBakeResult &result, Reporter &reporter) {
+  if (options.store != "auto") {
+    result.stored = options.store;
+    return;
+  }
+  double textureWorst = 0, tracksWorst = 0; // mm
+  for (const auto &a : result.accuracy[result.baked].clips)
+    textureWorst = std::max(textureWorst, a.maxAnyTime() * result.mmPerUnit);
+  for (const auto &t : result.tracks)
+    tracksWorst = std::max(tracksWorst, t.maxAnyTimeMm());
+  const bool textureMeets = textureWorst <= options.errorBudgetMm,
+             tracksMeet = tracksWorst <= options.errorBudgetMm;
+  const uint64_t textureBytes = result.textureBytes(), tracksBytes = result.tracksBytes();
+  const std::string figures = "texture " + std::to_string(textureBytes) + " bytes, " +
+                              millimetres(textureWorst) + "; tracks " +
+                              std::to_string(tracksBytes) + " bytes, " + millimetres(tracksWorst);
+  if (textureMeets && tracksMeet) {
+    result.stored = tracksBytes <= textureBytes ? "tracks" : "texture";
+    result.storeReason =
+        "both meet the budget, " + result.stored + " in fewer bytes (" + figures + ")";
+  } else if (textureMeets || tracksMeet) {
+    result.stored = tracksMeet ? "tracks" : "texture";
+    result.storeReason = "only " + result.stored + " meets the budget (" + figures + ")";
+  } else {
+    result.stored = tracksWorst <= textureWorst ? "tracks" : "texture";
+    result.storeReason =
+        "neither meets the budget, " + result.stored + " errs less (" + figures + ")";
+  }
+  reporter.step("stores " + result.stored + ": " + result.storeReason);
 }
 
 } // namespace
@@ -343,29 +417,20 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
     result.accuracy.push_back(std::move(pa));
   }
   budget.met = true; // from the full measure, frame times included
-  for (const auto &a : result.accuracy[result.baked].clips) {
-    const double mm = a.maxAnyTime() * result.mmPerUnit;
-    if (mm <= options.errorBudgetMm)
-      continue;
-    budget.met = false;
-    const auto text = [](double v) {
-      char buf[32];
-      std::snprintf(buf, sizeof buf, "%.3g", v);
-      return std::string(buf);
-    };
-    reporter.warn("error_budget_not_met",
-                  "clip '" + a.clip + "': the player errs by up to " + text(mm) + " mm at " +
-                      chosen.name + ", over the " + text(options.errorBudgetMm) +
-                      " mm budget (a step between keys, or a motion faster than the rates tried, "
-                      "cannot be met; see the report's options_tried)");
-  }
+  for (const auto &a : result.accuracy[result.baked].clips)
+    budget.met &= a.maxAnyTime() * result.mmPerUnit <= options.errorBudgetMm;
 
-  if (options.tracks)
+  if (options.compressesTracks())
     compressTracks(c, sourceClips, options, result, reporter);
+  chooseStore(options, result, reporter);
+  warnOverBudget(result, reporter); // of what the pack stores
 
-  if (sourceClips.size() > 1)
+  // The texture's crossfades (blended joint matrices). Not yet measured for tracks alone, whose
+  // fades blend local poses against another reference (the exact local-pose fade).
+  if (sourceClips.size() > 1 && result.storesTexture()) {
     reporter.step("crossfades between " + std::to_string(sourceClips.size()) + " clips");
-  result.fades = measureFades(c, sourceClips, pk, options.threads);
+    result.fades = measureFades(c, sourceClips, pk, options.threads);
+  }
 
   // Mesh, with a bounding sphere over every frame of every clip. Matrix blends keep mid-frame
   // positions inside the frames' hull; the baked precision's worst error is added on top.
@@ -407,11 +472,19 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
   double radius = 0;
   for (double r : frameRadius)
     radius = std::max(radius, r);
-  double slack = 0;
-  for (const auto &a : result.accuracy[result.baked].clips)
-    slack = std::max(slack, a.maxAnyTime());
+  double slack = 0; // the worst error of what the pack stores
+  if (result.storesTexture())
+    for (const auto &a : result.accuracy[result.baked].clips)
+      slack = std::max(slack, a.maxAnyTime());
+  if (result.storesTracks())
+    for (const auto &t : result.tracks)
+      slack = std::max(slack, t.maxAnyTimeMm() / result.mmPerUnit);
   radius = (radius + slack) * (1 + 1e-6) + 1e-6 * result.diagonal;
   mesh.boundingSphere = {float(centre.x), float(centre.y), float(centre.z), float(radius)};
+  if (!result.storesTexture()) // the clip table's frames still count the morph weights' frames
+    pk.animation = {.jointCount = pk.animation.jointCount, .frameCount = pk.animation.frameCount};
+  if (!result.storesTracks())
+    pk.tracks.reset();
   return result;
 }
 

@@ -66,7 +66,15 @@ ordered_json animFigures(const AnimBakeResult &r) {
   for (uint32_t j : r.budget.matrixJoints)
     f["matrix_joints"].push_back(r.pack.skeleton.names.at(j));
   f["error_budget_mm"] = r.errorBudgetMm;
-  f["budget_met"] = r.budget.met;
+  // What the pack stores and what it takes; budget_met and each clip's errors are of it.
+  f["store"] = r.stored;
+  if (!r.storeReason.empty())
+    f["store_reason"] = r.storeReason;
+  f["animation_bytes"] = (r.storesTexture() ? r.textureBytes() : 0) + r.tracksBytes();
+  bool tracksMet = true;
+  for (const auto &t : r.tracks)
+    tracksMet &= t.met;
+  f["budget_met"] = (!r.storesTexture() || r.budget.met) && (!r.storesTracks() || tracksMet);
   f["clips"] = ordered_json::array();
   for (size_t i = 0; i < r.pack.clips.size(); ++i) {
     const auto &c = r.pack.clips[i];
@@ -75,7 +83,20 @@ ordered_json animFigures(const AnimBakeResult &r) {
                        {"fps", c.fps},
                        {"start_time", c.startTime},
                        {"loop", c.loop}};
-    cj.update(clipErrorsJson(baked.clips.at(i), r));
+    const bool tracksAlone = !r.storesTexture();
+    if (tracksAlone) { // the player's errors are the tracks'
+      const TrackClipFigures &t = r.tracks.at(i);
+      cj["max_error_any_time_mm"] = t.maxAnyTimeMm();
+      cj["max_error_any_time"] = t.maxAnyTimeMm() / r.mmPerUnit / r.diagonal;
+      cj["animation_bytes"] = t.bytes;
+    } else {
+      cj.update(clipErrorsJson(baked.clips.at(i), r));
+      const PrecisionAccuracy &pa = r.accuracy[r.baked];
+      cj["animation_bytes"] =
+          uint64_t(c.frameCount) *
+              pa.precision.frameBytes(r.pack.skeleton.jointCount(), r.budget.matrixJoints.size()) +
+          (r.storesTracks() ? r.tracks.at(i).bytes : 0);
+    }
     if (i < r.budget.clips.size()) { // not the rest pose
       const ClipBudget &b = r.budget.clips[i];
       cj["source_fps"] = b.sourceFps;
@@ -87,7 +108,7 @@ ordered_json animFigures(const AnimBakeResult &r) {
                                        {"max_error_any_time_mm", o.maxErrorMm},
                                        {"meets_budget", o.meets}});
     }
-    if (i < r.tracks.size()) { // AnimBakeOptions::tracks: the TRAK chunk's clip
+    if (i < r.tracks.size()) { // the tracks compressed: the TRAK chunk's clip
       const TrackClipFigures &t = r.tracks[i];
       cj["tracks"] = {{"animation_bytes", t.bytes},
                       {"keys", t.keys},
@@ -106,10 +127,7 @@ ordered_json animFigures(const AnimBakeResult &r) {
     f["clips"].push_back(cj);
   }
   if (const auto &t = r.pack.tracks) { // what the TRAK chunk takes: the skeleton and every clip
-    uint64_t bytes = pack::skeletonBytes(t->skeleton);
-    for (const auto &clip : t->clips)
-      bytes += pack::clipBytes(clip);
-    f["tracks_bytes"] = bytes;
+    f["tracks_bytes"] = r.tracksBytes();
     f["tracks_skeleton_bytes"] = pack::skeletonBytes(t->skeleton);
   }
   if (r.fades.pairs) // the player's crossfades between clips, against the exact fade

@@ -676,7 +676,7 @@ CompressedClip compressClip(const Character &c, const TrackRig &rig, const Anima
                 " samples (its keys and those CUBICSPLINE spans need) are more than joint tracks "
                 "hold (" +
                 std::to_string(limits::kTrackSamples) +
-                "); bake it as a texture (without --tracks) or split the clip");
+                "); bake it as a texture (--store texture) or split the clip");
   compressor.sampleTracks();
   compressor.makeConstant();
   const auto &times = compressor.times();

@@ -123,7 +123,7 @@ CharacterManifest parse(const JsonChecker &c, const json &j, const Keys &at,
   if (j.contains("anim")) {
     const Keys k = key("anim");
     const json &a = j["anim"];
-    c.onlyKeys(a, k, {"fps", "max_width", "precision", "error_budget_mm", "tracks"});
+    c.onlyKeys(a, k, {"fps", "max_width", "precision", "error_budget_mm", "store"});
     if (a.contains("fps"))
       m.anim.fps = a["fps"].is_string()
                        ? fpsOf(c, c.string(a["fps"], key2("anim", "fps")), key2("anim", "fps"))
@@ -136,8 +136,8 @@ CharacterManifest parse(const JsonChecker &c, const json &j, const Keys &at,
           whole(c, a["max_width"], key2("anim", "max_width"), 2, limits::kTextureSide);
     if (a.contains("precision"))
       m.anim.precision = c.string(a["precision"], key2("anim", "precision"));
-    if (a.contains("tracks"))
-      m.anim.tracks = c.boolean(a["tracks"], key2("anim", "tracks"));
+    if (a.contains("store"))
+      m.anim.store = c.string(a["store"], key2("anim", "store"));
     validate(c, m.anim, k);
   }
   if (j.contains("lod")) {
@@ -314,8 +314,8 @@ nlohmann::ordered_json CharacterManifest::canonical() const {
                {"max_width", anim.maxWidth},
                {"precision", anim.precision},
                {"error_budget_mm", anim.errorBudgetMm}};
-  if (anim.tracks) // absent when unset: earlier keys stay valid
-    j["anim"]["tracks"] = true;
+  if (anim.store != AnimBakeOptions{}.store) // absent at the default: earlier keys stay valid
+    j["anim"]["store"] = anim.store;
   if (lod)
     j["lod"] = {{"floor", lodOptions.floorFraction}, {"poses", lodOptions.poses}};
   else

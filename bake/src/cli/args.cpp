@@ -96,10 +96,14 @@ void addAnimOptions(CLI::App &app, AnimBakeOptions &anim) {
       ->capture_default_str();
   app.add_option("--max-width", anim.maxWidth, "texture width limit in texels")
       ->capture_default_str();
-  app.add_flag("--tracks", anim.tracks,
-               "also store every clip as compressed joint tracks on its own keys (the TRAK "
-               "chunk, within the same error budget; the report's clips[].tracks), beside the "
-               "texture the player draws");
+  app.add_option("--store", anim.store,
+                 "the animation the pack stores: texture (joint matrices per frame, the ANIM "
+                 "chunk); tracks (every clip compressed into joint tracks on its own keys "
+                 "within the same error budget, the TRAK chunk: crowdplay decodes them on the "
+                 "GPU); both; auto: the fewer bytes among those meeting the budget (the "
+                 "report's store_reason says why)")
+      ->check(CLI::IsMember(AnimBakeOptions::stores()))
+      ->capture_default_str();
 }
 
 void addThreads(CLI::App &app, int &threads) {

@@ -22,8 +22,9 @@ namespace fs = std::filesystem;
 const char *const kPoseHelp = R"(Writes the mesh exactly as crowdplay draws it at a time of a clip:
 the outfit's sub-meshes at the LOD cut, skinned from the pack's animation and skin textures by
 the CPU mirror of the player's vertex shader (the same texel fetch, frame blend and single
-precision). A time past the clip's end wraps for a looping clip and clamps otherwise, with a
-warning; a pack without clips writes the bind pose. A garment with a cloth loop over the clip
+precision); a pack of joint tracks alone (crowdbake anim --store tracks) by the CPU mirror of
+the player's palette pass. A time past the clip's end wraps for a looping clip and clamps
+otherwise, with a warning; a pack without clips writes the bind pose. A garment with a cloth loop over the clip
 (crowdbake cloth) plays its loop, whose cycles count on past the clip's end: the time is not
 wrapped for it. Formats: PLY, binary glTF (.glb: a static
 mesh, unit normals), OBJ and PC2. --times writes OUT_0001.EXT, ... per time,

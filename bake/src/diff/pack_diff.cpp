@@ -15,7 +15,7 @@
 #include "crowd/formats/error.h"
 #include "crowd/formats/impostor.h"
 #include "crowd/formats/terrain.h"
-#include "crowd/runtime/texture_skinning.h"
+#include "crowd/runtime/pack_joints.h"
 
 namespace crowd {
 
@@ -110,7 +110,7 @@ struct Animated : pack::AnimationPack {
   glm::vec3 at(const pack::Clip &c, float seconds, uint32_t v) {
     const runtime::ClipTime t = runtime::clipTimeAt(c, seconds);
     if (sampledClip_ != &c || sampledFrame_ != t.frame || sampledAlpha_ != t.alpha) {
-      joints_ = runtime::sampleJoints(animation, c, t.frame, t.alpha);
+      joints_ = runtime::sampleJoints(*this, size_t(&c - clips.data()), t.frame, t.alpha);
       sampledClip_ = &c, sampledFrame_ = t.frame, sampledAlpha_ = t.alpha;
     }
     runtime::SkinnedVertex bind{
@@ -151,12 +151,18 @@ public:
     if (golden_.has("MESH"))
       out_.mmPerUnit =
           millimetresPerUnit(pack::decodeMesh(golden_.payload("MESH"), golden_.context("MESH")));
+    // The animation stored as a texture on one side and as joint tracks on the other (or
+    // both): compared where the player puts each vertex, as for any other change.
+    const bool animations = stored(golden_) && stored(fresh_);
     for (const auto &[key, c] : golden_.chunks)
       if (!fresh_.has(key))
-        add({key, "chunk", 0, "", "only in the golden pack", DiffVerdict::Incomparable});
+        onlyIn(key, "golden", animations);
     for (const auto &[key, c] : fresh_.chunks)
       if (!golden_.has(key))
-        add({key, "chunk", 0, "", "only in the new pack", DiffVerdict::Incomparable});
+        onlyIn(key, "new", animations);
+    if (animations &&
+        (golden_.has("ANIM") != fresh_.has("ANIM") || golden_.has("TRAK") != fresh_.has("TRAK")))
+      animationGroup("ANIM");
     for (const auto &[key, c] : golden_.chunks) {
       if (!fresh_.has(key))
         continue;
@@ -176,6 +182,14 @@ private:
     out_.verdict = std::max(out_.verdict, item.informational ? DiffVerdict::Pass : item.verdict);
     out_.items.push_back(std::move(item));
   }
+  static bool stored(const Side &s) { return s.has("ANIM") || s.has("TRAK"); }
+  void onlyIn(const std::string &key, const char *side, bool animations) {
+    const std::string text = std::string("only in the ") + side + " pack";
+    if (animations && (key == "ANIM" || key == "TRAK"))
+      informational(key, "chunk", text + ": compared through the animation displacement");
+    else
+      add({key, "chunk", 0, "", text, DiffVerdict::Incomparable});
+  }
   void incomparable(const std::string &key, const std::string &why) {
     add({key, "structure", 0, "", why, DiffVerdict::Incomparable});
   }
@@ -189,7 +203,7 @@ private:
     const std::string type = key.substr(0, 4);
     if (type == "PROV")
       provenance(key);
-    else if (type == "SKEL" || type == "CLIP" || type == "ANIM" || type == "MRPH")
+    else if (type == "SKEL" || type == "CLIP" || type == "ANIM" || type == "TRAK" || type == "MRPH")
       animationGroup(key);
     else if (type == "SKIN")
       skin(key);
@@ -232,14 +246,17 @@ private:
     informational(key, "provenance", text.empty() ? "differs" : text);
   }
 
-  // Skeleton, clips, animation texture and morphs together: where the player puts each vertex.
+  // Skeleton, clips, animation (texture or joint tracks) and morphs together: where the player
+  // puts each vertex.
   void animationGroup(const std::string &key) {
     if (animationDone_)
       return informational(key, "animation", "compared through the animation displacement");
     animationDone_ = true;
-    for (const char *k : {"SKEL", "CLIP", "ANIM", "SKIN", "MESH"})
+    for (const char *k : {"SKEL", "CLIP", "SKIN", "MESH"})
       if (!golden_.has(k) || !fresh_.has(k))
         return incomparable(key, std::string("no ") + k + " chunk to skin with");
+    if (!stored(golden_) || !stored(fresh_))
+      return incomparable(key, "no ANIM or TRAK chunk to skin with");
     Animated a(golden_), b(fresh_);
     if (a.skeleton.names != b.skeleton.names || a.skeleton.parents != b.skeleton.parents)
       return incomparable("SKEL", "the joints differ (names or parents)");

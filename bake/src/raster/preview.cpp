@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "crowd/bake/raster.h"
-#include "crowd/runtime/texture_skinning.h"
+#include "crowd/runtime/pack_joints.h"
 
 namespace crowd {
 
@@ -13,7 +13,7 @@ std::vector<uint8_t> renderPreview(const pack::AnimationPack &p, size_t clip, ui
   const auto &m = p.mesh;
   const auto &c = p.clips.at(clip);
   std::vector<glm::vec3> pos(m.vertexCount()), nrm(m.vertexCount());
-  const auto joints = runtime::sampleJoints(p.animation, c, frame, 0.0f);
+  const auto joints = runtime::sampleJoints(p, clip, frame, 0.0f);
   for (uint32_t v = 0; v < m.vertexCount(); ++v) {
     glm::vec3 bind(m.positions[v * 3], m.positions[v * 3 + 1], m.positions[v * 3 + 2]);
     glm::vec3 n(m.normals[v * 3], m.normals[v * 3 + 1], m.normals[v * 3 + 2]);

@@ -124,8 +124,9 @@ bool parse(int argc, char **argv, Options &o) {
                "comparison) instead of each outfit's visible sub-meshes");
   app.add_option_function<std::string>(
          "--skinning", [&o](const std::string &how) { o.draw.trackSkinning = how == "tracks"; },
-         "texture: joints from the animation texture; tracks: packs with joint tracks (crowdbake "
-         "anim --tracks) skin from palettes a compute pass decodes each frame")
+         "texture: joints from the animation texture where a pack stores one; tracks: packs with "
+         "joint tracks (crowdbake anim --store tracks|both) skin from palettes a compute pass "
+         "decodes each frame. Packs of joint tracks alone skin from palettes either way")
       ->check(CLI::IsMember({"texture", "tracks"}))
       ->default_str("texture");
   app.add_option("--clip", o.clip, "pack previews: show this clip only");
@@ -270,7 +271,7 @@ int headless(const Options &o, crowd::runtime::CrowdRenderer &renderer,
   const int columns = vertexQuery ? 9 : 8;
   double sums[9] = {}, agentsMs = 0, palettes = 0, paletteMs = 0, paletteGpuMs = 0;
   crowd::runtime::DrawOptions draw = o.draw;
-  draw.timePalettes = draw.trackSkinning && !o.stats.empty();
+  draw.timePalettes = !o.stats.empty(); // where a palette pass runs
   for (int f = 0; f < o.frames; ++f) {
     double t = o.startTime + f * o.step;
     auto t0 = std::chrono::steady_clock::now();
@@ -320,7 +321,8 @@ int headless(const Options &o, crowd::runtime::CrowdRenderer &renderer,
   for (int k = 0; k < columns; ++k)
     summary[keys[k]] = sums[k] / o.frames;
   summary["skinning"] = o.draw.trackSkinning ? "tracks" : "texture";
-  if (o.draw.trackSkinning) { // per frame: palettes decoded, their CPU and GPU milliseconds
+  if (o.draw.trackSkinning ||
+      palettes > 0) { // per frame: palettes decoded, their CPU and GPU milliseconds
     summary["palettes"] = palettes / o.frames;
     summary["palette_cpu_ms"] = paletteMs / o.frames;
     summary["palette_gpu_ms"] = paletteGpuMs / o.frames;

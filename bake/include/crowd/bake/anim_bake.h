@@ -31,9 +31,13 @@ struct AnimBakeOptions {
   // character: the budget picks the fewest bytes that meet it (see anim_budget.h).
   double errorBudgetMm = 1.0;
   int threads = 0; // 0: all cores; output bytes never depend on it
-  // Also compress every clip into joint tracks (track_compression.h) within the same budget:
-  // the pack's optional TRAK chunk, beside the texture the player draws today.
-  bool tracks = false;
+  // Which animation the pack stores, a name from stores(): "texture" (the ANIM chunk), "tracks"
+  // (every clip compressed into joint tracks within the same budget, track_compression.h: the
+  // TRAK chunk alone), "both", or "auto": of the texture and the tracks, the fewer bytes among
+  // those meeting the budget on every clip.
+  std::string store = "texture";
+  static const std::vector<std::string> &stores();
+  bool compressesTracks() const { return store != "texture"; }
   // Throws crowd::Error naming the first field out of range ("fps: ...").
   void validate() const;
   // --fps and the manifest's "fps": "auto", "source" or a number in (0, 1000]; throws Error.
@@ -81,7 +85,13 @@ struct AnimBakeResult {
   BudgetChoice budget;         // how the rates and the precision were chosen, every option tried
   FadeAccuracy fades;          // at the baked precision
   MorphOverflow morphOverflow; // morph targets that did not fit a frame's slots
-  std::vector<TrackClipFigures> tracks; // with AnimBakeOptions::tracks: per clip of the pack
+  std::vector<TrackClipFigures> tracks; // where tracks were compressed: per clip of the pack
+  std::string stored;                   // "texture", "tracks" or "both": what the pack holds
+  std::string storeReason;              // why, where AnimBakeOptions::store was "auto"
+  bool storesTexture() const { return stored != "tracks"; }
+  bool storesTracks() const { return stored != "texture"; }
+  uint64_t textureBytes() const; // the baked precision's texels, stored or not
+  uint64_t tracksBytes() const;  // the TRAK chunk's skeleton and clips; 0 without tracks
 };
 
 AnimBakeResult bakeAnimation(const Character &character, const AnimBakeOptions &options,

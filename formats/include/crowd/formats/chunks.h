@@ -251,6 +251,8 @@ struct AnimationPack {
   Provenance provenance;
   Skeleton skeleton;
   std::vector<Clip> clips;
+  // The ANIM chunk. A pack storing joint tracks alone (crowdbake anim --store tracks) has none:
+  // then only its joint count and frame count (the clip table's frames) are set, no texels.
   AnimationTexture animation;
   SkinTexture skin;
   Mesh mesh;
@@ -261,8 +263,9 @@ struct AnimationPack {
   std::optional<Morphs> morphs;     // optional chunk: when the mesh has morph targets
   std::optional<Looks> looks;       // optional chunk: every bake of an unclothed pack from glTF
   // Optional chunk: compressed joint tracks of the same clips, in the clip table's order
-  // (crowdbake anim --tracks); the player draws from the animation texture until it decodes them.
+  // (crowdbake anim --store tracks|both); required where the pack has no animation texture.
   std::optional<JointTracks> tracks;
+  bool hasTexture() const { return !animation.texels.empty(); }
 };
 AnimationPack loadAnimationPack(const Reader &reader);
 void writePack(const AnimationPack &pack, const std::string &path);

@@ -97,8 +97,9 @@ struct DrawOptions {
   double detail = 0;
   bool allImpostors =
       false; // hybrid: every instance with an impostor draws as one, at any distance
-  // Packs with joint tracks (crowdbake anim --tracks) skin from palettes the palette pass
-  // decodes from them each frame, not from the animation texture.
+  // Packs with joint tracks (crowdbake anim --store both) skin from palettes the palette pass
+  // decodes from them each frame, not from the animation texture. Packs of joint tracks alone
+  // (--store tracks) always do.
   bool trackSkinning = false;
   bool timePalettes = false; // with it: the palette pass's GPU time in DrawStats (waits for it)
 };
