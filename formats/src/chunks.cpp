@@ -58,6 +58,8 @@ uint32_t AnimationTexture::frameTexels() const {
 }
 
 std::pair<uint32_t, uint32_t> AnimationTexture::texelOf(uint32_t frame, uint32_t joint) const {
+  if (framesPerRow == 0) // a pack of joint tracks alone: sample it through runtime/pack_joints.h
+    throw Error("the pack has no animation texture (it stores joint tracks alone)");
   // Each matrix joint before `joint` takes one texel more than the encoding's.
   const auto before = std::lower_bound(matrixJoints.begin(), matrixJoints.end(), joint);
   return {(frame % framesPerRow) * frameTexels() + joint * texelsPerJoint(encoding) +
@@ -476,7 +478,8 @@ AnimationPack loadAnimationPack(const Reader &reader) {
       throw Error(ctx(kMorphs) + ": sized for another mesh or animation (" +
                   std::to_string(p.morphs->vertexCount) + " vertices and " +
                   std::to_string(p.morphs->frameCount()) + " frames; the mesh has " +
-                  std::to_string(p.mesh.vertexCount()) + ", the animation texture " +
+                  std::to_string(p.mesh.vertexCount()) +
+                  (p.hasTexture() ? ", the animation texture " : ", the clip table ") +
                   std::to_string(p.animation.frameCount) + ")");
   }
   if (tracks) {

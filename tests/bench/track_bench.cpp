@@ -109,6 +109,7 @@ int main(int argc, char **argv) {
     // Today's path: the error budget's choice of rate and precision, per clip.
     crowd::AnimBakeOptions options;
     options.errorBudgetMm = budget;
+    options.store = "texture"; // the texture alone: the default (auto) also compresses tracks
     auto t0 = Clock::now();
     const crowd::AnimBakeResult baseline = crowd::bakeAnimation(c, options, reporter);
     const double textureTime = secondsSince(t0);

@@ -71,7 +71,7 @@ const Baked &humanoid(const std::string &precision) {
   AnimBakeOptions o;
   const bool rows = precision == "qts+rows";
   const bool tracks = precision == "tracks";
-  o.store = tracks ? "both" : o.store; // the default bake, with joint tracks
+  o.store = tracks ? "both" : "texture"; // the shader's texture path, or both
   o.precision = rows ? "qts" : tracks ? "auto" : precision;
   if (precision != "auto" && !tracks)
     o.fps = 30;
@@ -405,6 +405,7 @@ TEST_F(Gl, MorphsMatchTheCpuMirror) {
     rep.quiet = true;
     const Character c = importGltf(file, {}, rep);
     AnimBakeOptions o;
+    o.store = "texture"; // morph weights per frame, beside the texture the shader reads
     const AnimBakeResult r = bakeAnimation(c, o, rep);
     const auto &p = r.pack;
     ASSERT_TRUE(p.morphs.has_value());
@@ -457,8 +458,10 @@ TEST_F(Gl, ClothLoopsReplayTheirCacheInPhaseWithTheBody) {
   const std::string &dir = sampleDir();
   const Character body = importGltf(dir + "/humanoid.glb", {}, rep);
   const OutfitInput dress{"dress", importGltf(dir + "/outfit_dress.glb", {}, rep), {}};
+  AnimBakeOptions texture;
+  texture.store = "texture"; // the loop placed by the texture's top joint, as the shader reads it
   const AnimBakeResult baked =
-      bakeAnimation(dressCharacter(body, dress, "material", rep), AnimBakeOptions{}, rep);
+      bakeAnimation(dressCharacter(body, dress, "material", rep), texture, rep);
   pack::AnimationPack p = baked.pack;
   // One outfit drawing every sub-mesh: the visibility bake is not what this tests.
   pack::Outfits table;

@@ -726,7 +726,7 @@ TEST(Player, BadInputIsOneClearLine) {
   longClip.animation("long", 1, "translation", {0, 1000}, {0, 0, 0, 0, 1, 0});
   const std::string gltf = longClip.write(work(), "long_clip");
   ASSERT_EQ(run(std::string(CROWDBAKE) + " anim " + gltf + " -o " + work() +
-                "/wide.crowdpack --clip long --fps 30 --max-width 65536 --quiet")
+                "/wide.crowdpack --clip long --fps 30 --max-width 65536 --store texture --quiet")
                 .code,
             0);
   auto wide = oneCharacter();
@@ -745,7 +745,12 @@ namespace {
 // Issue 68: a pack whose clip table was emptied (checksums recomputed) drew the bind pose alone
 // and crashed with an impostor in a scene; the loader rejects it, in one line.
 TEST(Player, APackWhoseFramesNoClipOwnsIsOneClearLine) {
-  auto p = pack::loadAnimationPack(pack::Reader::open(work() + "/humanoid.crowdpack"));
+  const std::string texture = work() + "/humanoid_texture.crowdpack";
+  ASSERT_EQ(run(std::string(CROWDBAKE) + " anim " + work() + "/humanoid.glb --store texture -o " +
+                texture + " --quiet")
+                .code,
+            0);
+  auto p = pack::loadAnimationPack(pack::Reader::open(texture));
   p.clips.clear();
   const std::string bad = work() + "/no_clips.crowdpack";
   pack::writePack(p, bad);

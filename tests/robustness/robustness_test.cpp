@@ -371,7 +371,8 @@ TEST(DamagedPack, FramesThatNoClipOwnsAreRejectedByEveryConsumer) {
   crowd::test::GltfBuilder waving; // the quad with clip "wave" (2 s)
   waving.morphedQuad(2);
   std::string input = waving.write(dir, "q");
-  ASSERT_EQ(crowdbake("anim " + input + " -o " + dir + "/p.crowdpack --quiet").code, 0);
+  ASSERT_EQ(crowdbake("anim " + input + " -o " + dir + "/p.crowdpack --store texture --quiet").code,
+            0);
   crowd::pack::AnimationPack p =
       crowd::pack::loadAnimationPack(crowd::pack::Reader::open(dir + "/p.crowdpack"));
   ASSERT_EQ(p.clips.size(), 1u);

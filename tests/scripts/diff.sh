@@ -8,7 +8,7 @@ bin=$1 work=$2
 rm -rf "$work" && mkdir -p "$work" && cd "$work"
 "$bin/crowdbake" samples --no-cloth --out s >/dev/null
 fail() { echo "FAIL: $*" >&2; exit 1; }
-bake() { "$bin/crowdbake" anim s/humanoid.glb --fps 30 -q "$@"; }
+bake() { "$bin/crowdbake" anim s/humanoid.glb --fps 30 --store texture -q "$@"; }
 bake --precision qts --threads 2 -o golden.crowdpack
 bake --precision qts --threads 1 -o one_thread.crowdpack
 bake --precision half --threads 2 -o half.crowdpack

@@ -16,7 +16,14 @@ using namespace crowd;
 
 namespace {
 
-AnimBakeResult bake(const Character &c, AnimBakeOptions o = {}) {
+// These tests measure the animation texture (the reference encoding): every bake stores it.
+AnimBakeOptions textureBake() {
+  AnimBakeOptions o;
+  o.store = "texture";
+  return o;
+}
+
+AnimBakeResult bake(const Character &c, AnimBakeOptions o = textureBake()) {
   Reporter r;
   r.quiet = true;
   return bakeAnimation(c, o, r);
@@ -71,7 +78,7 @@ TEST(AnimBudget, TheFewestBytesThatMeetTheBudgetOnEveryClip) {
       EXPECT_LE(bytes[r.budget.precision], bytes[p.name]) << p.name;
     }
   // A tighter budget never costs fewer bytes (one clip, to keep the test short).
-  AnimBakeOptions tight;
+  AnimBakeOptions tight = textureBake();
   tight.errorBudgetMm = 0.25;
   tight.clip = "walk";
   const AnimBakeResult t = bake(test::sampleHumanoid(), tight);
@@ -84,12 +91,12 @@ TEST(AnimBudget, AForcedRateOrPrecisionNarrowsTheSearch) {
   const Character c = quadWith("forced", [](test::GltfBuilder &b) {
     b.animation("lift", 1, "translation", {0, 0.31f, 1}, {0, 0.5f, 0, 0, 1.5f, 0, 0, 0.5f, 0});
   });
-  AnimBakeOptions at30;
+  AnimBakeOptions at30 = textureBake();
   at30.fps = 30;
   const AnimBakeResult r30 = bake(c, at30);
   for (const auto &o : r30.budget.clips.at(0).tried)
     EXPECT_NEAR(o.fps, 30, 1e-9);
-  AnimBakeOptions qts;
+  AnimBakeOptions qts = textureBake();
   qts.precision = "qts";
   const AnimBakeResult q = bake(c, qts);
   EXPECT_EQ(q.budget.precision, "qts");
@@ -134,7 +141,7 @@ TEST(AnimBudget, TwoKeysAtOneTimeAreAStepNoRateMeets) {
   for (const auto &w : rep.warnings())
     step = step || w.code == "keys_at_one_time";
   EXPECT_TRUE(step);
-  const AnimBakeResult r = bakeAnimation(c, {}, rep);
+  const AnimBakeResult r = bakeAnimation(c, textureBake(), rep);
   EXPECT_FALSE(r.budget.met);
   // The vertex that follows joint b by half jumps 0.5 units (900 mm at 1.8 m): a blend across
   // the step errs by half that at the mid-frame, and up to all of it just before the step.

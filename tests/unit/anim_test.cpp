@@ -16,17 +16,24 @@ using namespace crowd;
 
 namespace {
 
+// These tests measure the animation texture (the reference encoding): every bake stores it.
+AnimBakeOptions textureBake() {
+  AnimBakeOptions o;
+  o.store = "texture";
+  return o;
+}
+
 const Character &humanoid() { return test::sampleHumanoid(); }
 
 // The matrix layout at a fixed rate, which the layout tests below count in.
 AnimBakeOptions float30() {
-  AnimBakeOptions o;
+  AnimBakeOptions o = textureBake();
   o.fps = 30;
   o.precision = "float";
   return o;
 }
 
-AnimBakeResult bake(const Character &c, AnimBakeOptions o = {}) {
+AnimBakeResult bake(const Character &c, AnimBakeOptions o = textureBake()) {
   Reporter r;
   r.quiet = true;
   return bakeAnimation(c, o, r);
@@ -95,7 +102,7 @@ TEST(AnimBake, RowsWrapWithoutSplittingAFrame) {
 }
 
 TEST(AnimBake, BytesDoNotDependOnThreadCount) {
-  AnimBakeOptions one, many; // the budget's search included
+  AnimBakeOptions one = textureBake(), many = textureBake(); // the budget's search included
   one.clip = many.clip = "run";
   one.threads = 1;
   many.threads = 7;
@@ -138,7 +145,7 @@ TEST(AnimBake, BoundingSphereCoversEveryFrameAndMidFrame) {
 }
 
 TEST(AnimBake, UnknownClipListsTheClips) {
-  AnimBakeOptions o;
+  AnimBakeOptions o = textureBake();
   o.clip = "dance";
   try {
     bake(humanoid(), o);
@@ -171,7 +178,7 @@ TEST(RealAssets, EveryModelBakesWithinTheFp32TargetAndTheBudget) {
     Reporter r;
     r.quiet = true;
     Character c = importGltf(f, {}, r);
-    AnimBakeResult res = bakeAnimation(c, {}, r);
+    AnimBakeResult res = bakeAnimation(c, textureBake(), r);
     pack::Reader reader(pack::packBytes(res.pack), f);
     EXPECT_NO_THROW(pack::loadAnimationPack(reader));
     EXPECT_TRUE(res.budget.met) << res.budget.precision;
@@ -218,7 +225,7 @@ TEST(AnimBake, AbsurdClipLengthsAreAClearError) {
     EXPECT_NE(std::string(e.what()).find("needs more than 65536 frames"), std::string::npos);
   }
   // The budget finds what the two keys need: two frames, exact between them.
-  const AnimBakeResult fit = bakeAnimation(c, {}, r);
+  const AnimBakeResult fit = bakeAnimation(c, textureBake(), r);
   EXPECT_EQ(fit.pack.clips.at(0).frameCount, 2u);
   EXPECT_TRUE(fit.budget.met);
 }
@@ -234,7 +241,7 @@ TEST(AnimBake, SourceRatePutsFramesOnTheKeys) {
   Reporter r;
   r.quiet = true;
   Character c = importGltf(b.write(test::tempDir("anim_source"), "q"), {}, r);
-  AnimBakeOptions source;
+  AnimBakeOptions source = textureBake();
   source.fps = 0;
   AnimBakeResult onKeys = bakeAnimation(c, source, r), at30 = bakeAnimation(c, float30(), r);
   EXPECT_EQ(onKeys.pack.clips[0].frameCount, 5u); // 4 fps: 0, 0.25, 0.5, 0.75, 1
@@ -258,7 +265,7 @@ TEST(AnimBake, MillimetresAreAtA18MetreCharacter) {
   Reporter r;
   r.quiet = true;
   // The upright sample humanoid: scaled by its height.
-  AnimBakeOptions one;
+  AnimBakeOptions one = textureBake();
   one.clip = "walk";
   AnimBakeResult h = bakeAnimation(humanoid(), one, r);
   EXPECT_FALSE(h.heightIsDiagonal);
@@ -268,7 +275,7 @@ TEST(AnimBake, MillimetresAreAtA18MetreCharacter) {
   b.skinnedQuad();
   b.j["nodes"][0]["rotation"] = {-0.70710678, 0, 0, 0.70710678}; // its root joint laid flat
   Character flat = importGltf(b.write(test::tempDir("anim_flat"), "q"), {}, r);
-  AnimBakeResult f = bakeAnimation(flat, {}, r);
+  AnimBakeResult f = bakeAnimation(flat, textureBake(), r);
   EXPECT_TRUE(f.heightIsDiagonal);
   EXPECT_NEAR(f.mmPerUnit * f.diagonal, 1800.0, 1e-6);
 }
@@ -289,7 +296,7 @@ TEST(AnimBake, ACycleThatTravelsIsNamedNotLooped) {
     Reporter r;
     r.quiet = true;
     Character c = importGltf(b.write(test::tempDir("root_motion"), "q"), {}, r);
-    const AnimBakeResult res = bakeAnimation(c, {}, r);
+    const AnimBakeResult res = bakeAnimation(c, textureBake(), r);
     ASSERT_EQ(res.pack.clips.size(), 1u);
     EXPECT_EQ(res.pack.clips[0].loop, !travels);
     std::string said;

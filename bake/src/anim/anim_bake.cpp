@@ -424,10 +424,16 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
     compressTracks(c, sourceClips, options, result, reporter);
   chooseStore(options, result, reporter);
   warnOverBudget(result, reporter); // of what the pack stores
+  if (!result.storesTexture()) {    // the clip table's frames still count the morph weights' frames
+    pack::AnimationTexture none;
+    none.jointCount = pk.animation.jointCount;
+    none.frameCount = pk.animation.frameCount;
+    pk.animation = std::move(none);
+  }
+  if (!result.storesTracks())
+    pk.tracks.reset();
 
-  // The texture's crossfades (blended joint matrices). Not yet measured for tracks alone, whose
-  // fades blend local poses against another reference (the exact local-pose fade).
-  if (sourceClips.size() > 1 && result.storesTexture()) {
+  if (sourceClips.size() > 1) { // as the player fades what the pack stores
     reporter.step("crossfades between " + std::to_string(sourceClips.size()) + " clips");
     result.fades = measureFades(c, sourceClips, pk, options.threads);
   }
@@ -481,10 +487,6 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
       slack = std::max(slack, t.maxAnyTimeMm() / result.mmPerUnit);
   radius = (radius + slack) * (1 + 1e-6) + 1e-6 * result.diagonal;
   mesh.boundingSphere = {float(centre.x), float(centre.y), float(centre.z), float(radius)};
-  if (!result.storesTexture()) // the clip table's frames still count the morph weights' frames
-    pk.animation = {.jointCount = pk.animation.jointCount, .frameCount = pk.animation.frameCount};
-  if (!result.storesTracks())
-    pk.tracks.reset();
   return result;
 }
 

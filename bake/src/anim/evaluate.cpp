@@ -81,9 +81,10 @@ void sampleChannel(const Channel &ch, double t, double *out, bool fromLeft) {
   }
 }
 
-std::vector<glm::dmat4> nodeGlobals(const Character &c, const AnimationClip *clip, double t) {
-  std::vector<glm::dvec3> tr(c.nodes.size()), sc(c.nodes.size());
-  std::vector<glm::dquat> rot(c.nodes.size());
+NodeLocals nodeLocals(const Character &c, const AnimationClip *clip, double t) {
+  NodeLocals l;
+  auto &[tr, rot, sc] = l;
+  tr.resize(c.nodes.size()), rot.resize(c.nodes.size()), sc.resize(c.nodes.size());
   for (size_t i = 0; i < c.nodes.size(); ++i) {
     tr[i] = c.nodes[i].translation;
     rot[i] = c.nodes[i].rotation;
@@ -103,6 +104,27 @@ std::vector<glm::dmat4> nodeGlobals(const Character &c, const AnimationClip *cli
       else
         rot[n] = glm::dquat(v[3], v[0], v[1], v[2]);
     }
+  return l;
+}
+
+NodeLocals blendLocals(const NodeLocals &from, const NodeLocals &to, double weight) {
+  NodeLocals out = from;
+  for (size_t i = 0; i < from.rotation.size(); ++i) {
+    const glm::dquat b =
+        glm::dot(from.rotation[i], to.rotation[i]) < 0 ? -to.rotation[i] : to.rotation[i];
+    out.rotation[i] = glm::normalize(glm::slerp(from.rotation[i], b, weight));
+    out.translation[i] = glm::mix(from.translation[i], to.translation[i], weight);
+    out.scale[i] = glm::mix(from.scale[i], to.scale[i], weight);
+  }
+  return out;
+}
+
+std::vector<glm::dmat4> nodeGlobals(const Character &c, const AnimationClip *clip, double t) {
+  return nodeGlobals(c, nodeLocals(c, clip, t));
+}
+
+std::vector<glm::dmat4> nodeGlobals(const Character &c, const NodeLocals &locals) {
+  const auto &[tr, rot, sc] = locals;
   std::vector<glm::dmat4> global(c.nodes.size());
   for (int i : c.nodeOrder) {
     const Node &node = c.nodes[size_t(i)];
@@ -122,7 +144,11 @@ std::vector<glm::dmat4> nodeGlobals(const Character &c, const AnimationClip *cli
 }
 
 std::vector<glm::dmat4> jointMatrices(const Character &c, const AnimationClip *clip, double t) {
-  auto global = nodeGlobals(c, clip, t);
+  return jointMatrices(c, nodeLocals(c, clip, t));
+}
+
+std::vector<glm::dmat4> jointMatrices(const Character &c, const NodeLocals &locals) {
+  auto global = nodeGlobals(c, locals);
   std::vector<glm::dmat4> out(c.jointCount());
   for (size_t j = 0; j < c.jointCount(); ++j)
     out[j] = global[size_t(c.jointNodes[j])] * c.inverseBind[j];

@@ -3,9 +3,12 @@
 #include <algorithm>
 #include <cmath>
 
+#include <glm/gtc/matrix_access.hpp>
+
 #include "crowd/bake/evaluate.h"
 #include "crowd/bake/parallel.h"
 #include "crowd/runtime/texture_skinning.h"
+#include "crowd/runtime/track_palettes.h"
 
 namespace crowd {
 
@@ -65,22 +68,32 @@ FadeAccuracy measureFades(const Character &c, const std::vector<const AnimationC
     const auto morphsTo = morphWeights(c, sources[b], sb);
     for (size_t k = 0; k < morphs.size(); ++k)
       morphs[k] += (morphsTo[k] - morphs[k]) * double(weight);
+    // The texture fades blended joint matrices, joint tracks blend local poses.
     const auto exact = skinPositions(
         c,
-        blendedJoints(jointMatrices(c, sources[a], sa), jointMatrices(c, sources[b], sb), weight),
+        pack.hasTexture() ? blendedJoints(jointMatrices(c, sources[a], sa),
+                                          jointMatrices(c, sources[b], sb), weight)
+                          : jointMatrices(c, blendLocals(nodeLocals(c, sources[a], sa),
+                                                         nodeLocals(c, sources[b], sb), weight)),
         morphs);
     const auto from = runtime::clipTimeAt(pack.clips[a], float(ta)),
                to = runtime::clipTimeAt(pack.clips[b], float(tb));
+    std::vector<runtime::JointRows> palette;
+    if (!pack.hasTexture())
+      for (const glm::mat4 &m :
+           runtime::decodePalette(pack, {float(b), float(tb), float(a), float(ta), weight}))
+        palette.push_back({glm::row(m, 0), glm::row(m, 1), glm::row(m, 2)});
     for (uint32_t v = 0; v < vertices; ++v) {
       glm::vec3 bind = c.mesh.positions[v];
       if (pack.morphs)
         bind = runtime::morphVertexFaded(*pack.morphs, from, to, weight, v, {bind, glm::vec3(0)})
                    .position;
-      const double e =
-          glm::length(glm::dvec3(runtime::skinVertexFaded(pack.animation, pack.skin, from, to,
-                                                          weight, v, bind, glm::vec3(0.0f))
-                                     .position) -
-                      exact[v]);
+      const glm::vec3 drawn = pack.hasTexture()
+                                  ? runtime::skinVertexFaded(pack.animation, pack.skin, from, to,
+                                                             weight, v, bind, glm::vec3(0.0f))
+                                        .position
+                                  : runtime::skinVertex(palette, pack.skin, v, bind);
+      const double e = glm::length(glm::dvec3(drawn) - exact[v]);
       max[s] = std::max(max[s], e);
       sum[s] += e;
     }

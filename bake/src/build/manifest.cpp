@@ -314,7 +314,7 @@ nlohmann::ordered_json CharacterManifest::canonical() const {
                {"max_width", anim.maxWidth},
                {"precision", anim.precision},
                {"error_budget_mm", anim.errorBudgetMm}};
-  if (anim.store != AnimBakeOptions{}.store) // absent at the default: earlier keys stay valid
+  if (anim.store != "texture") // absent for what every earlier key meant: those stay valid
     j["anim"]["store"] = anim.store;
   if (lod)
     j["lod"] = {{"floor", lodOptions.floorFraction}, {"poses", lodOptions.poses}};

@@ -68,9 +68,11 @@ settles, 8 walk cycles) and noise.pc2 (never repeats). The output is determinist
 bytes on every run.)";
 
 const char *const kAnimHelp = R"(Samples every clip's joint matrices (global joint transform x
-inverse bind) into one animation texture, stores skin weights (2 texels per vertex) and the
-mesh, then checks the texture against exact evaluation of the glTF with the player's
-interpolation (at frames, mid-frames and random times) and reports the error.)";
+inverse bind) into one animation texture, and compresses every clip into local joint tracks on
+its own keys; checks both against exact evaluation of the glTF with the player's interpolation
+(at frames or samples, between them and at random times), and stores the one in fewer bytes
+within the error budget (--store says which to keep), with skin weights (2 texels per vertex)
+and the mesh; the report gives both and why one was kept.)";
 
 const char *const kLodHelp = R"(Bakes what crowdbake anim bakes, with the mesh ordered for
 continuous LOD: the full edge-collapse sequence down to a floor, so a renderer can draw any

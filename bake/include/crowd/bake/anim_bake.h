@@ -35,7 +35,7 @@ struct AnimBakeOptions {
   // (every clip compressed into joint tracks within the same budget, track_compression.h: the
   // TRAK chunk alone), "both", or "auto": of the texture and the tracks, the fewer bytes among
   // those meeting the budget on every clip.
-  std::string store = "texture";
+  std::string store = "auto";
   static const std::vector<std::string> &stores();
   bool compressesTracks() const { return store != "texture"; }
   // Throws crowd::Error naming the first field out of range ("fps: ...").

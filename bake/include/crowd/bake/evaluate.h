@@ -12,10 +12,23 @@ namespace crowd {
 // (rotations normalized). At a key time the key's value; `fromLeft`: the limit from before t,
 // which differs only at a cut (two keys at one time: the first) and under STEP (the key before).
 void sampleChannel(const Channel &ch, double t, double *out, bool fromLeft = false);
-// Global transform of every node at time t of `clip` (null: the rest pose).
+// Every node's local translation, rotation and scale (a node with a matrix keeps its matrix).
+struct NodeLocals {
+  std::vector<glm::dvec3> translation;
+  std::vector<glm::dquat> rotation;
+  std::vector<glm::dvec3> scale;
+};
+// At time t of `clip` (null: the rest pose).
+NodeLocals nodeLocals(const Character &c, const AnimationClip *clip, double t);
+// `weight` of the way from `from` to `to`: rotations slerped the shorter way, the rest lerped,
+// as the player crossfades joint tracks.
+NodeLocals blendLocals(const NodeLocals &from, const NodeLocals &to, double weight);
+// Global transform of every node at time t of `clip` (null: the rest pose), or of given locals.
 std::vector<glm::dmat4> nodeGlobals(const Character &c, const AnimationClip *clip, double t);
-// Joint matrices (global joint transform x inverse bind) at time t.
+std::vector<glm::dmat4> nodeGlobals(const Character &c, const NodeLocals &locals);
+// Joint matrices (global joint transform x inverse bind) at time t, or of given locals.
 std::vector<glm::dmat4> jointMatrices(const Character &c, const AnimationClip *clip, double t);
+std::vector<glm::dmat4> jointMatrices(const Character &c, const NodeLocals &locals);
 // Morph target weights at time t of `clip` (null: the rest pose): the mesh's defaults where no
 // channel drives a target.
 std::vector<double> morphWeights(const Character &c, const AnimationClip *clip, double t);

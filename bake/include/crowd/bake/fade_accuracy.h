@@ -1,6 +1,8 @@
 // The error of crossfades between a pack's clips, as the player draws them: at seeded times and
 // weights, the fade of the baked frames (runtime::skinVertexFaded) against the exact fade: the
-// glTF's own joints at both clips' times, blended by the player's rule (runtime::blendJoints).
+// glTF's own joints at both clips' times, blended by the player's rule (runtime::blendJoints);
+// for a pack of joint tracks alone, the fade of its decoded local poses
+// (runtime::decodePalette) against the glTF's local poses blended alike (blendLocals).
 #pragma once
 #include <vector>
 
