@@ -3,7 +3,8 @@
 # humanoid baked with --store both in samples/scenes/crowd10k.json at 10k and
 # 30k walkers, crowdplay --skinning texture and --skinning tracks alternating, ROUNDS rounds,
 # drawn as the scene is (hybrid: the far ones impostors, not skinned) and as geometry only
-# (--geometry: every visible walker skinned; PATHS=hybrid leaves it out).
+# (--geometry: every visible walker skinned; PATHS=hybrid leaves it out). INSTANCES="10000"
+# leaves out 30k (on llvmpipe a geometry frame of 10k takes about 40 s on 2 cores).
 # Prints per size and path the frame and GPU times (medians), the palettes decoded a frame and
 # the palette pass's GPU time and share; writes OUT/palette_bench.csv.
 # Usage: tests/bench/palette_bench.sh [OUT] [FRAMES] [ROUNDS] [SIZE]   (after ./run demo)
@@ -14,6 +15,7 @@ frames=${2:-4}
 rounds=${3:-2}
 size=${4:-640x360}
 paths=${PATHS:-hybrid geometry}
+sizes=${INSTANCES:-10000 30000}
 mkdir -p "$out"
 [ -f out/samples/humanoid.glb ] && [ -f out/humanoid_walk.impostor.crowdpack ] ||
   { echo "run ./run demo first (it writes out/samples and the walk impostor)" >&2; exit 1; }
@@ -35,7 +37,7 @@ echo "instances,path,skinning,round,frame_ms,gpu_ms,palettes,palette_gpu_ms,pale
 for round in $(seq "$rounds"); do
   for path in $paths; do
     flag=(); [ "$path" = geometry ] && flag=(--geometry)
-    for n in 10000 30000; do
+    for n in $sizes; do
       for skinning in texture tracks; do
         stats=$out/palette_${path}_${n}_${skinning}_$round.json
         "${display[@]}" build/bin/crowdplay "$scene" --headless --frames "$frames" --step 2 \
@@ -58,7 +60,7 @@ rows = list(csv.DictReader(open(sys.argv[1])))
 print(f"{'path':>8} {'instances':>9} {'skinning':>8} {'frame ms':>9} {'gpu ms':>8} "
       f"{'palettes':>8} {'pass gpu ms':>11} {'pass share':>10} {'frame vs texture':>16}")
 for path in dict.fromkeys(r["path"] for r in rows):
-    for n in ["10000", "30000"]:
+    for n in dict.fromkeys(r["instances"] for r in rows):
         med = lambda k, col: statistics.median(float(r[col]) for r in rows if r["path"] == path
                                                and r["instances"] == n and r["skinning"] == k)
         base = med("texture", "frame_ms")
