@@ -5,10 +5,16 @@
 # where this crowdbake was built with the toolchain the goldens were (tests/golden/toolchain.txt):
 # on another compiler or C library, floats may round differently and the tolerance check decides.
 #
-# Refresh after a deliberate change (say why in the commit); it prints what changed:
-#   CROWD_UPDATE_GOLDEN=1 tests/scripts/golden.sh build/bin tests/golden /tmp/g
+# Refresh only after a deliberate change, with tests/golden/update.sh (say why in the commit);
+# it passes --update here and prints what changed. No environment variable refreshes: ctest's
+# environment cannot rewrite the goldens.
 set -euo pipefail
-bin=$1 golden=$2 work=$3
+bin=$1 golden=$2 work=$3 mode=${4:-check}
+if [ -n "${CROWD_UPDATE_GOLDEN:-}" ] && [ "$mode" != --update ]; then
+  echo "golden: CROWD_UPDATE_GOLDEN is set: the check refuses to run under it (refresh with" \
+    "tests/golden/update.sh)" >&2
+  exit 1
+fi
 rm -rf "$work" && mkdir -p "$work" && cd "$work"
 cb() { "$bin/crowdbake" "$@"; }
 cb samples --out s >/dev/null
@@ -39,7 +45,7 @@ bake villager.character build villager.json
 bake village.terrain terrain s/village.glb --cell 1
 
 toolchain=$(cb --version | sed -n 's/^built with //p')
-if [ "${CROWD_UPDATE_GOLDEN:-0}" = 1 ]; then
+if [ "$mode" = --update ]; then
   for pack in *.crowdpack; do
     if [ -f "$golden/$pack" ]; then
       echo "== $pack: what changed"
