@@ -3,7 +3,7 @@
 # exports: a scaled armature, rigid parts, 8 influences) and tests/data/gltfpack (gltfpack's
 # quantized copies) is baked twice (crowdbake anim as float matrices, so frame times test the
 # reading and float32 rounding alone, and crowdbake lod at the error budget's choice, whose
-# vertices leave import order) and, for every clip, three.js's pose of the glTF is compared vertex
+# vertices leave import order, and whose animation is joint tracks where they take fewer bytes) and, for every clip, three.js's pose of the glTF is compared vertex
 # by vertex with crowdbake pose at every frame, every mid-frame and the bake's 64 random times
 # (threejs_pose.mjs). Then the Blender crawler's variants as other exporters write files
 # (gltf_variants.py: a Z-up or centimetre root, matrices, no inverse bind matrices, root motion,
@@ -26,7 +26,8 @@ check() { # check MODEL PACK REPORT
   node "$root/tests/scripts/threejs_pose.mjs" "$bin/crowdbake" "$three" "$@" "$work" || status=1
 }
 check_anim() { # check_anim MODEL NAME: the model baked as float matrices, then checked
-  "$bin/crowdbake" anim "$1" -o "$work/$2.crowdpack" --report "$work/$2.json" -q --precision float
+  "$bin/crowdbake" anim "$1" -o "$work/$2.crowdpack" --report "$work/$2.json" -q --precision float \
+    --store texture
   check "$1" "$work/$2.crowdpack" "$work/$2.json"
 }
 for model in "$assets"/*/*.glb "$assets"/*/*.gltf "$root"/tests/data/blender/*.glb \

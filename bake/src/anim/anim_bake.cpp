@@ -142,7 +142,9 @@ void compressTracks(const Character &c, const std::vector<const AnimationClip *>
     }
     reporter.step("joint tracks: clip " + std::to_string(ci + 1) + " of " +
                   std::to_string(sourceClips.size()) + " (" + sourceClips[ci]->name + ")");
-    CompressedClip cc = compressClip(c, rig, *sourceClips[ci], ci, to);
+    const auto &pk = result.pack; // the player blends its frames' morph weights with the tracks
+    CompressedClip cc = compressClip(c, rig, *sourceClips[ci], ci, to,
+                                     {pk.morphs ? &*pk.morphs : nullptr, &pk.clips[ci]});
     cc.clip.name = result.pack.clips[ci].name;
     result.tracks.push_back(cc.figures);
     tracks.clips.push_back(std::move(cc.clip));

@@ -9,6 +9,7 @@
 #include "crowd/bake/parallel.h"
 #include "crowd/formats/error.h"
 #include "crowd/formats/limits.h"
+#include "crowd/runtime/texture_skinning.h"
 #include "crowd/runtime/track_pose.h"
 
 namespace crowd {
@@ -626,8 +627,8 @@ double TrackClipFigures::maxAnyTimeMm() const {
 }
 
 VertexErrors trackErrors(const Character &c, const TrackRig &rig, const pack::TrackClip &tracks,
-                         const AnimationClip &clip, const std::vector<double> &seconds,
-                         int threads) {
+                         const AnimationClip &clip, const std::vector<double> &seconds, int threads,
+                         const PlayedMorphs &played) {
   const SkinnedMesh &m = c.mesh;
   std::vector<float> inverseBind(c.jointCount() * 16);
   for (size_t j = 0; j < c.jointCount(); ++j)
@@ -641,9 +642,15 @@ VertexErrors trackErrors(const Character &c, const TrackRig &rig, const pack::Tr
         inverseBind);
     const auto exact = jointMatrices(c, &clip, t);
     const auto weights = morphWeights(c, &clip, t);
+    const runtime::ClipTime at =
+        played.morphs ? runtime::clipTimeAt(*played.clip, float(seconds[i])) : runtime::ClipTime{};
     for (size_t v = 0; v < m.vertexCount(); ++v) {
       const glm::dvec3 bindD =
-          m.morphs.empty() ? glm::dvec3(m.positions[v]) : morphedPosition(m, weights, v);
+          played.morphs      ? glm::dvec3(runtime::morphVertex(*played.morphs, at, uint32_t(v),
+                                                               {m.positions[v], m.normals[v]})
+                                              .position)
+          : m.morphs.empty() ? glm::dvec3(m.positions[v])
+                             : morphedPosition(m, weights, v);
       const glm::vec4 bind(glm::vec3(bindD), 1.0f);
       glm::vec3 skinned(0.0f);
       for (int k = 0; k < 4; ++k)
@@ -665,7 +672,8 @@ VertexErrors trackErrors(const Character &c, const TrackRig &rig, const pack::Tr
 }
 
 CompressedClip compressClip(const Character &c, const TrackRig &rig, const AnimationClip &clip,
-                            size_t clipIndex, const TrackCompressionOptions &options) {
+                            size_t clipIndex, const TrackCompressionOptions &options,
+                            const PlayedMorphs &played) {
   options.validate();
   const double budget = options.errorBudgetMm / options.mmPerUnit; // model units
   ClipCompressor compressor(c, rig, clip, budget, options.threads);
@@ -695,9 +703,10 @@ CompressedClip compressClip(const Character &c, const TrackRig &rig, const Anima
     compressor.allotBits(share);
     out.clip = compressor.build();
     const VertexErrors atSamples =
-        trackErrors(c, rig, out.clip, clip, compressor.sampleTimes(), options.threads);
-    const VertexErrors atMids = trackErrors(c, rig, out.clip, clip, mids, options.threads);
-    const VertexErrors atRandom = trackErrors(c, rig, out.clip, clip, random, options.threads);
+        trackErrors(c, rig, out.clip, clip, compressor.sampleTimes(), options.threads, played);
+    const VertexErrors atMids = trackErrors(c, rig, out.clip, clip, mids, options.threads, played);
+    const VertexErrors atRandom =
+        trackErrors(c, rig, out.clip, clip, random, options.threads, played);
     f.maxAtSamplesMm = atSamples.max * options.mmPerUnit;
     f.maxAtMidsMm = atMids.max * options.mmPerUnit;
     f.maxAtRandomMm = atRandom.max * options.mmPerUnit;

@@ -49,18 +49,26 @@ struct CompressedClip {
   TrackClipFigures figures;
 };
 
+// The morph weights the player blends between the pack's frames of a clip (morph_frames.h),
+// which the errors then include; absent: the glTF's exact weights on both sides.
+struct PlayedMorphs {
+  const pack::Morphs *morphs = nullptr;
+  const pack::Clip *clip = nullptr;
+};
+
 // Throws crowd::Error on a key that is NaN or infinite, naming the clip, node and key.
 CompressedClip compressClip(const Character &c, const TrackRig &rig, const AnimationClip &clip,
-                            size_t clipIndex, const TrackCompressionOptions &options);
+                            size_t clipIndex, const TrackCompressionOptions &options,
+                            const PlayedMorphs &played = {});
 
 // The largest and mean vertex errors (model units) of `tracks` against exact evaluation of
 // `clip`, at each of `seconds` (since the clip's start): the runtime decoder's palette skins
-// every vertex in single precision. Morph weights are the exact ones on both sides.
+// every vertex in single precision, over the morph weights `played` gives.
 struct VertexErrors {
   double max = 0, mean = 0;
 };
 VertexErrors trackErrors(const Character &c, const TrackRig &rig, const pack::TrackClip &tracks,
-                         const AnimationClip &clip, const std::vector<double> &seconds,
-                         int threads);
+                         const AnimationClip &clip, const std::vector<double> &seconds, int threads,
+                         const PlayedMorphs &played = {});
 
 } // namespace crowd
