@@ -77,8 +77,9 @@ size_t parseIndex(const std::string &text, const char *what) {
   return size_t(value);
 }
 
-// One line per character and the totals, from a build report.
-void printSummary(const nlohmann::ordered_json &r, const std::string &reportPath) {
+// One line per character and the totals, from a build report; `quiet`: the failures alone (a
+// quiet build that fails still says why).
+void printSummary(const nlohmann::ordered_json &r, const std::string &reportPath, bool quiet) {
   for (const auto &c : r["characters"]) {
     const std::string name = c["name"];
     if (c["status"] != "ok") {
@@ -86,12 +87,16 @@ void printSummary(const nlohmann::ordered_json &r, const std::string &reportPath
                    c["error"].get<std::string>().c_str());
       continue;
     }
+    if (quiet)
+      continue;
     std::fprintf(stderr,
                  "crowdbake: %s: %zu jobs (%zu run, %zu cached), %.1f s, %llu bytes -> %s\n",
                  name.c_str(), c["jobs"].size(), c["jobs_run"].get<size_t>(),
                  c["jobs_cached"].get<size_t>(), c["bake_s"].get<double>(),
                  c["pack_bytes"].get<unsigned long long>(), c["pack"].get<std::string>().c_str());
   }
+  if (quiet)
+    return;
   if (r.contains("scene")) {
     const auto &s = r["scene"];
     std::string leftOut;
@@ -149,13 +154,12 @@ int slurmBuild(const BuildOptions &o, const SlurmOptions &slurm, const ResourceL
                 " " + (folder / "logs").string());
   }
   const auto report = nlohmann::ordered_json::parse(f);
-  if (!quiet) {
+  if (!quiet)
     std::fprintf(stderr,
                  "crowdbake: on Slurm, 'cached' counts the parts the array tasks wrote "
                  "(their logs: %s/logs)\n",
                  folder.c_str());
-    printSummary(report, o.report);
-  }
+  printSummary(report, o.report, quiet);
   return report["characters_failed"].get<size_t>() > 0 ? 1 : 0;
 }
 
@@ -234,8 +238,7 @@ int cmdBuild(int argc, char **argv) {
     return slurmBuild(o, slurm, files.limits, useSlurm, quiet);
   ResourceGuard guard(files.limits, "crowdbake build " + o.input);
   BuildResult r = build(o);
-  if (!quiet) // first: a report that cannot be written must not hide what failed
-    printSummary(r.report, o.report);
+  printSummary(r.report, o.report, quiet); // first: a report not written must not hide a failure
   if (!o.report.empty())
     writeJson(o.report, r.report);
   return r.failed() ? 1 : 0;
@@ -253,7 +256,7 @@ int cmdBuildTask(int argc, char **argv) {
     const BuildOptions o = slurmCollectOptions(plan);
     BuildResult r = build(o);
     writeJson(o.report, r.report);
-    printSummary(r.report, o.report);
+    printSummary(r.report, o.report, false);
     return r.failed() ? 1 : 0;
   }
   if (argc != 5)

@@ -58,9 +58,11 @@ int cmdOutfits(int argc, char **argv) {
                  "least this share of its faces; otherwise draw the sub-mesh whole")
       ->capture_default_str();
   app.add_option("--check", opt.check,
-                 "after baking, prove no hole opens: render every outfit naively and culled from "
-                 "the 32x8 impostor views and 16 player-like views at every K-th frame of every "
-                 "clip and compare pixels (0: no check); a differing pixel fails the bake")
+                 "after baking, test that no hole opens: render every outfit naively and culled "
+                 "from the 32x8 impostor views and 16 player-like views (128x128 texels) at every "
+                 "K-th frame of every clip and compare pixels (0: no check); a differing pixel "
+                 "fails the bake, naming the body parts, the frame and the view. Sampled: a hole "
+                 "between checked frames or texel centres goes unseen")
       ->capture_default_str();
   addAnimOptions(app, opt.anim);
   addThreads(app, vis.threads);

@@ -1,7 +1,9 @@
-// The outfit bake's hole-free proof: naive and tagged renders of every outfit compared pixel by
-// pixel with the deterministic rasterizer (see outfit_bake.h).
+// The outfit bake's hole check (a sampled test, not a proof): naive and tagged renders of every
+// outfit compared pixel by pixel with the deterministic rasterizer (see outfit_bake.h).
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <string>
 
 #include "crowd/bake/evaluate.h"
 #include "crowd/bake/outfit_bake.h"
@@ -32,13 +34,28 @@ DrawList drawList(const OutfitBakeResult &b, const std::vector<uint32_t> &triang
   return d;
 }
 
+std::string degrees(double radians) {
+  return std::to_string(int(std::lround(radians * 180 / M_PI)));
+}
+
+constexpr double kFps = 30; // the check's frame rate (every `frameStep`-th frame of it)
+
+std::string describe(const OutfitPose &pose) {
+  const std::string clip = pose.clip ? "clip '" + pose.clip->name + "'" : "the bind pose";
+  if (pose.loop)
+    return clip + ", cloth loop frame " + std::to_string(pose.frame);
+  char at[64];
+  std::snprintf(at, sizeof at, " frame %ld (%.3f s)", std::lround(pose.time * kFps), pose.time);
+  return clip + at;
+}
+
 } // namespace
 
 HoleCheck checkHoles(const OutfitBakeResult &b, const HoleCheckOptions &o) {
   const auto &mesh = b.anim.pack.mesh;
   const auto &table = *b.anim.pack.outfits;
   HoleCheck check;
-  const auto frames = outfitPoses(b.merged, 30, o.frameStep, b.loops, o.loopFrames);
+  const auto frames = outfitPoses(b.merged, kFps, o.frameStep, b.loops, o.loopFrames);
   check.frames = uint32_t(frames.size());
   std::vector<std::vector<glm::vec3>> posed;
   for (const auto &pose : frames) {
@@ -60,12 +77,15 @@ HoleCheck checkHoles(const OutfitBakeResult &b, const HoleCheckOptions &o) {
       radius = std::max(radius, glm::length(glm::dvec3(q) - centre));
   // The impostor camera set, then player-like views: eye height and 4 m away, 8 directions.
   std::vector<raster::Camera> cameras;
+  std::vector<std::string> views; // each camera in words, for the error that names it
   for (uint32_t e = 0; e < o.elevations; ++e)
     for (uint32_t a = 0; a < o.azimuths; ++a) {
       double az = 2 * M_PI * a / o.azimuths, el = 0.5 * M_PI * (e + 0.5) / o.elevations;
       glm::dvec3 dir(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
       cameras.push_back(raster::orthographic(centre + dir * (2 * radius), centre, {0, 1, 0}, radius,
                                              radius, 0.5 * radius, 3.5 * radius));
+      views.push_back("orthographic view azimuth " + degrees(az) + " deg, elevation " +
+                      degrees(el) + " deg");
     }
   for (double height : {1.7, 4.0})
     for (int a = 0; a < 8; ++a) {
@@ -73,6 +93,9 @@ HoleCheck checkHoles(const OutfitBakeResult &b, const HoleCheckOptions &o) {
       glm::dvec3 eye(centre.x + 4 * std::sin(az), height, centre.z + 4 * std::cos(az));
       cameras.push_back(
           raster::perspective(eye, centre, {0, 1, 0}, glm::radians(50.0), 1.0, 0.1, 100.0));
+      char eyeAt[64];
+      std::snprintf(eyeAt, sizeof eyeAt, "eye at %.1f m height, 4 m away", height);
+      views.push_back("perspective view azimuth " + degrees(az) + " deg, " + eyeAt);
     }
 
   check.views = uint32_t(cameras.size());
@@ -104,7 +127,7 @@ HoleCheck checkHoles(const OutfitBakeResult &b, const HoleCheckOptions &o) {
       const auto &p = posed[f];
       ++r.images;
       std::vector<uint64_t> differing(cameras.size(), 0);
-      std::vector<std::vector<uint32_t>> seenIds(cameras.size());
+      std::vector<std::vector<uint32_t>> seenIds(cameras.size()), leakedIds(cameras.size());
       parallelFor(cameras.size(), o.threads, [&](size_t j) {
         const auto a = raster::rasterize(p, full.indices, cameras[j], n, n, {false, 1});
         const auto c = raster::rasterize(p, tagged.indices, cameras[j], n, n, {false, 1});
@@ -112,14 +135,26 @@ HoleCheck checkHoles(const OutfitBakeResult &b, const HoleCheckOptions &o) {
           const int64_t x = a.triangle[i] < 0 ? -1 : int64_t(full.ids[size_t(a.triangle[i])]);
           const int64_t y = c.triangle[i] < 0 ? -1 : int64_t(tagged.ids[size_t(c.triangle[i])]);
           differing[j] += x != y;
-          if (x >= 0 && x < b.bodyTriangles)
+          if (x >= 0 && x < b.bodyTriangles) {
             seenIds[j].push_back(uint32_t(x));
+            if (x != y && !kept[size_t(x)])
+              leakedIds[j].push_back(uint32_t(x));
+          }
         }
       });
       for (size_t j = 0; j < cameras.size(); ++j) {
         r.differingPixels += differing[j];
         for (uint32_t id : seenIds[j])
           everSeen[id] = 1;
+        if (differing[j] > r.worstPixels) { // the first of equals: independent of threads
+          r.worstPixels = differing[j];
+          r.worstFrame = describe(frames[f]);
+          r.worstView = views[j];
+          auto &ids = leakedIds[j];
+          std::sort(ids.begin(), ids.end());
+          ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+          r.worstLeaked = ids;
+        }
       }
     }
     r.images *= cameras.size();

@@ -95,7 +95,7 @@ struct OutfitOptions {
   // Continuous LOD of the merged mesh (body parts, outfit-specific copies, garments), applied
   // before the animation bake; none when empty.
   std::optional<LodOptions> lod;
-  // After baking, prove no hole opens (checkHoles at every `check`-th frame; 0: no check): a
+  // After baking, test that no hole opens (checkHoles at every `check`-th frame; 0: no check): a
   // differing pixel fails the bake, naming the outfit and the body parts seen through.
   uint32_t check = 0;
   void validate() const; // throws crowd::Error naming the first field out of range
@@ -137,6 +137,11 @@ struct HoleCheck {
     uint32_t neverSeen = 0; // body faces no naive image shows
     uint32_t removedUnseen = 0;
     std::vector<uint32_t> leaked; // removed body faces some naive image shows (holes)
+    // The image with the most differing pixels (none when differingPixels is 0): which pose
+    // and camera, in words, and the removed body faces it shows.
+    uint64_t worstPixels = 0;
+    std::string worstFrame, worstView;
+    std::vector<uint32_t> worstLeaked;
     double recall() const { return neverSeen ? double(removedUnseen) / neverSeen : 1.0; }
   };
   std::vector<PerOutfit> outfits;
