@@ -16,6 +16,7 @@
 #include <gtest/gtest.h>
 
 #include "../unit/gltf_writer.h"
+#include "../unit/skip.h"
 #include "crowd/bake/anim_bake.h"
 #include "crowd/bake/cloth_bake.h"
 #include "crowd/bake/evaluate.h"
@@ -113,7 +114,7 @@ protected:
   static void TearDownTestSuite() { gl_.reset(); }
   void SetUp() override {
     if (!gl_)
-      GTEST_SKIP() << "no OpenGL 4.5 core context: " << why_;
+      CROWD_SKIP("no OpenGL 4.5 core context: " << why_);
   }
   static std::unique_ptr<runtime::HeadlessGl> gl_;
   static std::string why_;

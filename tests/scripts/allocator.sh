@@ -4,6 +4,7 @@
 # one process), also where the variable sets other tunables; where the user set it, once. The
 # quick commands start once. The packs do not depend on it.
 set -euo pipefail
+. "$(dirname "$(realpath "$0")")/skip.sh"
 bin=$1 work=$2
 rm -rf "$work" && mkdir -p "$work" && cd "$work"
 fail() { echo "FAIL: $*" >&2; exit 1; }
@@ -11,7 +12,7 @@ starts() { # how many times glibc's loader starts crowdbake ${@:2}, with GLIBC_T
   env GLIBC_TUNABLES="$1" LD_DEBUG=libs "$bin/crowdbake" "${@:2}" 2>&1 >/dev/null |
     grep -c 'initialize program' || true
 }
-ldd "$bin/crowdbake" | grep -q 'libc\.so\.6' || { echo "SKIP: crowdbake is not linked to glibc"; exit 0; }
+ldd "$bin/crowdbake" | grep -q 'libc\.so\.6' || skip "crowdbake is not linked to glibc"
 for bake in build anim lod outfits impostor cloth terrain; do
   [ "$(starts '' $bake --help)" = 2 ] || fail "$bake not started again to set glibc.malloc.hugetlb"
 done

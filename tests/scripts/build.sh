@@ -3,6 +3,7 @@
 # 1 and 2 workers, warm builds from the cache, a changed setting, a damaged cache entry, two
 # builds sharing one cache at once, a disk filling up, and the player drawing a character pack.
 set -euo pipefail
+. "$(dirname "$(realpath "$0")")/skip.sh"
 bin=$1 work=$2
 xvfb=$(dirname "$(realpath "$0")")/xvfb.sh # the player under a fresh X display
 rm -rf "$work" && mkdir -p "$work" && cd "$work"
@@ -182,5 +183,6 @@ if command -v Xvfb >/dev/null; then
   [ -s walker.png ] || fail "no screenshot"
   echo "ok: crowdplay drew the character pack"
 else
-  echo "skip: Xvfb not installed, the player check did not run"
+  skip_part "Xvfb is not installed: the player check did not run"
 fi
+end_skipped_parts

@@ -3,8 +3,9 @@
 # C cycles the clip, O the outfit, L the level of detail and I the drawing, and the title names
 # each choice. Skips (exit 77), saying why, without xdotool.
 set -euo pipefail
+. "$(dirname "$(realpath "$0")")/skip.sh"
 bin=$1 work=$2
-command -v xdotool >/dev/null || { echo "skip: xdotool is not installed (./run test installs it)"; exit 77; }
+command -v xdotool >/dev/null || skip "xdotool is not installed (./run test installs it)"
 rm -rf "$work" && mkdir -p "$work" && cd "$work"
 "$bin/crowdbake" samples --no-cloth --out s >/dev/null
 cat > pair.json <<'JSON'

@@ -5,6 +5,7 @@
 # that is not a report and a folder without a build report are clear errors. Without chromium
 # the page checks still run and the browser's are skipped, saying so (exit 77).
 set -euo pipefail
+. "$(dirname "$(realpath "$0")")/skip.sh"
 bin=$1 work=$2
 rm -rf "$work" && mkdir -p "$work" && cd "$work"
 fail() { echo "FAIL: $*" >&2; exit 1; }
@@ -53,10 +54,8 @@ expect_error "deep.json:1:65: JSON nests deeper than 64 levels" "$bin/crowdbake"
 [ ! -e x.html ] || fail "a failed report wrote its page"
 
 browser=$(command -v chromium || command -v chromium-browser || true)
-if [ -z "$browser" ]; then
-  echo "SKIP: chromium is not installed (apt-get install chromium): the page was not loaded in a browser"
-  exit 77
-fi
+[ -n "$browser" ] ||
+  skip "chromium is not installed (apt-get install chromium): the page was not loaded in a browser"
 chrome() { timeout 120 "$browser" --headless --no-sandbox --disable-gpu --hide-scrollbars \
   --user-data-dir="$work/profile" --enable-logging=stderr --v=0 "$@" "file://$work/report.html"; }
 chrome --dump-dom > dom.html 2> chromium_dom.log || fail "chromium could not load the page: $(tail -3 chromium_dom.log)"

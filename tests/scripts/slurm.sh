@@ -6,13 +6,14 @@
 # reason where the daemons cannot start. The bakes are kept small: every one of them runs three
 # times (release only: see tests/CMakeLists.txt).
 set -euo pipefail
+. "$(dirname "$(realpath "$0")")/skip.sh"
 bin=$1 work=$2
 here=$(cd "$(dirname "$0")" && pwd)
 rm -rf "$work" && mkdir -p "$work" && cd "$work"
 cluster=$work/cluster
 trap '"$here/slurm_cluster.sh" stop "$cluster"' EXIT
 rc=0; "$here/slurm_cluster.sh" start "$cluster" || rc=$?
-[ $rc = 0 ] || { echo "SKIP: the Slurm daemons cannot start here (see above)"; exit 77; }
+[ $rc = 0 ] || skip "the Slurm daemons cannot start here (see above)"
 export SLURM_CONF=$cluster/slurm.conf
 fail() { echo "FAIL: $*" >&2; exit 1; }
 

@@ -12,14 +12,15 @@
 # or in a file whose name has a space) are baked as float matrices and compared the same way; the
 # variants without indices and as strips also as lod packs (their corners welded back into
 # shared vertices).
-# Skips (exit 77) where node or three (installed by ./run test into .tools) are absent; the shared
-# models are used where present.
+# Skips (skip.sh) where node or three (installed by ./run test into .tools) or the shared models
+# are absent.
 set -euo pipefail
+. "$(dirname "$(realpath "$0")")/skip.sh"
 bin=$1 root=$2 work=$3 assets=$4
 three=$root/.tools/node_modules/three
-if ! command -v node >/dev/null; then echo "SKIP: node is not installed"; exit 77; fi
-if [ ! -d "$three" ]; then echo "SKIP: three not installed at $three (./run test installs it)"; exit 77; fi
-[ -d "$assets" ] || echo "note: no shared models at $assets: the Blender exports only"
+command -v node >/dev/null || skip "node is not installed (./run test installs it)"
+[ -d "$three" ] || skip "three is not installed at $three (./run test installs it)"
+[ -d "$assets" ] || skip_part "no shared models at $assets (../shared beside the checkout): the Blender exports only"
 rm -rf "$work" && mkdir -p "$work"
 status=0 models=0
 check() { # check MODEL PACK REPORT
@@ -53,4 +54,5 @@ for model in "$work"/variants/*.glb "$work"/variants/*.gltf; do
   models=$((models + 1))
 done
 [ $status = 0 ] && echo "three.js agrees with crowdbake pose on all $models models"
+[ $status != 0 ] || end_skipped_parts
 exit $status

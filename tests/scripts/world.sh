@@ -4,6 +4,8 @@
 # a behaviour image of another size than the terrain's grid, a missing terrain pack and a FIFO
 # for an image are one-line errors.
 set -euo pipefail
+. "$(dirname "$(realpath "$0")")/skip.sh"
+command -v Xvfb >/dev/null || skip "Xvfb is not installed (apt-get install xvfb)"
 bin=$1 work=$2 src=$3
 xvfb=$(dirname "$(realpath "$0")")/xvfb.sh # the player under a fresh X display
 rm -rf "$work" && mkdir -p "$work/samples/scenes" "$work/out" && cd "$work"

@@ -7,6 +7,8 @@
 # could not open its display ("X11: Failed to open display :99") with nothing in the server's
 # log.
 set -uo pipefail
+. "$(dirname "$(realpath "$0")")/skip.sh"
+command -v Xvfb >/dev/null || skip "Xvfb is not installed (apt-get install xvfb)"
 dir=$(mktemp -d "${TMPDIR:-/tmp}/xvfb.XXXXXX")
 server=
 cleanup() {

@@ -16,6 +16,7 @@
 #include "crowd/bake/lod_bake.h"
 #include "crowd/formats/error.h"
 #include "gltf_writer.h"
+#include "skip.h"
 
 using namespace crowd;
 using crowd::test::GltfBuilder;
@@ -477,7 +478,7 @@ TEST(Import, MeshByNameAndAClearErrorForAnUnknownOne) {
 TEST(Import, SharedAssetsWithOddities) {
   std::string dir = CROWD_SHARED_ASSETS;
   if (!std::filesystem::exists(dir))
-    GTEST_SKIP() << "shared assets absent at " << dir;
+    CROWD_SKIP("shared assets absent at " << dir);
   Reporter r;
   r.quiet = true;
   Character q = importGltf(dir + "/quad_skin/quad_skin.glb", {}, r);

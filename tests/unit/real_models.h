@@ -1,11 +1,15 @@
 // Real glTF characters, written by real exporters: ../shared/assets/gltf's (when that folder is
 // beside the checkout), the Blender exports in tests/data/blender and gltfpack's quantized copies
-// of two of them in tests/data/gltfpack (always: they are committed).
+// of two of them in tests/data/gltfpack (always: they are committed). Without the shared folder
+// the tests use the other two; where CROWD_REQUIRE=all (CI) its absence is an error.
 #pragma once
 #include <algorithm>
 #include <filesystem>
+#include <stdexcept>
 #include <string>
 #include <vector>
+
+#include "skip.h"
 
 namespace crowd::test {
 
@@ -14,8 +18,11 @@ inline std::vector<std::string> realModels() {
   for (const std::string &dir :
        {std::string(CROWD_SHARED_ASSETS), std::string(CROWD_SOURCE_DIR) + "/tests/data/blender",
         std::string(CROWD_SOURCE_DIR) + "/tests/data/gltfpack"}) {
-    if (!std::filesystem::exists(dir))
+    if (!std::filesystem::exists(dir)) {
+      if (requireAll())
+        throw std::runtime_error("CROWD_REQUIRE=all, but the shared models are absent: " + dir);
       continue;
+    }
     for (const auto &e : std::filesystem::recursive_directory_iterator(dir))
       if (e.path().extension() == ".glb" || e.path().extension() == ".gltf")
         files.push_back(e.path().string());
