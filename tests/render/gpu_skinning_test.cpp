@@ -39,6 +39,11 @@ using namespace crowd;
 
 namespace {
 
+// The shader against its CPU mirror, at 2x what README states (llvmpipe: 0.0003 mm by the
+// texture and cloth loops, 0.0024 mm by palettes): a GPU that rounds otherwise may need its own
+// figure, not a looser test.
+constexpr double kMirrorMm = 0.0006, kPaletteMirrorMm = 0.005;
+
 struct Baked {
   Character character;
   AnimBakeResult result;
@@ -262,7 +267,7 @@ TEST_F(Gl, TheShaderSkinsAsItsCpuMirrorAtEveryPrecision) {
     }
     std::printf("%-8s GPU vs CPU mirror: max %.5f mm, mean %.5f mm over %zu vertices\n", precision,
                 e.max * b.result.mmPerUnit, e.mean() * b.result.mmPerUnit, e.count);
-    EXPECT_LE(e.max * b.result.mmPerUnit, 0.01) << precision;
+    EXPECT_LE(e.max * b.result.mmPerUnit, kMirrorMm) << precision;
   }
 }
 
@@ -311,7 +316,7 @@ TEST_F(Gl, CrossfadesMatchTheCpuMirrorAndTheExactBlend) {
     std::printf("%-8s crossfade walk -> run, 13 times over 0.4 s: GPU vs CPU mirror max %.5f mm; "
                 "GPU vs exact fade max %.3f mm, mean %.3f mm (the clips alone: up to %.3f mm)\n",
                 precision, mirror.max * mm, exact.max * mm, exact.mean() * mm, clipsMm);
-    EXPECT_LE(mirror.max * mm, 0.01) << precision;
+    EXPECT_LE(mirror.max * mm, kMirrorMm) << precision;
     // A fade costs no more than its clips do; at default settings that is the 1 mm budget.
     EXPECT_LE(exact.max * mm, 1.05 * clipsMm + 0.01) << precision;
     if (std::string(precision) == "auto") {
@@ -377,8 +382,8 @@ TEST_F(Gl, PalettesSkinAsTheirCpuMirrorAndTheSource) {
   std::printf("palettes: GPU vs CPU mirror max %.5f mm over %zu vertex times; GPU vs the glTF "
               "at the clip's times max %.3f mm, mean %.4f mm\n",
               mirror.max * mm, mirror.count, exact.max * mm, exact.mean() * mm);
-  EXPECT_LE(mirror.max * mm, 0.01);
-  EXPECT_LE(exact.max * mm, 1.0 + 0.01);
+  EXPECT_LE(mirror.max * mm, kPaletteMirrorMm);
+  EXPECT_LE(exact.max * mm, 1.0 + 0.01); // the 1 mm budget, as README says (0.78 mm measured)
   EXPECT_GT(mirror.count, 0u);
 }
 
@@ -442,7 +447,7 @@ TEST_F(Gl, MorphsMatchTheCpuMirror) {
     std::printf("%s: morphs, GPU vs CPU mirror: max %.5f mm, mean %.5f mm over %zu vertices\n",
                 std::filesystem::path(file).filename().c_str(), e.max * r.mmPerUnit,
                 e.mean() * r.mmPerUnit, e.count);
-    EXPECT_LT(e.max * r.mmPerUnit, 0.01);
+    EXPECT_LT(e.max * r.mmPerUnit, kMirrorMm);
     EXPECT_GT(moved, 0.01 * r.diagonal);
   }
 }
@@ -558,6 +563,8 @@ TEST_F(Gl, ClothLoopsReplayTheirCacheInPhaseWithTheBody) {
               "(16-bit quantisation alone: max %.4f mm)\n",
               frames, chunk.cycles, start, toMirror.max * mm, toMirror.count, toCache.max * mm,
               toCache.mean() * mm, loop.quantMaxMm);
-  EXPECT_LE(toMirror.max * mm, 0.01);
-  EXPECT_LE(toCache.max * mm, 1.0);
+  EXPECT_LE(toMirror.max * mm, kMirrorMm);
+  // README: 0.011 mm, the loop's 16-bit quantisation; the GPU adds rounding alone.
+  EXPECT_LE(toCache.max * mm, 2 * loop.quantMaxMm);
+  EXPECT_LE(toCache.max * mm, 0.022);
 }

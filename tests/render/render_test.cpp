@@ -231,11 +231,13 @@ TEST(Player, SmallSceneMatchesItsGoldenScreenshot) {
     }
     close += worst <= 16;
   }
-  // Tolerant, not byte-exact: another Mesa or GPU may round edges differently.
+  // Not byte-exact (another build of the player may round edges otherwise), but at 2x what this
+  // machine's Mesa llvmpipe measures: mean 0.039/255, 0.04% of pixels off by more than 16.
+  // Another Mesa or a GPU draws its own golden (tests/golden/update.sh), not a looser test.
   std::printf("against the golden: mean difference %.3f/255, %.4f of pixels within 16\n",
               sum / double(a.rgb.size()), double(close) / double(a.rgb.size() / 3));
-  EXPECT_LE(sum / double(a.rgb.size()), 1.5);
-  EXPECT_GE(double(close) / double(a.rgb.size() / 3), 0.99);
+  EXPECT_LE(sum / double(a.rgb.size()), 0.08);
+  EXPECT_GE(double(close) / double(a.rgb.size() / 3), 1 - 0.0008);
 }
 
 // Two renders of one view: silhouette IoU (non-background pixels), and mean |difference| per
@@ -386,9 +388,9 @@ TEST(Player, BudgetedLodStaysWithinTheBudget) {
   std::printf("budget %llu (a quarter of the full %g triangles): silhouette IoU %.4f against "
               "full detail, mean |difference| %.2f of 255\n",
               (unsigned long long)budget, fullTriangles, c.iou, c.mean);
-  // Measured here: IoU 0.997, mean difference 0.46; the bounds leave room for another Mesa.
-  EXPECT_GE(c.iou, 0.98);
-  EXPECT_LE(c.mean, 1.5);
+  // At 2x what this machine measures: IoU 0.9988 (1 - IoU 0.0012), mean difference 0.20/255.
+  EXPECT_GE(c.iou, 1 - 0.0024);
+  EXPECT_LE(c.mean, 0.4);
 }
 
 // An impostor of the walk (4 frames, mirrored) for the hybrid tests, and the distance where one

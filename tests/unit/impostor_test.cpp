@@ -206,13 +206,61 @@ TEST(Impostor, TexelsFromTheSwitchDistanceCoverAPixelThereAndClampPast512) {
   EXPECT_EQ(r.warnings()[0].code, "texels_clamped");
 }
 
+// The mirror figures again from the pack's own region planes: each view placed in its full
+// texels x texels frame by its pivot (the sphere's centre sits at the frame's centre), against
+// the view from the opposite azimuth half a clip later, flipped left-right.
+std::pair<double, double> mirrorIouFromPack(const pack::Impostor &m) {
+  const int n = int(m.texels);
+  auto mask = [&](uint32_t f, uint32_t e, uint32_t a) {
+    std::vector<uint8_t> full(size_t(n) * size_t(n), 0);
+    const pack::ImpostorView &v = m.views[m.viewIndex(f, e, a)];
+    const int x0 = int(std::lround(n / 2.0 - v.pivotX)), y0 = int(std::lround(n / 2.0 - v.pivotY));
+    for (int y = 0; y < v.height; ++y)
+      for (int x = 0; x < v.width; ++x)
+        if (m.regions[f * m.frameTexels() + size_t(v.y + y) * m.atlasWidth + size_t(v.x + x)] &&
+            x0 + x >= 0 && x0 + x < n && y0 + y >= 0 && y0 + y < n)
+          full[size_t(y0 + y) * size_t(n) + size_t(x0 + x)] = 1;
+    return full;
+  };
+  double lowest = 1, sum = 0;
+  size_t count = 0;
+  for (uint32_t f = 0; f < m.frames; ++f)
+    for (uint32_t e = 0; e < m.elevations; ++e)
+      for (uint32_t a = 0; a < m.azimuths; ++a) {
+        const auto p = mask(f, e, a);
+        const auto q = mask((f + m.frames / 2) % m.frames, e, (m.azimuths - a) % m.azimuths);
+        size_t both = 0, either = 0;
+        for (int y = 0; y < n; ++y)
+          for (int x = 0; x < n; ++x) {
+            const bool u = p[size_t(y * n + x)], w = q[size_t(y * n + n - 1 - x)];
+            both += u && w, either += u || w;
+          }
+        const double iou = either ? double(both) / double(either) : 1.0;
+        lowest = std::min(lowest, iou), sum += iou, ++count;
+      }
+  return {lowest, sum / double(count)};
+}
+
 TEST(Impostor, MirroringIsMeasuredNotAssumed) {
   Reporter r;
   auto o = small();
   o.frames = 4; // even: frame f + 2 is half a walk cycle later
   auto res = bakeImpostor(humanoid(), o, r);
   EXPECT_GT(res.mirrorIouMean, 0.95) << "the sample walk is left-right symmetric";
-  EXPECT_LE(res.mirrorIouMin, res.mirrorIouMean);
+  const auto [lowest, mean] = mirrorIouFromPack(res.impostor);
+  std::printf("mirror IoU: bake min %.4f mean %.4f; from the pack min %.4f mean %.4f\n",
+              res.mirrorIouMin, res.mirrorIouMean, lowest, mean);
+  EXPECT_NEAR(res.mirrorIouMin, lowest, 1e-12);
+  EXPECT_NEAR(res.mirrorIouMean, mean, 1e-12);
+  o.clip = "idle"; // not symmetric: the figures below 1, and still the pack's
+  o.texels = 96;
+  const auto idle = bakeImpostor(humanoid(), o, r);
+  const auto [idleLowest, idleMean] = mirrorIouFromPack(idle.impostor);
+  std::printf("idle mirror IoU: bake min %.4f mean %.4f; from the pack min %.4f mean %.4f\n",
+              idle.mirrorIouMin, idle.mirrorIouMean, idleLowest, idleMean);
+  EXPECT_LT(idle.mirrorIouMin, 0.99);
+  EXPECT_NEAR(idle.mirrorIouMin, idleLowest, 1e-12);
+  EXPECT_NEAR(idle.mirrorIouMean, idleMean, 1e-12);
   o.frames = 3;
   EXPECT_EQ(bakeImpostor(humanoid(), o, r).mirrorIouMean, -1) << "odd frame counts: not measured";
 }
@@ -428,7 +476,6 @@ TEST(Bc5, BlocksRoundTripWithinTheirLevelsAndIgnoreUnusedTexels) {
   rg[(w * h - 1) * 2] = 1e6f; // unused: its value must not widen the block's range
   auto blocks = pack::encodeBc5(rg.data(), used.data(), w, h);
   ASSERT_EQ(blocks.size(), 2u * 2 * 16);
-  EXPECT_EQ(blocks, pack::encodeBc5(rg.data(), used.data(), w, h)); // deterministic
   std::vector<float> back(rg.size());
   pack::decodeBc5(blocks.data(), w, h, back.data());
   for (size_t t = 0; t + 1 < w * h; ++t) {
