@@ -128,5 +128,21 @@ TEST(AnimStore, APackWithNeitherTextureNorTracksIsAClearError) {
   }
 }
 
+// The choice itself, on figures: the fewer bytes among the encodings within the budget, else
+// the one erring less; an encoding just over the budget never counts as meeting it.
+TEST(AnimStore, TheChoiceTakesTheFewerBytesOnlyWithinTheBudget) {
+  EXPECT_EQ(chooseStore(1.0, {0.8, 1000}, {0.9, 400}).stored, "tracks");
+  EXPECT_EQ(chooseStore(1.0, {0.8, 300}, {0.9, 400}).stored, "texture");
+  const StoreChoice over = chooseStore(1.0, {0.8, 1000}, {1.5, 400});
+  EXPECT_EQ(over.stored, "texture");
+  EXPECT_EQ(over.reason.rfind("only texture meets the budget", 0), 0u) << over.reason;
+  EXPECT_EQ(chooseStore(1.0, {1.01, 100}, {0.99, 400}).stored, "tracks");
+  const StoreChoice neither = chooseStore(1.0, {3.0, 100}, {1.2, 400});
+  EXPECT_EQ(neither.stored, "tracks");
+  EXPECT_EQ(neither.reason.rfind("neither meets the budget, tracks errs less", 0), 0u)
+      << neither.reason;
+  EXPECT_EQ(chooseStore(1.0, {1.0, 1000}, {1.0, 400}).stored, "tracks"); // at the budget: met
+}
+
 } // namespace
 } // namespace crowd

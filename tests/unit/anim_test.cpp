@@ -1,5 +1,7 @@
 #include <filesystem>
 
+#include <glm/gtc/matrix_access.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
 #include "crowd/bake/anim_bake.h"
@@ -165,6 +167,22 @@ TEST(TextureSkinning, FrameAtWrapsLoopsAndClampsOthers) {
   runtime::frameAt(once, 1.25f, f, a);
   EXPECT_EQ(f, 10u);
   EXPECT_EQ(a, 0.0f);
+}
+
+// Turns of -100 and 170 degrees about z: read from their matrices, their quaternions (xyzw:
+// 0, 0, -0.77, 0.64 and 0, 0, 0.996, 0.087) lie on opposite hemispheres. Halfway through a
+// crossfade the joint must take the short way round, through -145 degrees, not the long way
+// through 35.
+TEST(TextureSkinning, CrossfadeBlendsTheShortWayRound) {
+  auto turn = [](float degrees) {
+    const glm::mat4 m = glm::rotate(glm::mat4(1), glm::radians(degrees), glm::vec3(0, 0, 1));
+    return runtime::JointRows{glm::row(m, 0), glm::row(m, 1), glm::row(m, 2)};
+  };
+  const runtime::JointRows mid = runtime::blendJoints(turn(-100), turn(170), 0.5f);
+  const runtime::JointRows half = turn(-145);
+  for (int r = 0; r < 3; ++r)
+    for (int k = 0; k < 4; ++k)
+      EXPECT_NEAR(mid[size_t(r)][k], half[size_t(r)][k], 1e-5f) << r << " " << k;
 }
 
 // Every real glTF character (test::realModels: ../shared/assets/gltf and the Blender exports):

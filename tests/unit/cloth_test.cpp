@@ -105,6 +105,10 @@ TEST(PointCache, DamagedFilesAreClearErrors) {
   const auto open = [](const std::string &name, const std::vector<uint8_t> &bytes) {
     return errorOf([&] { PointCacheReader(writeCache(name, bytes), {}); });
   };
+  auto longer = pc2; // bytes past the frames the header counts: not the file it describes
+  longer.resize(longer.size() + 12);
+  EXPECT_NE(open("long.pc2", longer).find("header says 4 frames of 10 vertices"), std::string::npos)
+      << open("long.pc2", longer);
   auto cut = pc2;
   cut.resize(cut.size() - 7);
   EXPECT_NE(open("cut.pc2", cut).find("(truncated?)"), std::string::npos) << open("cut.pc2", cut);

@@ -125,6 +125,15 @@ TEST(Container, CrossChunkChecksNameTheField) {
   p = tinyPack();
   p.clips[0].frameCount = 3; // past the texture
   EXPECT_THROW(loadAnimationPack(Reader(packBytes(p), "x")), crowd::Error);
+  p = tinyPack();
+  p.clips.push_back({"empty", 30, 0, 2, 0, false}); // no frames: nothing to play
+  try {
+    loadAnimationPack(Reader(packBytes(p), "x"));
+    ADD_FAILURE() << "a clip without frames was read";
+  } catch (const crowd::Error &e) {
+    EXPECT_NE(std::string(e.what()).find("clip 'empty' has no frames"), std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(Container, SourceMapsStayCompactAndFitTheMesh) {

@@ -703,4 +703,38 @@ TEST(Import, TheBlenderFileWithTwoArmaturesBakesBoth) {
     bound.insert(c.jointName(c.mesh.joints[v][0]).substr(0, 1));
   EXPECT_EQ(bound, (std::set<std::string>{"a", "b"})) << "both tubes, each on its own rig";
 }
+
+// Files a glTF names stay inside its folder (or --asset-root): a buffer one folder up, named
+// "../", and the same through a link, are each one error, and the file is never read.
+TEST(Import, BuffersOutsideTheAssetFolderAreRefused) {
+  GltfBuilder b;
+  b.skinnedQuad();
+  const std::string dir = test::tempDir("import_outside");
+  std::filesystem::create_directories(dir + "/assets");
+  const std::string path = b.write(dir + "/assets", "quad", true);
+  std::filesystem::rename(dir + "/assets/quad.bin", dir + "/quad.bin");
+  auto json = nlohmann::json::parse(std::ifstream(path));
+  json["buffers"][0]["uri"] = "../quad.bin";
+  std::ofstream(path) << json.dump();
+  Reporter r;
+  r.quiet = true;
+  try {
+    importGltf(path, {}, r);
+    ADD_FAILURE() << "a buffer outside the asset folder was read";
+  } catch (const Error &e) {
+    EXPECT_NE(std::string(e.what()).find("'../quad.bin': leaves the asset folder"),
+              std::string::npos)
+        << e.what();
+  }
+  std::filesystem::create_symlink("../quad.bin", dir + "/assets/link.bin");
+  json["buffers"][0]["uri"] = "link.bin";
+  std::ofstream(path) << json.dump();
+  try {
+    importGltf(path, {}, r);
+    ADD_FAILURE() << "a buffer linked from outside the asset folder was read";
+  } catch (const Error &e) {
+    EXPECT_NE(std::string(e.what()).find("outside the asset folder"), std::string::npos)
+        << e.what();
+  }
+}
 } // namespace

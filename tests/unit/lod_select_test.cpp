@@ -7,6 +7,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
+#include "crowd/runtime/impostor_runtime.h"
 #include "crowd/runtime/lod_select.h"
 #include "sample_character.h"
 
@@ -20,6 +21,23 @@ const pack::AnimationPack &lodPack() { return test::sampleHumanoidLodPack(); }
 glm::mat4 viewProjection(glm::vec3 eye, glm::vec3 target) {
   return glm::perspective(glm::radians(50.0f), 16.0f / 9.0f, 0.1f, 100.0f) *
          glm::lookAt(eye, target, glm::vec3(0, 1, 0));
+}
+
+// A 128-texel impostor of a unit sphere 1 m up, and a 540-pixel-high view from `eye` towards a
+// point 10 m down -z at 1 m height.
+pack::Impostor unitImpostor() {
+  pack::Impostor impostor;
+  impostor.texels = 128;
+  impostor.sphere = {0, 1, 0, 1};
+  return impostor;
+}
+FrameView alongMinusZ(glm::vec3 eye) {
+  FrameView view;
+  view.eye = eye;
+  view.viewProjection = viewProjection(eye, {0, 1, -10});
+  view.fovY = glm::radians(50.0);
+  view.viewportHeight = 540;
+  return view;
 }
 
 } // namespace
@@ -191,9 +209,7 @@ TEST(LodSelect, AFixedDetailOverridesTheBudget) {
 // Impostors come nearest first, so the depth test rejects the pixels of those behind before
 // they are shaded: instances added in a scrambled order along the view.
 TEST(LodSelect, ImpostorsAreListedNearestFirst) {
-  pack::Impostor impostor;
-  impostor.texels = 128;
-  impostor.sphere = {0, 1, 0, 1};
+  const pack::Impostor impostor = unitImpostor();
   CrowdSelection s;
   s.addCharacter(lodPack(), &impostor);
   std::vector<float> depth;
@@ -201,11 +217,7 @@ TEST(LodSelect, ImpostorsAreListedNearestFirst) {
     depth.push_back(5.0f + float((i * 37) % 50));
     s.addInstance({0, 0, -depth.back()}, 0, true);
   }
-  FrameView view;
-  view.eye = {0, 1.6f, 0};
-  view.viewProjection = viewProjection(view.eye, {0, 1, -10});
-  view.fovY = glm::radians(50.0);
-  view.viewportHeight = 540;
+  const FrameView view = alongMinusZ({0, 1.6f, 0});
   DrawOptions o;
   o.allImpostors = true;
   EXPECT_EQ(s.select(view, o).impostors, 50u);
@@ -213,4 +225,44 @@ TEST(LodSelect, ImpostorsAreListedNearestFirst) {
   ASSERT_EQ(ids.size(), 50u);
   for (size_t k = 1; k < ids.size(); ++k)
     EXPECT_LT(depth[ids[k - 1]], depth[ids[k]]) << k;
+}
+
+// The player culls with the character's bounding sphere: an instance whose centre lies outside
+// the left plane by less than its radius still shows a part, and is drawn.
+TEST(LodSelect, AnInstanceHalfOutOfViewIsDrawn) {
+  CrowdSelection s;
+  s.addCharacter(lodPack(), nullptr);
+  const auto &c = s.characters[0];
+  const float halfH = std::atan(std::tan(glm::radians(25.0f)) * 16.0f / 9.0f);
+  const float edge = -10 * std::tan(halfH), perpendicular = 1 / std::cos(halfH);
+  for (float outside : {0.7f, 1.3f}) // in radii, along the plane's normal
+    s.addInstance(glm::vec3(edge - outside * c.radius * perpendicular, 0, -10) - c.boundLocal, 0,
+                  false);
+  FrameView view;
+  view.eye = {0, 0, 0};
+  view.viewProjection = viewProjection(view.eye, {0, 0, -1});
+  view.fovY = glm::radians(50.0);
+  const auto r = s.select(view, {});
+  ASSERT_EQ(r.visible, 1u);
+  EXPECT_EQ(s.characters[0].ids[0], 0u);
+}
+
+// Past the one-texel-per-pixel distance D an instance becomes an impostor only beyond
+// (1 + h) D and geometry again only within (1 - h) D: between the two it keeps what it was.
+TEST(LodSelect, TheImpostorSwitchHoldsBetweenItsTwoDistances) {
+  const pack::Impostor impostor = unitImpostor();
+  CrowdSelection s;
+  s.addCharacter(lodPack(), &impostor);
+  s.addInstance({0, 0, -5}, 0, true);
+  const FrameView view = alongMinusZ({0, 1, 0});
+  const double d = oneToOneDistance(impostor, view.fovY, view.viewportHeight);
+  auto impostorAt = [&](double distance) {
+    s.moveInstance(0, 0, {0, 0, -float(distance)}, 0);
+    return s.select(view, {}).impostors == 1;
+  };
+  EXPECT_FALSE(impostorAt(0.5 * d));
+  EXPECT_FALSE(impostorAt(d)); // between: still geometry
+  EXPECT_TRUE(impostorAt((1 + 2 * kImpostorHysteresis) * d));
+  EXPECT_TRUE(impostorAt(d)); // between: still an impostor
+  EXPECT_FALSE(impostorAt((1 - 2 * kImpostorHysteresis) * d));
 }

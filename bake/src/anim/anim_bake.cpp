@@ -179,9 +179,8 @@ void warnOverBudget(const AnimBakeResult &result, Reporter &reporter) {
                                                   millimetres(t.maxAnyTimeMm()) + over);
 }
 
-// What the pack stores (AnimBakeOptions::store); "auto" keeps the fewer bytes among the
-// encodings meeting the budget on every clip, else the one erring least.
-void chooseStore(const AnimBakeOptions &options, AnimBakeResult &result, Reporter &reporter) {
+// What the pack stores (AnimBakeOptions::store): "auto" asks chooseStore.
+void applyStore(const AnimBakeOptions &options, AnimBakeResult &result, Reporter &reporter) {
   if (options.store != "auto") {
     result.stored = options.store;
     return;
@@ -191,28 +190,33 @@ void chooseStore(const AnimBakeOptions &options, AnimBakeResult &result, Reporte
     textureWorst = std::max(textureWorst, a.maxAnyTime() * result.mmPerUnit);
   for (const auto &t : result.tracks)
     tracksWorst = std::max(tracksWorst, t.maxAnyTimeMm());
-  const bool textureMeets = textureWorst <= options.errorBudgetMm,
-             tracksMeet = tracksWorst <= options.errorBudgetMm;
-  const uint64_t textureBytes = result.textureBytes(), tracksBytes = result.tracksBytes();
-  const std::string figures = "texture " + std::to_string(textureBytes) + " bytes, " +
-                              millimetres(textureWorst) + "; tracks " +
-                              std::to_string(tracksBytes) + " bytes, " + millimetres(tracksWorst);
-  if (textureMeets && tracksMeet) {
-    result.stored = tracksBytes <= textureBytes ? "tracks" : "texture";
-    result.storeReason =
-        "both meet the budget, " + result.stored + " in fewer bytes (" + figures + ")";
-  } else if (textureMeets || tracksMeet) {
-    result.stored = tracksMeet ? "tracks" : "texture";
-    result.storeReason = "only " + result.stored + " meets the budget (" + figures + ")";
-  } else {
-    result.stored = tracksWorst <= textureWorst ? "tracks" : "texture";
-    result.storeReason =
-        "neither meets the budget, " + result.stored + " errs less (" + figures + ")";
-  }
+  const StoreChoice c = chooseStore(options.errorBudgetMm, {textureWorst, result.textureBytes()},
+                                    {tracksWorst, result.tracksBytes()});
+  result.stored = c.stored;
+  result.storeReason = c.reason;
   reporter.step("stores " + result.stored + ": " + result.storeReason);
 }
 
 } // namespace
+
+StoreChoice chooseStore(double budgetMm, StoreCandidate texture, StoreCandidate tracks) {
+  const bool textureMeets = texture.worstMm <= budgetMm, tracksMeet = tracks.worstMm <= budgetMm;
+  const std::string figures =
+      "texture " + std::to_string(texture.bytes) + " bytes, " + millimetres(texture.worstMm) +
+      "; tracks " + std::to_string(tracks.bytes) + " bytes, " + millimetres(tracks.worstMm);
+  StoreChoice c;
+  if (textureMeets && tracksMeet) {
+    c.stored = tracks.bytes <= texture.bytes ? "tracks" : "texture";
+    c.reason = "both meet the budget, " + c.stored + " in fewer bytes (" + figures + ")";
+  } else if (textureMeets || tracksMeet) {
+    c.stored = tracksMeet ? "tracks" : "texture";
+    c.reason = "only " + c.stored + " meets the budget (" + figures + ")";
+  } else {
+    c.stored = tracks.worstMm <= texture.worstMm ? "tracks" : "texture";
+    c.reason = "neither meets the budget, " + c.stored + " errs less (" + figures + ")";
+  }
+  return c;
+}
 
 AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
                              Reporter &reporter) {
@@ -424,7 +428,7 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
 
   if (options.compressesTracks())
     compressTracks(c, sourceClips, options, result, reporter);
-  chooseStore(options, result, reporter);
+  applyStore(options, result, reporter);
   warnOverBudget(result, reporter); // of what the pack stores
   if (!result.storesTexture()) {    // the clip table's frames still count the morph weights' frames
     pack::AnimationTexture none;

@@ -94,6 +94,18 @@ struct AnimBakeResult {
   uint64_t tracksBytes() const;  // the TRAK chunk's skeleton and clips; 0 without tracks
 };
 
+// The budget's choice of what a pack stores (--store auto), from each encoding's worst error at
+// any time over every clip and its bytes: the fewer bytes among those meeting the budget, else
+// the one erring less; the reason in words, with the figures.
+struct StoreCandidate {
+  double worstMm = 0;
+  uint64_t bytes = 0;
+};
+struct StoreChoice {
+  std::string stored, reason; // "texture" or "tracks"
+};
+StoreChoice chooseStore(double budgetMm, StoreCandidate texture, StoreCandidate tracks);
+
 AnimBakeResult bakeAnimation(const Character &character, const AnimBakeOptions &options,
                              Reporter &reporter);
 
