@@ -12,7 +12,9 @@ starts() { # how many times glibc's loader starts crowdbake ${@:2}, with GLIBC_T
   env GLIBC_TUNABLES="$1" LD_DEBUG=libs "$bin/crowdbake" "${@:2}" 2>&1 >/dev/null |
     grep -c 'initialize program' || true
 }
-ldd "$bin/crowdbake" | grep -q 'libc\.so\.6' || skip "crowdbake is not linked to glibc"
+# ldd's whole output first: grep -q stopping early would fail the pipe (pipefail) by SIGPIPE.
+libraries=$(ldd "$bin/crowdbake")
+grep -q 'libc\.so\.6' <<< "$libraries" || skip "crowdbake is not linked to glibc"
 for bake in build anim lod outfits impostor cloth terrain; do
   [ "$(starts '' $bake --help)" = 2 ] || fail "$bake not started again to set glibc.malloc.hugetlb"
 done
