@@ -126,6 +126,10 @@ bool Crowd::standable(size_t cell) const {
   return cell != kNowhere && terrain_.ground[cell] == uint8_t(pack::Ground::Walkable);
 }
 
+bool Crowd::canStep(size_t cell, float fromHeight) const {
+  return standable(cell) && std::abs(terrain_.heights[cell] - fromHeight) <= terrain_.stepHeight;
+}
+
 size_t Crowd::terrainCell(glm::vec2 p) const {
   const float x = (p.x - terrain_.originX) * perCell_;
   const float z = (p.y - terrain_.originZ) * perCell_;
@@ -159,7 +163,7 @@ Crowd::Ahead Crowd::clearAhead(size_t i, glm::vec2 dir) const {
     for (uint32_t k = 0; k < probesPerSide_; ++k) {
       p += step;
       const size_t c = terrainCell(p);
-      if (!standable(c) || std::abs(terrain_.heights[c] - height) > terrain_.stepHeight)
+      if (!canStep(c, height))
         return {d - 1, false};
       height = terrain_.heights[c];
     }
@@ -173,8 +177,7 @@ Crowd::Ahead Crowd::clearAhead(size_t i, glm::vec2 dir) const {
 bool Crowd::enter(size_t i, glm::vec2 to) {
   Agent &a = agents_[i];
   const size_t c = terrainCell(to), o = occupancyCell(to);
-  if (!standable(c) || o == kNowhere ||
-      std::abs(terrain_.heights[c] - a.height) > terrain_.stepHeight)
+  if (!canStep(c, a.height) || o == kNowhere)
     return false;
   if (occupancy_[o] != i + 1) {
     if (occupancy_[o])

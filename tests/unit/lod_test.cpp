@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <functional>
+#include <map>
 #include <set>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -607,5 +608,49 @@ TEST(Lod, PackedArraysCutEverySubMeshCleanly) {
   broken.collapse.back() = n - 1;
   EXPECT_THROW(pack::decodeLod(pack::encode(broken), "test"), Error);
   EXPECT_NO_THROW(pack::decodeLod(bytes, "test"));
+}
+} // namespace
+
+namespace {
+// Every edge of a closed mesh, at every vertex count down to the floor, between exactly two
+// faces: no collapse pinches the surface.
+void expectClosedAtEveryCount(const LodResult &r) {
+  for (uint32_t v = uint32_t(r.order.size()); v >= r.floorVertices && v > 0; --v) {
+    std::map<std::pair<uint32_t, uint32_t>, int> faces;
+    for (uint32_t t = 0; t < r.triangleCount[v]; ++t)
+      for (uint32_t c = 0; c < 3; ++c) {
+        const uint32_t a = cornerAt(r, t, c, v), b = cornerAt(r, t, (c + 1) % 3, v);
+        ++faces[{std::min(a, b), std::max(a, b)}];
+      }
+    for (const auto &[edge, n] : faces)
+      EXPECT_EQ(n, 2) << "at " << v << " vertices, edge " << edge.first << "-" << edge.second;
+  }
+}
+
+// An hourglass: two flared triangular cups joined at a narrow triangular neck. The neck's
+// vertices are next to each other round it, so each neck edge's ends share a neighbour that is no
+// face's apex; collapsing one into the next is the cheapest move and turns no face past the normal
+// limit: the link condition alone keeps the mesh closed (two faces on every edge).
+TEST(Lod, TheLinkConditionAloneKeepsAnHourglassClosed) {
+  std::vector<glm::vec3> p;
+  for (float ring : {-1.f, 0.f, 1.f}) // bottom rim, neck, top rim
+    for (int i = 0; i < 3; ++i) {
+      const float angle = float(i) * 2.0943951f, radius = ring == 0 ? 0.2f : 1.f;
+      p.push_back({radius * std::cos(angle), ring, radius * std::sin(angle)});
+    }
+  std::vector<uint32_t> idx = {0, 1, 2, 6, 8, 7}; // the caps, facing out
+  for (uint32_t k = 0; k < 2; ++k)
+    for (uint32_t i = 0; i < 3; ++i) {
+      const uint32_t a = 3 * k + i, b = 3 * k + (i + 1) % 3;
+      idx.insert(idx.end(), {a, b + 3, b, a, a + 3, b + 3});
+    }
+  Reporter rep;
+  rep.quiet = true;
+  LodOptions o;
+  o.floorFraction = 0;
+  const LodResult r = bakeLod(p, idx, o, rep);
+  walk(r, p, o.maxNormalDeviationDeg);
+  expectClosedAtEveryCount(r);
+  EXPECT_EQ(r.triangleCount[r.floorVertices], 4u) << "down to a tetrahedron, no further";
 }
 } // namespace

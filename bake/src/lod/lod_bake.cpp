@@ -208,8 +208,9 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
     if (specials != 0 && !(specials == 2 && along))
       return Block::kSeam;
     ringOf(b, ringB); // only past the seam test: of Fox's 994 checks, 625 stop there
-    // The link condition: the vertices next to both ends are exactly the faces' apexes, so the
-    // mesh stays manifold; an inner edge joining two boundary vertices would pinch it.
+    // The link condition: the vertices next to both ends are exactly the faces' apexes (which
+    // are always next to both: the count says whether there are others), so the mesh stays
+    // manifold; an inner edge joining two boundary vertices would pinch it.
     uint32_t apex[2] = {UINT32_MAX, UINT32_MAX};
     for (uint32_t s = 0; s < sides; ++s)
       for (uint32_t w : m.vertex[ab[s]])
@@ -217,11 +218,7 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
           apex[s] = w;
     uint32_t common = 0;
     for (const Neighbour &n : ringA.around)
-      if (const uint32_t w = n.v; ringB.count(w)) {
-        if (w != apex[0] && w != apex[1])
-          return Block::kManifold;
-        ++common;
-      }
+      common += ringB.count(n.v) != 0;
     if (common != sides)
       return Block::kManifold;
     auto onBoundary = [](const Ring &ring) {

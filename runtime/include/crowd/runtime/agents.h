@@ -104,6 +104,9 @@ public:
 
 private:
   bool standable(size_t cell) const;
+  // Whether an agent at `fromHeight` may step onto the cell: walkable, and no step up or down
+  // past the terrain's step height. The one rule for the look-ahead and the move.
+  bool canStep(size_t cell, float fromHeight) const;
   size_t terrainCell(glm::vec2 p) const;   // SIZE_MAX outside the grid
   size_t occupancyCell(glm::vec2 p) const; // SIZE_MAX outside the grid
   struct Ahead {
