@@ -387,6 +387,18 @@ const std::vector<ChunkCodec> &chunkCodecs() {
   return codecs;
 }
 
+std::string formatVersions() {
+  std::string s =
+      "crowdpack container " + std::to_string(kContainerVersion) + "; chunks read (written):";
+  for (const auto &c : chunkCodecs()) {
+    s += "\n  " + fourccName(c.type) + " " + std::to_string(c.oldestVersion);
+    if (c.oldestVersion != c.version)
+      s += "-" + std::to_string(c.version);
+    s += " (" + std::to_string(c.version) + ")  " + c.title;
+  }
+  return s;
+}
+
 const ChunkCodec *findCodec(uint32_t type) {
   for (const auto &c : chunkCodecs())
     if (c.type == type)

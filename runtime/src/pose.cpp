@@ -59,8 +59,12 @@ PoseMesh poseMesh(const pack::AnimationPack &pack, const PoseOptions &o, ClothLo
   std::vector<uint32_t> starts;
   const std::vector<uint32_t> all = lodIndices(pack, cut, starts);
   std::vector<uint32_t> drawn;
-  for (uint32_t s : draws.at(outfit))
+  for (uint32_t s : draws.at(outfit)) {
+    m.subMeshes.push_back(s);
+    m.subMeshStarts.push_back(uint32_t(drawn.size()));
     drawn.insert(drawn.end(), all.begin() + starts[s], all.begin() + starts[s + 1]);
+  }
+  m.subMeshStarts.push_back(uint32_t(drawn.size()));
   std::vector<uint32_t> slot(n, UINT32_MAX);
   for (uint32_t i : drawn)
     slot[i] = 0;

@@ -1,6 +1,9 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <map>
+#include <regex>
 
 #include <sys/stat.h>
 #include <unistd.h>
@@ -272,4 +275,38 @@ TEST(Registry, DescribesEveryChunkAndVerifyNamesWhatIsWrong) {
   expectVerifyError(copyOf(kSkinTexture), "SKIN");
 }
 
+} // namespace
+
+namespace {
+// docs/pack_format.md describes each chunk under a heading "### `TYPE` title, version N" (or
+// "versions A-B"): the registry's types and the versions each reads, exactly, no more, no less.
+TEST(PackFormatDoc, DescribesEveryChunkTypeAndVersionTheRegistryKnows) {
+  std::ifstream in(std::string(CROWD_SOURCE_DIR) + "/docs/pack_format.md");
+  ASSERT_TRUE(in) << "docs/pack_format.md is missing";
+  const std::regex heading(R"(^### `(\w{4})` .*, versions? (\d+)(?:-(\d+))?$)");
+  std::map<std::string, std::pair<uint32_t, uint32_t>> described;
+  for (std::string line; std::getline(in, line);)
+    if (std::smatch m; std::regex_match(line, m, heading)) {
+      const uint32_t from = uint32_t(std::stoul(m[2])),
+                     to = m[3].matched ? uint32_t(std::stoul(m[3])) : from;
+      EXPECT_TRUE(described.emplace(m[1], std::pair{from, to}).second) << m[1] << " twice";
+    } else {
+      EXPECT_FALSE(line.starts_with("### `")) << "a chunk heading out of the pattern: " << line;
+    }
+  for (const auto &codec : chunkCodecs()) {
+    const std::string type = fourccName(codec.type);
+    const auto it = described.find(type);
+    if (it == described.end()) {
+      ADD_FAILURE() << "chunk " << type << " (" << codec.title << ") is not described";
+      continue;
+    }
+    EXPECT_EQ(it->second, std::pair(codec.oldestVersion, codec.version))
+        << "chunk " << type << ": the document describes versions " << it->second.first << "-"
+        << it->second.second << ", the registry reads " << codec.oldestVersion << "-"
+        << codec.version;
+    described.erase(it);
+  }
+  for (const auto &[type, versions] : described)
+    ADD_FAILURE() << "the document describes " << type << ", which the registry does not know";
+}
 } // namespace

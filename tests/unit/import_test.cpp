@@ -738,3 +738,40 @@ TEST(Import, BuffersOutsideTheAssetFolderAreRefused) {
   }
 }
 } // namespace
+
+namespace {
+// A farm's manifest names assets on a shared mount by absolute path: accepted inside the
+// --asset-root given, refused outside it (saying so), and refused without one.
+TEST(Import, AbsolutePathsResolveOnlyInsideTheAssetRoot) {
+  GltfBuilder b;
+  b.skinnedQuad();
+  const std::string dir = std::filesystem::absolute(test::tempDir("import_absolute")).string();
+  std::filesystem::create_directories(dir + "/mount/chars");
+  std::filesystem::create_directories(dir + "/elsewhere");
+  const std::string path = b.write(dir + "/mount/chars", "quad", true);
+  auto json = nlohmann::json::parse(std::ifstream(path));
+  json["buffers"][0]["uri"] = dir + "/mount/chars/quad.bin";
+  std::ofstream(path) << json.dump();
+  Reporter r;
+  r.quiet = true;
+  ImportOptions inRoot;
+  inRoot.input.assetRoot = dir + "/mount";
+  EXPECT_EQ(importGltf(path, inRoot, r).mesh.positions.size(), 4u);
+  auto message = [&](const ImportOptions &o) -> std::string {
+    try {
+      importGltf(path, o, r);
+    } catch (const Error &e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  EXPECT_NE(message({}).find("an absolute path is allowed only inside --asset-root"),
+            std::string::npos)
+      << message({});
+  ImportOptions otherRoot;
+  otherRoot.input.assetRoot = dir + "/elsewhere";
+  EXPECT_NE(message(otherRoot).find("lies outside --asset-root " + dir + "/elsewhere"),
+            std::string::npos)
+      << message(otherRoot);
+}
+} // namespace

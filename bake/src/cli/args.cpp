@@ -28,8 +28,9 @@ void InputArgs::add(CLI::App &app) {
   const char *group = "Untrusted input (every file read)";
   app.add_option("--asset-root", policy.assetRoot,
                  "files named by glTFs and manifests (buffers, images, bodies) must resolve "
-                 "inside DIR (default: the naming file's own folder); '..' leaving it, absolute "
-                 "paths, links out of it and non-regular files are errors")
+                 "inside DIR (default: the naming file's own folder); absolute paths are "
+                 "accepted inside DIR only; '..' leaving it, links out of it and non-regular "
+                 "files are errors")
       ->group(group);
   app.add_option("--max-file-size", maxFileMiB_,
                  "largest input file read, in MiB, checked before reading")

@@ -15,6 +15,7 @@
 #include "crowd/bake/lod_bake.h"
 #include "crowd/bake/malloc_tuning.h"
 #include "crowd/bake/provenance.h"
+#include "crowd/formats/registry.h"
 #include "crowd/samples/cloth_caches.h"
 #include "crowd/samples/samples.h"
 
@@ -49,7 +50,7 @@ commands:
             bake, with charts of error against bytes, triangles and memory
 
 Run 'crowdbake <command> --help' for a command's options; 'crowdbake --version' names the
-version and the toolchain it was built with.
+version, the toolchain it was built with and the pack and chunk versions it reads and writes.
 
 example:
   crowdbake samples --out s && crowdbake anim s/humanoid.glb -o h.crowdpack --report r.json
@@ -288,7 +289,8 @@ int main(int argc, char **argv) {
       return 0;
     }
     if (command == "--version") {
-      std::cout << crowd::kBakerVersion << "\nbuilt with " << crowd::toolchain() << "\n";
+      std::cout << crowd::kBakerVersion << "\nbuilt with " << crowd::toolchain() << "\n"
+                << crowd::pack::formatVersions() << "\n";
       return 0;
     }
     if (!known)

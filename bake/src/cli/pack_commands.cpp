@@ -1,17 +1,15 @@
-// crowdbake inspect, verify and export: what a pack holds, whether it is sound, and its images.
-// All three work chunk by chunk from the chunk registry (crowd/formats/registry.h), so a new
-// chunk type shows up in them through its codec alone.
+// crowdbake inspect and verify: what a pack holds and whether it is sound. Both work chunk by
+// chunk from the chunk registry (crowd/formats/registry.h), so a new chunk type shows up in them
+// through its codec alone (and in export's images, export_command.cpp).
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <sstream>
 
 #include "commands.h"
-#include "crowd/bake/preview.h"
 #include "crowd/formats/chunks.h"
 #include "crowd/formats/error.h"
 #include "crowd/formats/registry.h"
-#include "crowd/runtime/images.h"
 
 using nlohmann::ordered_json;
 
@@ -27,12 +25,6 @@ const char *const kVerifyHelp = R"(Validates the container (magic, version, size
 decodes every chunk through its codec (an unknown type or version is an error) and checks the
 chunks against each other. Exit code 0 when the pack is sound, 1 with the first problem
 otherwise.)";
-const char *const kExportHelp = R"(Writes every image a chunk holds through OpenImageIO: float
-textures as OpenEXR (animation.exr, skin.exr), 8- and 16-bit ones as PNG (diffuse.png, per
-impostor and frame its normals, UVs and regions); and, for a pack with a skeleton, preview.png:
-the mesh skinned from the animation texture a quarter of the way into the first clip, seen from
-the front, one tint per sub-mesh.)";
-
 void addPack(CLI::App &app, std::string &pack) {
   app.add_option("PACK", pack, "a .crowdpack file")->required();
 }
@@ -79,11 +71,6 @@ void printText(std::ostream &o, const pack::Description &d) {
       o << "\n";
     }
   }
-}
-
-void writeImage(const std::string &path, const pack::Image &image) {
-  images::write(path, image);
-  std::cout << path << "\n";
 }
 
 } // namespace
@@ -136,42 +123,6 @@ int cmdVerify(int argc, char **argv) {
     return 0;
   const std::string summary = pack::verifyPack(pack::Reader::open(path));
   std::cout << "ok: " << path << " (" << summary << ")\n";
-  return 0;
-}
-
-int cmdExport(int argc, char **argv) {
-  std::string path, dir;
-  CLI::App app(kExportHelp, "crowdbake export");
-  example(app, "crowdbake export humanoid.crowdpack --images textures/");
-  addPack(app, path);
-  app.add_option("--images", dir, "folder to write the images into")->required();
-  if (!parseArgs(app, argc, argv))
-    return 0;
-  auto reader = pack::Reader::open(path);
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec)
-    throw Error(dir + ": cannot create directory: " + ec.message());
-  using Pixel = pack::Image::Pixel;
-  for (size_t i = 0; i < reader.chunks().size(); ++i) {
-    const auto &c = reader.chunks()[i];
-    const std::string ctx = pack::chunkContext(reader, i);
-    const pack::ChunkCodec &codec = pack::codecOf(c, ctx);
-    if (!codec.images)
-      continue;
-    for (const auto &image : codec.images(reader.payload(c), c.version, ctx)) {
-      const bool isFloat = image.pixel == Pixel::F16 || image.pixel == Pixel::F32;
-      writeImage(dir + "/" + image.name + (isFloat ? ".exr" : ".png"), image);
-    }
-  }
-  if (reader.find(pack::kSkeleton)) {
-    const auto p = pack::loadAnimationPack(reader);
-    const uint32_t size = 512;
-    pack::Image preview{"preview", size,
-                        size,      3,
-                        Pixel::U8, renderPreview(p, 0, p.clips[0].frameCount / 4, int(size))};
-    writeImage(dir + "/preview.png", preview);
-  }
   return 0;
 }
 

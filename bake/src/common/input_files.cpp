@@ -67,17 +67,24 @@ std::string resolveNamedInput(const std::string &name, const std::string &naming
     throw Error(ctx + ": empty path");
   if (name.find('\0') != std::string::npos)
     throw Error(ctx + ": contains a NUL byte");
-  if (fs::path(name).is_absolute())
-    throw Error(ctx + ": absolute paths are not allowed; name files relative to " + namingFile);
+  // An absolute path (a farm's manifest naming assets on a shared mount) only inside the root
+  // the user gave: without one, the naming file's folder is no root for it.
+  const bool absolute = fs::path(name).is_absolute();
+  if (absolute && policy.assetRoot.empty())
+    throw Error(ctx +
+                ": an absolute path is allowed only inside --asset-root DIR; name files "
+                "relative to " +
+                namingFile + " or pass --asset-root");
   std::error_code ec;
   const fs::path parent = fs::path(namingFile).parent_path();
   const fs::path folder =
       fs::absolute(parent.empty() ? fs::path(".") : parent, ec).lexically_normal();
   const fs::path rootDir = policy.assetRoot.empty() ? folder : fs::absolute(policy.assetRoot, ec);
-  const fs::path lexical = (folder / name).lexically_normal();
+  const fs::path lexical = (folder / name).lexically_normal(); // `name` where it is absolute
   const fs::path root = rootDir.lexically_normal();
   if (!inside(lexical, root))
-    throw Error(ctx + ": leaves the asset folder " + root.string() + widen);
+    throw Error(ctx + (absolute ? ": lies outside --asset-root " : ": leaves the asset folder ") +
+                root.string() + (absolute ? "" : widen));
   // Symlinks are followed only where they stay inside the (also resolved) root.
   const fs::path real = fs::weakly_canonical(lexical, ec);
   const fs::path realRoot = fs::weakly_canonical(root, ec);

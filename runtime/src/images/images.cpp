@@ -12,7 +12,8 @@ namespace crowd::images {
 namespace {
 
 // The module's table, loaded once: from the running program's folder (where the build puts
-// it), else the build's own bin folder (a program copied elsewhere). Throws Error naming both.
+// it), else the installed layout's <libdir>/crowdbake seen from <bindir>. Throws Error naming
+// both.
 const Codec &codec() {
   static std::once_flag once;
   static const Codec *table = nullptr;
@@ -20,7 +21,7 @@ const Codec &codec() {
   std::call_once(once, [] {
     std::error_code ec;
     const auto self = std::filesystem::read_symlink("/proc/self/exe", ec).parent_path();
-    for (const auto &dir : {self, std::filesystem::path(CROWD_MODULE_DIR)}) {
+    for (const auto &dir : {self, self / CROWD_MODULE_FROM_BIN}) {
       const std::string path = (dir / kImageModule).string();
       void *module = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
       if (!module) {

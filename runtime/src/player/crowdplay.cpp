@@ -25,6 +25,7 @@
 #include "crowd/formats/limits.h"
 #include "crowd/formats/registry.h"
 #include "crowd/formats/terrain.h"
+#include "crowd/formats/version.h"
 #include "crowd/runtime/character_types.h"
 #include "crowd/runtime/crowd_renderer.h"
 #include "crowd/runtime/headless_gl.h"
@@ -139,10 +140,17 @@ bool parse(int argc, char **argv, Options &o) {
   app.footer("\nexamples:\n  crowdplay samples/scenes/demo.json --headless --frames "
              "120 --screenshot a.png --stats s.json\n  crowdplay out/library/humanoid.crowdpack "
              "--clip walk --outfit dress\n");
+  app.set_version_flag("--version",
+                       std::string("crowdplay ") + crowd::kVersion + "\n" +
+                           crowd::pack::formatVersions(),
+                       "the version and the pack and chunk versions it reads");
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp &) {
     std::cout << app.help();
+    return false;
+  } catch (const CLI::CallForVersion &e) {
+    std::cout << e.what() << "\n";
     return false;
   } catch (const CLI::ParseError &e) {
     throw UsageError(std::string(e.what()) + " (see crowdplay --help)");

@@ -1,7 +1,8 @@
 // Untrusted input files: where a file named by another file (a glTF's buffer or image URI, a
 // manifest's body or outfit) may resolve, and how any input is read. A named path resolves only
 // inside its root: the naming file's own folder, or the --asset-root the user gives. `..` that
-// leaves the root, absolute paths, symlinks resolving outside it, and anything that is not a
+// leaves the root, absolute paths outside a given --asset-root (without one, every absolute
+// path), symlinks resolving outside it, and anything that is not a
 // regular file (devices, FIFOs, directories) are errors naming the path. Every file's size is
 // checked against a bound before a byte is read; hashing streams in fixed blocks.
 #pragma once

@@ -63,6 +63,9 @@ struct ChunkCodec {
 };
 
 const std::vector<ChunkCodec> &chunkCodecs();
+// What this build reads and writes, for --version: the container version and, per chunk type,
+// the versions it reads and the one it writes ("SKEL 1 (writes 1)", "IMPO 1-4 (writes 4)").
+std::string formatVersions();
 // The codec of a chunk type, or null when this build does not know it.
 const ChunkCodec *findCodec(uint32_t type);
 // The codec of a chunk, after checking its version is one the codec reads; throws with `context`.

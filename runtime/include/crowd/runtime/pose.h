@@ -28,6 +28,9 @@ struct PoseMesh {
   std::string outfit;               // "" for a pack without outfits
   std::vector<uint32_t> vertices;
   std::vector<uint32_t> indices;
+  // The sub-meshes drawn, in order, and where each one's triangles start in `indices` (one
+  // more start: the end).
+  std::vector<uint32_t> subMeshes, subMeshStarts;
   ClothBuffers cloth; // the pack's cloth loops
 };
 PoseMesh poseMesh(const pack::AnimationPack &pack, const PoseOptions &options,
