@@ -2,8 +2,8 @@
 # The SDK as a studio gets it: `cmake --install` into a prefix whose path holds a space, nothing
 # under it naming the build tree; the installed tools run from the prefix; examples/ copied out of
 # the source tree and built against the prefix alone (CMake package; read_pack also through
-# pkg-config), then run: read_pack prints a baked pack, draw_crowd draws a crowd of it in its own
-# EGL context and writes a PNG. Then formats/ alone (-DCROWD_FORMATS_ONLY=ON) configured where no
+# pkg-config), then run: read_pack prints a baked pack (and refuses one newer than it, naming the
+# chunk), draw_crowd draws a crowd of it in its own EGL context and writes a PNG. Then formats/ alone (-DCROWD_FORMATS_ONLY=ON) configured where no
 # package, header or library can be found, built, installed, and read_pack built against it.
 set -euo pipefail
 . "$(dirname "$(realpath "$0")")/skip.sh"
@@ -39,6 +39,23 @@ elif grep -q "no EGL device" err.txt; then
 else
   fail "draw_crowd: $(cat err.txt)"
 fi
+# A pack newer than the installed reader: its SKEL chunk at version 99 (the table's checksum
+# made right again), refused naming the chunk and the versions this reader knows.
+python3 - h.crowdpack newer.crowdpack <<'PY'
+import struct, sys, zlib
+b = bytearray(open(sys.argv[1], 'rb').read())
+count = struct.unpack_from('<I', b, 12)[0]
+for i in range(count):
+    at = 32 + 32 * i
+    if b[at:at + 4] == b'SKEL':
+        struct.pack_into('<I', b, at + 4, 99)
+struct.pack_into('<I', b, 24, zlib.crc32(bytes(b[32:32 + 32 * count])))
+open(sys.argv[2], 'wb').write(b)
+PY
+if ex/read_pack newer.crowdpack 2>err.txt; then fail "read_pack read a pack with SKEL version 99"; fi
+grep -q "chunk SKEL: chunk version 99 is not supported (this build reads 1..1)" err.txt ||
+  fail "read_pack on a newer pack: $(cat err.txt)"
+echo "ok: $(cat err.txt)"
 # pkg-config (its flags do not survive a space in a path: a prefix without one).
 cmake --install "$build" --prefix "$work/pc" >/dev/null
 PKG_CONFIG_PATH="$work/pc/lib/pkgconfig" g++ -std=c++20 src/read_pack/read_pack.cpp -o read_pc \

@@ -16,13 +16,16 @@ const [crowdbake, threeDir, model, pack, reportPath, work] = process.argv.slice(
 const THREE = await import(pathToFileURL(path.join(threeDir, 'build/three.module.js')));
 const { GLTFLoader } = await import(
   pathToFileURL(path.join(threeDir, 'examples/jsm/loaders/GLTFLoader.js')));
+// gltfpack -c / -cc copies: three.js decodes their views with meshoptimizer's own JS decoder.
+const { MeshoptDecoder } = await import(
+  pathToFileURL(path.join(threeDir, 'examples/jsm/libs/meshopt_decoder.module.js')));
 
 const kFrameTargetMm = 0.01; // agreement at frame times, at a 1.8 m character
 const kRandomTimes = 64;     // per clip: the bake's kRandomTimesPerClip
 
 const json = modelJson(model);
 const gltf = await new Promise((resolve, reject) =>
-  new GLTFLoader().parse(JSON.stringify(json), '', resolve, reject));
+  new GLTFLoader().setMeshoptDecoder(MeshoptDecoder).parse(JSON.stringify(json), '', resolve, reject));
 // Each primitive's three.js mesh, by "node/mesh/primitive": a node's object is the mesh of a
 // one-primitive mesh, else a group of them. (Instances of one mesh share one associations
 // entry, whose node is the last instance's, so nodes are asked for by index.)

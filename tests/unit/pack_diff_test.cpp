@@ -1,7 +1,10 @@
 // crowdbake diff's comparisons: a pack against itself and a re-bake at another thread count pass;
-// another precision moves vertices and names where; changed influences, triangles, region ids
+// another precision moves vertices and names where; changed influences, triangles (not a triangle
+// started at another corner), region ids
 // and loop starts fail; a missing chunk is incomparable; provenance is listed, never failing;
 // tolerances files are checked.
+#include <algorithm>
+
 #include <gtest/gtest.h>
 
 #include "crowd/bake/anim_bake.h"
@@ -90,6 +93,15 @@ TEST(PackDiff, ChangedInfluencesTrianglesAndMissingChunksAreCaught) {
   pack::AnimationPack flipped = qts();
   std::swap(flipped.mesh.indices[0], flipped.mesh.indices[1]);
   EXPECT_EQ(diff(golden, pack::packBytes(flipped)).verdict, DiffVerdict::Fail);
+  // The same triangles, two started at another corner (meshopt's index codec): counted, passed.
+  pack::AnimationPack turned = qts();
+  std::rotate(&turned.mesh.indices[0], &turned.mesh.indices[1], &turned.mesh.indices[3]);
+  std::rotate(&turned.mesh.indices[3], &turned.mesh.indices[5], &turned.mesh.indices[6]);
+  const PackDiff rotated = diff(golden, pack::packBytes(turned));
+  EXPECT_EQ(rotated.verdict, DiffVerdict::Pass);
+  const DiffItem *corners = item(rotated, "MESH", "triangles starting at another corner");
+  ASSERT_NE(corners, nullptr);
+  EXPECT_EQ(corners->value, 2);
 
   pack::AnimationPack noLod = test::sampleHumanoidLodPack();
   const auto withLod = pack::packBytes(noLod);

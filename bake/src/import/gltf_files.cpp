@@ -6,13 +6,12 @@
 
 #include "crowd/bake/import.h"
 #include "crowd/runtime/json_checker.h"
+#include "gltf_schema.h"
 
 namespace crowd {
 
-namespace {
-
 // A URI as tinygltf reads it: percent-decoded, "./" dropped.
-std::string decodeUri(const std::string &uri) {
+std::string uriAsRead(const std::string &uri) {
   std::string out;
   for (size_t i = 0; i < uri.size(); ++i) {
     if (uri[i] == '%' && i + 2 < uri.size() && std::isxdigit(uint8_t(uri[i + 1])) &&
@@ -25,8 +24,6 @@ std::string decodeUri(const std::string &uri) {
   }
   return out.rfind("./", 0) == 0 ? out.substr(2) : out;
 }
-
-} // namespace
 
 std::vector<std::string> gltfFiles(const std::string &path, const InputPolicy &policy) {
   std::vector<std::string> files;
@@ -54,7 +51,7 @@ std::vector<std::string> gltfFiles(const std::string &path, const InputPolicy &p
           continue;
         const std::string uri = item["uri"];
         if (uri.rfind("data:", 0) != 0)
-          add(resolveNamedInput(decodeUri(uri), path, policy, "URI"));
+          add(resolveNamedInput(uriAsRead(uri), path, policy, "URI"));
       }
     }
   } catch (const std::exception &) {

@@ -18,6 +18,7 @@
 #include "crowd/runtime/images.h"
 #include "crowd/runtime/json_checker.h"
 #include "gltf_schema.h"
+#include "meshopt_views.h"
 #include "nearest_influences.h"
 #include "triangle_list.h"
 #include "unique_names.h"
@@ -137,8 +138,8 @@ private:
 
   void load(const InputPolicy &policy) {
     stage_ = "reading the file";
-    const std::vector<uint8_t> bytes = readInputFile(path_, policy);
-    const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
+    std::vector<uint8_t> bytes = readInputFile(path_, policy);
+    bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
     // The JSON's nesting is checked before tinygltf parses it: its parser recurses.
     std::string_view json(reinterpret_cast<const char *>(bytes.data()), bytes.size());
     if (binary) {
@@ -150,6 +151,16 @@ private:
     runtime::checkJsonDepth(json, path_);
     if (binary && bytes.size() >= 8 && bytes[4] != 2)
       fail("GLB container version " + std::to_string(bytes[4]) + " is not 2");
+    stage_ = "decoding compressed buffer views";
+    const auto readBuffer = [&](const std::string &uri) {
+      return readInputFile(resolveNamedInput(uriAsRead(uri), path_, policy, "URI"), policy);
+    };
+    if (decodeMeshoptViews(bytes, path_, readBuffer)) { // now a GLB, the views decoded
+      binary = true;
+      uint32_t length = 0;
+      std::memcpy(&length, bytes.data() + 12, 4);
+      json = std::string_view(reinterpret_cast<const char *>(bytes.data()) + 20, length);
+    }
     checkGltfJson(json, path_);
     stage_ = "parsing the glTF JSON";
     Confinement confinement{&path_, &policy, {}, {}};

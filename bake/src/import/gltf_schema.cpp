@@ -17,19 +17,19 @@ using nlohmann::json;
 // like a sparse accessor's "indices", is walked instead). A channel's "sampler" points into its
 // animation and is checked by the importer; a texture's is checked against /samplers below.
 const std::map<std::string, std::string> kIndexOf = {
-    {"mesh", "meshes"},       {"skin", "skins"},          {"camera", "cameras"},
-    {"skeleton", "nodes"},    {"node", "nodes"},          {"scene", "scenes"},
-    {"material", "materials"}, {"indices", "accessors"},  {"inverseBindMatrices", "accessors"},
-    {"input", "accessors"},   {"output", "accessors"},    {"bufferView", "bufferViews"},
-    {"buffer", "buffers"},    {"source", "images"},       {"index", "textures"}};
+    {"mesh", "meshes"},        {"skin", "skins"},        {"camera", "cameras"},
+    {"skeleton", "nodes"},     {"node", "nodes"},        {"scene", "scenes"},
+    {"material", "materials"}, {"indices", "accessors"}, {"inverseBindMatrices", "accessors"},
+    {"input", "accessors"},    {"output", "accessors"},  {"bufferView", "bufferViews"},
+    {"buffer", "buffers"},     {"source", "images"},     {"index", "textures"}};
 // Lists of indices.
 const std::map<std::string, std::string> kIndexListOf = {
     {"children", "nodes"}, {"nodes", "nodes"}, {"joints", "nodes"}};
 // Counts, offsets and enumerations: non-negative integers.
-const std::set<std::string> kUnsigned = {"byteOffset", "byteStride", "byteLength", "count",
-                                         "componentType", "mode", "texCoord"};
-const std::set<std::string> kStrings = {"type", "path", "interpolation", "mimeType", "uri",
-                                        "name", "alphaMode"};
+const std::set<std::string> kUnsigned = {"byteOffset",    "byteStride", "byteLength", "count",
+                                         "componentType", "mode",       "texCoord"};
+const std::set<std::string> kStrings = {"type", "path", "interpolation", "mimeType",
+                                        "uri",  "name", "alphaMode"};
 
 class Checker {
 public:
@@ -109,15 +109,14 @@ void checkGltfJson(std::string_view text, const std::string &path) {
       const std::string name = ext.is_string() ? ext.get<std::string>() : ext.dump();
       if (kSupportedRequired.count(name))
         continue;
-      const bool compressed =
-          name == "EXT_meshopt_compression" || name == "KHR_draco_mesh_compression";
+      const bool draco = name == "KHR_draco_mesh_compression";
       const bool texture = name == "KHR_texture_basisu" || name == "EXT_texture_avif";
       throw Error(path + ": unsupported required extension " + name +
-                  (compressed ? " (compressed geometry: export without compression, e.g. "
-                                "gltfpack without -c)"
-                   : texture  ? " (textures crowdbake does not decode: export PNG, JPEG or WebP "
-                                "textures, e.g. gltfpack without -tc)"
-                              : ""));
+                  (draco     ? " (Draco-compressed geometry: export without Draco, or compress "
+                               "with meshopt, gltfpack -c, which crowdbake decodes)"
+                   : texture ? " (textures crowdbake does not decode: export PNG, JPEG or WebP "
+                               "textures, e.g. gltfpack without -tc)"
+                             : ""));
     }
 }
 

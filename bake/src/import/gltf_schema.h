@@ -12,11 +12,16 @@ namespace crowd {
 
 // Extensions a file may require: those that change nothing the bakes read, or that the importer
 // covers (the accessor reader quantization, base_colour_uv.h the texture transform, the diffuse
-// texture's reader a WebP image). Any other in "extensionsRequired" is an error, checked here.
+// texture's reader a WebP image, meshopt_views.h compressed buffer views). Any other in
+// "extensionsRequired" is an error, checked here.
 inline const std::set<std::string> kSupportedRequired = {
-    "KHR_mesh_quantization", "KHR_texture_transform", "KHR_materials_emissive_strength",
-    "KHR_materials_unlit", "EXT_texture_webp"};
+    "KHR_mesh_quantization",  "KHR_texture_transform", "KHR_materials_emissive_strength",
+    "KHR_materials_unlit",    "EXT_texture_webp",      "EXT_meshopt_compression",
+    "KHR_meshopt_compression"};
 
 void checkGltfJson(std::string_view json, const std::string &path);
+
+// A URI as tinygltf reads it: percent-decoded, "./" dropped.
+std::string uriAsRead(const std::string &uri);
 
 } // namespace crowd
