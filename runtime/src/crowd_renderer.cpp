@@ -648,7 +648,7 @@ DrawStats CrowdRenderer::draw(const FrameView &view, float seconds, const DrawOp
           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count();
       glUseProgram(program_);
     }
-    // With a world, a shadow pass first (seed 003 §4.5): every character flat on its ground
+    // With a world, a shadow pass first (Tecchia, Loscos & Chrysanthou §4.5): every character flat on its ground
     // along the light, each pixel darkened once (stencil), behind what is nearer (depth).
     for (int pass = world_ && !naive ? 0 : 1; pass < 2; ++pass) {
       setShadowPass(pass == 0);

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 # Adds to a GLB's "walk" clip a squash-and-stretch of one joint (9 non-uniform scale keys over
 # the clip): a rig where that joint and the joints it carries shear and the rest stay rigid, for
-# the animation bake's per-joint matrix fallback (README, "What qts cannot carry").
+# the animation bake's per-joint matrix fallback (docs/bakes/anim.md, "What qts cannot carry").
 #   python3 tests/bench/stretch_joint.py humanoid.glb neck humanoid_neck.glb
 #   crowdbake anim humanoid_neck.glb -o p.crowdpack --report r.json   # figures.matrix_joints
 import json, math, struct, sys

@@ -39,7 +39,7 @@ using namespace crowd;
 
 namespace {
 
-// The shader against its CPU mirror, at 2x what README states (llvmpipe: 0.0003 mm by the
+// The shader against its CPU mirror, at 2x what docs/player.md states (llvmpipe: 0.0003 mm by the
 // texture and cloth loops, 0.0024 mm by palettes): a GPU that rounds otherwise may need its own
 // figure, not a looser test.
 constexpr double kMirrorMm = 0.0006, kPaletteMirrorMm = 0.005;
@@ -383,7 +383,8 @@ TEST_F(Gl, PalettesSkinAsTheirCpuMirrorAndTheSource) {
               "at the clip's times max %.3f mm, mean %.4f mm\n",
               mirror.max * mm, mirror.count, exact.max * mm, exact.mean() * mm);
   EXPECT_LE(mirror.max * mm, kPaletteMirrorMm);
-  EXPECT_LE(exact.max * mm, 1.0 + 0.01); // the 1 mm budget, as README says (0.78 mm measured)
+  EXPECT_LE(exact.max * mm,
+            1.0 + 0.01); // the 1 mm budget, as docs/bakes/anim.md says (0.78 mm measured)
   EXPECT_GT(mirror.count, 0u);
 }
 
@@ -564,7 +565,7 @@ TEST_F(Gl, ClothLoopsReplayTheirCacheInPhaseWithTheBody) {
               frames, chunk.cycles, start, toMirror.max * mm, toMirror.count, toCache.max * mm,
               toCache.mean() * mm, loop.quantMaxMm);
   EXPECT_LE(toMirror.max * mm, kMirrorMm);
-  // README: 0.011 mm, the loop's 16-bit quantisation; the GPU adds rounding alone.
+  // docs/bakes/cloth.md: 0.011 mm, the loop's 16-bit quantisation; the GPU adds rounding alone.
   EXPECT_LE(toCache.max * mm, 2 * loop.quantMaxMm);
   EXPECT_LE(toCache.max * mm, 0.022);
 }

@@ -325,11 +325,11 @@ TEST(HoleCheck, CoarseVisibilityFailsTheBakeNamingPartFrameAndView) {
   }
 }
 
-// What the sampled check cannot see, measured (README, "The hole check"): a hole only between
-// checked frames, and a hole smaller than a texel. Visibility every 24th frame hides shin faces
-// of the dress that frames in between show: the check at the same frames passes the bake, every
-// 8th frame fails it. A hole of one dress triangle (about 4 cm across) is found only where some
-// texel centre of some view falls in it.
+// What the sampled check cannot see, measured (docs/bakes/outfits.md, the hole check): a hole only
+// between checked frames, and a hole smaller than a texel. Visibility every 24th frame hides shin
+// faces of the dress that frames in between show: the check at the same frames passes the bake,
+// every 8th frame fails it. A hole of one dress triangle (about 4 cm across) is found only where
+// some texel centre of some view falls in it.
 TEST(HoleCheck, WhatTheSampledCheckMisses) {
   Reporter rep;
   auto outfits = test::sampleOutfits();

@@ -43,7 +43,7 @@ commands:
   pose      write the mesh as the player draws it at given times (PLY, OBJ, PC2)
   cloth     a long cloth cache (PC2, MDD) of one garment into a loop in phase with a body clip
   terrain   an environment glTF into a height map, a walkable map and a shadow height map
-            for a directional light (seed 003), with its mesh for drawing
+            for a directional light (Tecchia, Loscos & Chrysanthou), with its mesh for drawing
   diff      a new pack against a golden one, chunk by chunk within tolerances (exit 0 same,
             1 warn, 2 fail, 3 different contents, 4 unreadable)
   report    build and bake reports as one HTML page: time, bytes and error per character and

@@ -10,8 +10,8 @@ namespace crowd::cli {
 namespace {
 
 const char *const kDescription = R"(Rasterizes the environment's meshes (every mesh of the glTF,
-placed by its nodes) from straight above into a grid of --cell sized cells, as seed 003 (Tecchia,
-Loscos & Chrysanthou) does: the height map holds each cell's top surface; the walkable map marks
+placed by its nodes) from straight above into a grid of --cell sized cells, as Tecchia, Loscos &
+Chrysanthou do: the height map holds each cell's top surface; the walkable map marks
 the cells no steeper than --max-slope that agents reach from the largest such area by steps of
 at most --step (other flat cells, such as roofs, are blocked and reported); the shadow height
 map gives, per cell, the height below which a point is in the shadow of the environment for the

@@ -1,4 +1,4 @@
-// Impostor bake (first slice): for sampled frames of a clip, orthographic views from azimuths x
+// Impostor bake: for sampled frames of a clip, orthographic views from azimuths x
 // elevations over the upper hemisphere, drawn with the deterministic rasterizer as object-space
 // normals, region ids and UVs, cropped to their silhouettes, shelf-packed into one atlas per frame
 // and stored as the GPU samples them (pack::Impostor: BC5 normals and UVs, exact region bytes).

@@ -1,4 +1,4 @@
-// Continuous LOD (first slice): the full edge-collapse sequence of a mesh, from all its
+// Continuous LOD: the full edge-collapse sequence of a mesh, from all its
 // triangles down to a floor, as arrays a renderer can cut at any vertex count. Collapses run on
 // a welded mesh of flat arrays (lod/fan_mesh.h), cheapest quadric cost first (the largest over
 // the bind pose and any poses given, lod/cost_queue.h); a UV or normal seam vertex only collapses

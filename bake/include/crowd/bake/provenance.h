@@ -11,8 +11,7 @@ namespace crowd {
 
 // In every cache key and pack: raise the project's VERSION (top-level CMakeLists.txt) whenever a
 // bake's output changes for the same inputs and settings, or a build would take the older baker's
-// parts from its cache. Each raise and why: the commits that changed it (`git log -p` on
-// CMakeLists.txt and, before 0.8.2, on this file).
+// parts from its cache. Each raise and why: CHANGELOG.md.
 inline constexpr const char *kBakerVersion = "crowdbake " CROWD_VERSION;
 
 // The compiler and C library this crowdbake was built with and runs on: floats may round

@@ -1,4 +1,4 @@
-// Terrain bake (seed 003, Tecchia, Loscos & Chrysanthou, §2 and §4.5): an environment's static
+// Terrain bake (Tecchia, Loscos & Chrysanthou, §2 and §4.5): an environment's static
 // meshes rasterized from straight above into a grid of cells: the top surface's height, a
 // walkable map (a cell is walkable where its surface is no steeper than maxSlopeDeg and agents
 // reach it from the largest such area by steps of at most stepHeight), and the shadow height map

@@ -1,4 +1,4 @@
-// The terrain chunk (TERR): an environment baked for a crowd (seed 003, Tecchia, Loscos &
+// The terrain chunk (TERR): an environment baked for a crowd (Tecchia, Loscos &
 // Chrysanthou). On a grid of square cells seen from above: the top surface's height (their §2,
 // what agents walk and collide on), whether an agent may stand there, and the shadow height for
 // one directional light (their §4.5: a point of a cell below that height is in the shadow of

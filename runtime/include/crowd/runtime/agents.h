@@ -1,4 +1,4 @@
-// Agents on a baked terrain (seed 003, Tecchia, Loscos & Chrysanthou, §2 and §3): a crowd moved
+// Agents on a baked terrain (Tecchia, Loscos & Chrysanthou, §2 and §3): a crowd moved
 // at a fixed time step over four layers of the terrain's grid, with no GL. Deterministic: agents
 // move one after another in index order, and every random choice is a hash of (seed, agent,
 // step), so the same settings give the same crowd at the same step on any machine.

@@ -1,6 +1,6 @@
 // GPU side of a scene's world (OpenGL 4.5 core): the environment's mesh from a terrain pack,
 // lit per pixel and shaded by its shadow height map (a point below its cell's shadow height is
-// in a building's shadow, seed 003 §4.5). Needs a current GL 4.5 context.
+// in a building's shadow, Tecchia, Loscos & Chrysanthou §4.5). Needs a current GL 4.5 context.
 #pragma once
 #include <glm/glm.hpp>
 

@@ -56,7 +56,7 @@ struct Instance {
   ClipFade fade;
 };
 
-// The scene's "world" (seed 003): the instances are agents walking a baked environment
+// The scene's "world" (Tecchia, Loscos & Chrysanthou): the instances are agents walking a baked environment
 // (world.h). Paths resolve against the scene file's folder.
 struct WorldSettings {
   std::string terrainPath;   // a crowdbake terrain pack; empty: no world

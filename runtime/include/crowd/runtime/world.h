@@ -1,4 +1,4 @@
-// A scene's world (seed 003): the environment's terrain and the agents that move the scene's
+// A scene's world (Tecchia, Loscos & Chrysanthou): the environment's terrain and the agents that move the scene's
 // instances over it (agents.h), no GL. Each instance is an agent: it stands where its agent
 // stands, faces where it walks, and plays the scene's idle, walk or run clip by its speed, the
 // walk and run at the pace of its steps, crossfading when the clip changes (clip_switch.h's
