@@ -190,17 +190,20 @@ const std::vector<Case> kCases = {
        b.j["extensionsRequired"] = {"KHR_draco_mesh_compression"};
        return b.write(d, "x");
      }},
-    {"compressed_geometry",
-     "unsupported required extension EXT_meshopt_compression (compressed geometry: export without "
-     "compression, e.g. gltfpack without -c)",
+    {"meshopt_view_outside_its_buffer",
+     "bufferViews[0] EXT_meshopt_compression: bytes [1048576, +16) lie outside its buffer",
      [](const std::string &d) {
        auto b = quad();
        b.j["extensionsUsed"] = {"EXT_meshopt_compression"};
        b.j["extensionsRequired"] = {"EXT_meshopt_compression"};
-       // gltfpack -c's placeholder: a buffer with no data, longer than the file's (tinygltf
-       // failed on it first, naming byteLength).
+       // gltfpack -c's placeholder: a buffer with no data; the view's compressed bytes lie past
+       // the end of the buffer it names.
        b.j["buffers"].push_back({{"byteLength", 1 << 20}});
-       return b.write(d, "mo");
+       b.j["bufferViews"][0]["buffer"] = 1;
+       b.j["bufferViews"][0]["extensions"]["EXT_meshopt_compression"] = {
+           {"buffer", 0}, {"byteOffset", 1 << 20}, {"byteLength", 16}, {"byteStride", 4},
+           {"count", 4},  {"mode", "ATTRIBUTES"}};
+       return b.write(d, "mo", true);
      }},
     {"ktx2_textures",
      "unsupported required extension KHR_texture_basisu (textures crowdbake does not decode: "
