@@ -188,19 +188,8 @@ void parseWorld(const Checker &c, const json &w, const std::filesystem::path &di
   out.agents.runners = float(c.number(w.value("runners", json(0.1)), {"world", "runners"}, 0, 1));
 }
 
-} // namespace
-
-Scene parseScene(const std::string &text, const std::string &path, size_t instanceOverride) {
-  Checker c(text, path);
-  json j = c.parse();
-  Scene s;
-  s.path = path;
-  c.onlyKeys(j, {},
-             {"packs", "instances", "palettes", "camera", "light", "budget", "world", "comment"});
-  auto dir = std::filesystem::path(path).parent_path();
-  if (j.contains("world"))
-    parseWorld(c, j["world"], dir, s);
-
+// "packs": each pack's path (and its impostor's) against the scene file's folder, and its name.
+void parsePacks(const Checker &c, const json &j, const std::filesystem::path &dir, Scene &s) {
   if (!j.contains("packs") || !j["packs"].is_array() || j["packs"].empty())
     c.fail({"packs"}, "expected a non-empty list of {\"name\", \"path\"}");
   for (const auto &p : j["packs"]) {
@@ -217,86 +206,90 @@ Scene parseScene(const std::string &text, const std::string &path, size_t instan
             ? (dir / p["impostor"].get<std::string>()).lexically_normal().string()
             : std::string());
   }
+}
 
-  if (!j.contains("instances"))
-    c.fail({"instances"}, "missing");
-  const json &in = j["instances"];
-  c.onlyKeys(in, {"instances"},
-             {"count", "pack", "placement", "clip", "outfit", "outfit_order", "time_offset",
-              "speed", "seed", "switch"});
-  const auto seed = uint64_t(c.number(in.value("seed", json(1)), {"instances", "seed"}, 0, 1e15));
-  std::mt19937_64 rng(seed);
+// How many instances: the scene's count, the override, or with a world its agents (the
+// override shared out over the spawn areas, the rest in the last).
+size_t instanceCount(const Checker &c, const json &in, size_t instanceOverride, Scene &s) {
   size_t count = size_t(
       c.number(in.value("count", json(1)), {"instances", "count"}, 1, double(limits::kInstances)));
-  if (s.world.enabled()) { // one instance per agent: the spawn areas' counts
-    if (in.contains("count") || in.contains("placement") || in.contains("clip") ||
-        in.contains("switch"))
-      c.fail({"instances"}, "with a world, the agents give the count (world.spawn), the place and "
-                            "the clip (world.clips); leave out count, placement, clip and switch");
-    count = 0;
-    const uint64_t total = worldAgents(s.world);
-    for (size_t k = 0; k < s.world.spawn.size(); ++k) {
-      auto &area = s.world.spawn[k];
-      if (instanceOverride) // the same share of the asked count in each area, the rest last
-        area.count =
-            k + 1 < s.world.spawn.size()
-                ? uint32_t(std::llround(double(instanceOverride) * area.count / double(total)))
-                : uint32_t(instanceOverride - std::min(count, instanceOverride));
-      count += area.count;
-    }
-    if (count > limits::kInstances)
-      c.fail({"world", "spawn"},
-             std::to_string(count) + " agents; at most " + std::to_string(limits::kInstances));
+  if (!s.world.enabled())
+    return instanceOverride ? instanceOverride : count;
+  if (in.contains("count") || in.contains("placement") || in.contains("clip") ||
+      in.contains("switch"))
+    c.fail({"instances"}, "with a world, the agents give the count (world.spawn), the place and "
+                          "the clip (world.clips); leave out count, placement, clip and switch");
+  count = 0;
+  const uint64_t total = worldAgents(s.world);
+  for (size_t k = 0; k < s.world.spawn.size(); ++k) {
+    auto &area = s.world.spawn[k];
+    if (instanceOverride)
+      area.count =
+          k + 1 < s.world.spawn.size()
+              ? uint32_t(std::llround(double(instanceOverride) * area.count / double(total)))
+              : uint32_t(instanceOverride - std::min(count, instanceOverride));
+    count += area.count;
   }
-  if (instanceOverride && !s.world.enabled())
-    count = instanceOverride;
-  uint32_t pack = 0;
-  if (in.contains("pack")) {
-    auto it = std::find(s.packNames.begin(), s.packNames.end(), in["pack"].get<std::string>());
-    if (it == s.packNames.end())
-      c.fail({"instances", "pack"}, "no pack named " + in["pack"].dump());
-    pack = uint32_t(it - s.packNames.begin());
-  }
-  std::vector<std::string> clips = {""};
+  if (count > limits::kInstances)
+    c.fail({"world", "spawn"},
+           std::to_string(count) + " agents; at most " + std::to_string(limits::kInstances));
+  return count;
+}
+
+// What instances choose from: the clips and outfits with their weights, how outfits are dealt
+// (random: drawn by weight; cycle: instance i wears the (i mod n)-th), and the clip switching.
+struct Choices {
   std::vector<double> clipWeights = {1}, outfitWeights = {1};
+  bool cycleOutfits = false;
+};
+
+Choices parseChoices(const Checker &c, const json &in, uint64_t seed, Scene &s) {
+  Choices out;
+  std::vector<std::string> clips = {""};
   if (in.contains("clip"))
-    c.choices(in["clip"], {"instances", "clip"}, "clip", clips, clipWeights);
+    c.choices(in["clip"], {"instances", "clip"}, "clip", clips, out.clipWeights);
   if (in.contains("outfit"))
-    c.choices(in["outfit"], {"instances", "outfit"}, "outfit", s.outfitNames, outfitWeights);
-  // random: drawn by weight; cycle: instance i wears the (i mod n)-th name.
+    c.choices(in["outfit"], {"instances", "outfit"}, "outfit", s.outfitNames, out.outfitWeights);
   const json order = in.value("outfit_order", json("random"));
   if (order != "random" && order != "cycle")
     c.fail({"instances", "outfit_order"}, "expected \"random\" or \"cycle\"");
+  out.cycleOutfits = order == "cycle";
   if (s.world.enabled())
     clips = s.clipNames;
   s.clipNames = clips;
-  if (in.contains("switch")) {
-    const json &sw = in["switch"];
-    const std::vector<std::string> at = {"instances", "switch"};
-    c.onlyKeys(sw, at, {"every", "fade"});
-    if (!sw.contains("every"))
-      c.fail(at, "expected {\"every\": seconds or {\"min\", \"max\"}, \"fade\": seconds}");
-    const json &every = sw["every"];
-    if (every.is_object()) {
-      c.onlyKeys(every, {"instances", "switch", "every"}, {"min", "max"});
-      s.switching.minEvery = c.number(every.value("min", json(1.0)),
-                                      {"instances", "switch", "every", "min"}, 0.01, 1e6);
-      s.switching.maxEvery =
-          c.number(every.value("max", json(s.switching.minEvery)),
-                   {"instances", "switch", "every", "max"}, s.switching.minEvery, 1e6);
-    } else {
-      s.switching.minEvery = s.switching.maxEvery =
-          c.number(every, {"instances", "switch", "every"}, 0.01, 1e6);
-    }
-    s.switching.fade = c.number(sw.value("fade", json(0.3)), {"instances", "switch", "fade"}, 0,
-                                s.switching.minEvery);
-    s.switching.weights = clipWeights;
-    s.switching.seed = seed;
+  if (!in.contains("switch"))
+    return out;
+  const json &sw = in["switch"];
+  const std::vector<std::string> at = {"instances", "switch"};
+  c.onlyKeys(sw, at, {"every", "fade"});
+  if (!sw.contains("every"))
+    c.fail(at, "expected {\"every\": seconds or {\"min\", \"max\"}, \"fade\": seconds}");
+  const json &every = sw["every"];
+  if (every.is_object()) {
+    c.onlyKeys(every, {"instances", "switch", "every"}, {"min", "max"});
+    s.switching.minEvery =
+        c.number(every.value("min", json(1.0)), {"instances", "switch", "every", "min"}, 0.01, 1e6);
+    s.switching.maxEvery =
+        c.number(every.value("max", json(s.switching.minEvery)),
+                 {"instances", "switch", "every", "max"}, s.switching.minEvery, 1e6);
+  } else {
+    s.switching.minEvery = s.switching.maxEvery =
+        c.number(every, {"instances", "switch", "every"}, 0.01, 1e6);
   }
+  s.switching.fade = c.number(sw.value("fade", json(0.3)), {"instances", "switch", "fade"}, 0,
+                              s.switching.minEvery);
+  s.switching.weights = out.clipWeights;
+  s.switching.seed = seed;
+  return out;
+}
 
+// Where the instances stand: x, z and yaw each (grid, random in a box, or a list repeated to the
+// count, which a list without an override sets).
+std::vector<glm::dvec3> placeInstances(const Checker &c, const json &in, size_t instanceOverride,
+                                       size_t &count, std::mt19937_64 &rng) {
   json placement = in.value("placement", json{{"type", "grid"}});
   std::string type = placement.value("type", "grid");
-  std::vector<glm::dvec3> positions; // x, z, yaw
+  std::vector<glm::dvec3> positions;
   if (type == "grid") {
     c.onlyKeys(placement, {"instances", "placement"}, {"type", "spacing"});
     double spacing = c.number(placement.value("spacing", json(1.5)),
@@ -340,76 +333,117 @@ Scene parseScene(const std::string &text, const std::string &path, size_t instan
     c.fail({"instances", "placement", "type"},
            "unknown placement '" + type + "' (grid, random, list)");
   }
+  return positions;
+}
 
-  if (j.contains("palettes")) {
-    if (!j["palettes"].is_array() || j["palettes"].empty())
-      c.fail({"palettes"}, "expected a list of {region: [r, g, b]}");
-    for (const auto &p : j["palettes"]) {
-      if (!p.is_object())
-        c.fail({"palettes"}, "each palette is {region: [r, g, b]}");
-      std::vector<std::pair<std::string, glm::vec3>> pal;
-      for (auto it = p.begin(); it != p.end(); ++it) {
-        glm::dvec3 col = c.vec3(it.value(), {"palettes", it.key()});
-        if (glm::any(glm::lessThan(col, glm::dvec3(0))) ||
-            glm::any(glm::greaterThan(col, glm::dvec3(1))))
-          c.fail({"palettes", it.key()}, "colour components must be in [0, 1]");
-        pal.push_back({it.key(), glm::vec3(col)});
-      }
-      s.palettes.push_back(pal);
-    }
-  } else {
+// "palettes": region name -> colour maps; without them one palette, "default" light grey.
+void parsePalettes(const Checker &c, const json &j, Scene &s) {
+  if (!j.contains("palettes")) {
     s.palettes.push_back({{"default", glm::vec3(0.8f)}});
+    return;
   }
+  if (!j["palettes"].is_array() || j["palettes"].empty())
+    c.fail({"palettes"}, "expected a list of {region: [r, g, b]}");
+  for (const auto &p : j["palettes"]) {
+    if (!p.is_object())
+      c.fail({"palettes"}, "each palette is {region: [r, g, b]}");
+    std::vector<std::pair<std::string, glm::vec3>> pal;
+    for (auto it = p.begin(); it != p.end(); ++it) {
+      glm::dvec3 col = c.vec3(it.value(), {"palettes", it.key()});
+      if (glm::any(glm::lessThan(col, glm::dvec3(0))) ||
+          glm::any(glm::greaterThan(col, glm::dvec3(1))))
+        c.fail({"palettes", it.key()}, "colour components must be in [0, 1]");
+      pal.push_back({it.key(), glm::vec3(col)});
+    }
+    s.palettes.push_back(pal);
+  }
+}
 
+void parseCamera(const Checker &c, const json &cam, Camera &camera) {
+  c.onlyKeys(cam, {"camera"}, {"position", "target", "fov", "near", "far", "path", "loop"});
+  if (cam.contains("position"))
+    camera.position = c.vec3(cam["position"], {"camera", "position"});
+  if (cam.contains("target"))
+    camera.target = c.vec3(cam["target"], {"camera", "target"});
+  camera.fovYDegrees = c.number(cam.value("fov", json(50)), {"camera", "fov"}, 1, 170);
+  camera.nearPlane = c.number(cam.value("near", json(0.1)), {"camera", "near"}, 1e-4, 1e4);
+  camera.farPlane =
+      c.number(cam.value("far", json(1000)), {"camera", "far"}, camera.nearPlane * 1.001, 1e7);
+  camera.loopPath = cam.value("loop", true);
+  if (!cam.contains("path"))
+    return;
+  if (!cam["path"].is_array())
+    c.fail({"camera", "path"}, "expected a list of {time, position, target}");
+  double last = -1;
+  for (const auto &k : cam["path"]) {
+    c.onlyKeys(k, {"camera", "path"}, {"time", "position", "target"});
+    CameraKey key;
+    key.time = c.number(k.value("time", json(0)), {"camera", "path", "time"}, 0, 1e6);
+    if (key.time <= last)
+      c.fail({"camera", "path", "time"}, "key times must increase");
+    last = key.time;
+    key.position =
+        c.vec3(k.value("position", json::array({0, 1.6, 10})), {"camera", "path", "position"});
+    key.target = c.vec3(k.value("target", json::array({0, 1, 0})), {"camera", "path", "target"});
+    camera.path.push_back(key);
+  }
+}
+
+} // namespace
+
+Scene parseScene(const std::string &text, const std::string &path, size_t instanceOverride) {
+  Checker c(text, path);
+  json j = c.parse();
+  Scene s;
+  s.path = path;
+  c.onlyKeys(j, {},
+             {"packs", "instances", "palettes", "camera", "light", "budget", "world", "comment"});
+  auto dir = std::filesystem::path(path).parent_path();
+  if (j.contains("world"))
+    parseWorld(c, j["world"], dir, s);
+  parsePacks(c, j, dir, s);
+
+  if (!j.contains("instances"))
+    c.fail({"instances"}, "missing");
+  const json &in = j["instances"];
+  c.onlyKeys(in, {"instances"},
+             {"count", "pack", "placement", "clip", "outfit", "outfit_order", "time_offset",
+              "speed", "seed", "switch"});
+  const auto seed = uint64_t(c.number(in.value("seed", json(1)), {"instances", "seed"}, 0, 1e15));
+  std::mt19937_64 rng(seed);
+  size_t count = instanceCount(c, in, instanceOverride, s);
+  uint32_t pack = 0;
+  if (in.contains("pack")) {
+    auto it = std::find(s.packNames.begin(), s.packNames.end(), in["pack"].get<std::string>());
+    if (it == s.packNames.end())
+      c.fail({"instances", "pack"}, "no pack named " + in["pack"].dump());
+    pack = uint32_t(it - s.packNames.begin());
+  }
+  const Choices choices = parseChoices(c, in, seed, s);
+  const std::vector<glm::dvec3> positions = placeInstances(c, in, instanceOverride, count, rng);
+  parsePalettes(c, j, s);
+
+  // Every random draw in this order, from the scene's seed: the same scene, the same crowd.
   std::uniform_int_distribution<size_t> pickPalette(0, s.palettes.size() - 1);
   for (size_t i = 0; i < count; ++i) {
     Instance inst;
     inst.pack = pack;
     inst.position = {positions[i].x, 0, positions[i].y};
     inst.yaw = positions[i].z;
-    inst.clip = uint32_t(pick(clipWeights, rng));
+    inst.clip = uint32_t(pick(choices.clipWeights, rng));
     inst.timeOffset = c.sample(in.value("time_offset", json{{"min", 0}, {"max", 10}}),
                                {"instances", "time_offset"}, rng, -1e6, 1e6);
     inst.speed = c.sample(in.value("speed", json(1.0)), {"instances", "speed"}, rng, 0, 100);
     inst.palette = uint32_t(pickPalette(rng));
-    if (order == "cycle")
+    if (choices.cycleOutfits)
       inst.outfit = uint32_t(i % s.outfitNames.size());
     else if (in.contains("outfit")) // drawn only then: scenes without outfits keep their instances
-      inst.outfit = uint32_t(pick(outfitWeights, rng));
+      inst.outfit = uint32_t(pick(choices.outfitWeights, rng));
     s.instances.push_back(inst);
   }
 
-  if (j.contains("camera")) {
-    const json &cam = j["camera"];
-    c.onlyKeys(cam, {"camera"}, {"position", "target", "fov", "near", "far", "path", "loop"});
-    if (cam.contains("position"))
-      s.camera.position = c.vec3(cam["position"], {"camera", "position"});
-    if (cam.contains("target"))
-      s.camera.target = c.vec3(cam["target"], {"camera", "target"});
-    s.camera.fovYDegrees = c.number(cam.value("fov", json(50)), {"camera", "fov"}, 1, 170);
-    s.camera.nearPlane = c.number(cam.value("near", json(0.1)), {"camera", "near"}, 1e-4, 1e4);
-    s.camera.farPlane =
-        c.number(cam.value("far", json(1000)), {"camera", "far"}, s.camera.nearPlane * 1.001, 1e7);
-    s.camera.loopPath = cam.value("loop", true);
-    if (cam.contains("path")) {
-      if (!cam["path"].is_array())
-        c.fail({"camera", "path"}, "expected a list of {time, position, target}");
-      double last = -1;
-      for (const auto &k : cam["path"]) {
-        c.onlyKeys(k, {"camera", "path"}, {"time", "position", "target"});
-        CameraKey key;
-        key.time = c.number(k.value("time", json(0)), {"camera", "path", "time"}, 0, 1e6);
-        if (key.time <= last)
-          c.fail({"camera", "path", "time"}, "key times must increase");
-        last = key.time;
-        key.position =
-            c.vec3(k.value("position", json::array({0, 1.6, 10})), {"camera", "path", "position"});
-        key.target =
-            c.vec3(k.value("target", json::array({0, 1, 0})), {"camera", "path", "target"});
-        s.camera.path.push_back(key);
-      }
-    }
-  }
+  if (j.contains("camera"))
+    parseCamera(c, j["camera"], s.camera);
   if (j.contains("light")) {
     c.onlyKeys(j["light"], {"light"}, {"direction"});
     glm::dvec3 d =
