@@ -364,8 +364,10 @@ std::vector<Image> imagesImpostor(std::span<const uint8_t> b, uint32_t version,
 
 } // namespace
 
-const std::vector<ChunkCodec> &chunkCodecs() {
-  static const std::vector<ChunkCodec> codecs = {
+namespace {
+
+std::vector<ChunkCodec> &codecTable() {
+  static std::vector<ChunkCodec> codecs = {
       {kProvenance, "provenance", 1, kChunkVersion, describeProvenance},
       {kSkeleton, "skeleton", 1, kChunkVersion, describeSkeleton},
       {kClips, "clips", 1, kChunkVersion, describeClips},
@@ -387,14 +389,29 @@ const std::vector<ChunkCodec> &chunkCodecs() {
   return codecs;
 }
 
+} // namespace
+
+const std::vector<ChunkCodec> &chunkCodecs() { return codecTable(); }
+
+void registerChunkCodec(const ChunkCodec &codec) {
+  if (findCodec(codec.type))
+    throw Error("chunk type " + fourccName(codec.type) + " is registered already");
+  if (!codec.describe || codec.oldestVersion == 0 || codec.oldestVersion > codec.version)
+    throw Error("chunk type " + fourccName(codec.type) +
+                ": a codec needs a describe function "
+                "and versions 1 <= oldest <= written");
+  codecTable().push_back(codec);
+}
+
 std::string formatVersions() {
-  std::string s =
-      "crowdpack container " + std::to_string(kContainerVersion) + "; chunks read (written):";
+  std::string s = "crowdpack container " + std::to_string(kContainerVersion);
+  s += "; chunks read (written):";
   for (const auto &c : chunkCodecs()) {
-    s += "\n  " + fourccName(c.type) + " " + std::to_string(c.oldestVersion);
+    std::string versions = std::to_string(c.oldestVersion);
     if (c.oldestVersion != c.version)
-      s += "-" + std::to_string(c.version);
-    s += " (" + std::to_string(c.version) + ")  " + c.title;
+      versions += '-' + std::to_string(c.version);
+    s.append("\n  ").append(fourccName(c.type)).append(" ").append(versions);
+    s.append(" (").append(std::to_string(c.version)).append(")  ").append(c.title);
   }
   return s;
 }

@@ -144,4 +144,8 @@ void writeJson(const std::string &path, const nlohmann::ordered_json &j) {
   pack::writeFileAtomic(path, {reinterpret_cast<const uint8_t *>(text.data()), text.size()});
 }
 
+const char *const kEveryMesh =
+    "every skinned mesh with every skin it uses, merged into one skeleton, and the meshes "
+    "rigidly parented to its joints";
+
 } // namespace crowd::cli

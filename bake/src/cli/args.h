@@ -77,6 +77,9 @@ void addAnimOptions(CLI::App &app, AnimBakeOptions &anim);
 // --threads of any bake.
 void addThreads(CLI::App &app, int &threads);
 
+// What --mesh bakes when it is not given (ImportOptions::mesh).
+extern const char *const kEveryMesh;
+
 void writeJson(const std::string &path, const nlohmann::ordered_json &j); // atomically
 
 } // namespace crowd::cli

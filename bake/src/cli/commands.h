@@ -1,10 +1,15 @@
-// crowdbake sub-commands that live in their own files.
+// crowdbake sub-commands, each in its own file (<command>_command.cpp; inspect and verify in
+// pack_commands.cpp).
 #pragma once
 #include "args.h"
 
 namespace crowd::cli {
 
 // Each parses its own options (CLI11) from argv[2..].
+int cmdSamples(int argc, char **argv);
+int cmdAnim(int argc, char **argv);
+int cmdLod(int argc, char **argv);
+int cmdImpostor(int argc, char **argv);
 int cmdOutfits(int argc, char **argv);
 int cmdBuild(int argc, char **argv);
 int cmdBuildTask(int argc, char **argv); // a Slurm array task or collect job of a build

@@ -5,7 +5,7 @@
 
 #include "commands.h"
 #include "crowd/bake/gltf_export.h"
-#include "crowd/bake/preview.h"
+#include "crowd/bake/pack_images.h"
 #include "crowd/formats/character_pack.h"
 #include "crowd/formats/error.h"
 #include "crowd/formats/registry.h"
@@ -31,28 +31,12 @@ void writeImages(const pack::Reader &reader, const std::string &dir) {
   std::filesystem::create_directories(dir, ec);
   if (ec)
     throw Error(dir + ": cannot create directory: " + ec.message());
-  using Pixel = pack::Image::Pixel;
-  auto write = [](const std::string &path, const pack::Image &image) {
+  for (const pack::Image &image : packImages(reader)) {
+    const bool isFloat =
+        image.pixel == pack::Image::Pixel::F16 || image.pixel == pack::Image::Pixel::F32;
+    const std::string path = dir + "/" + image.name + (isFloat ? ".exr" : ".png");
     images::write(path, image);
     std::cout << path << "\n";
-  };
-  for (size_t i = 0; i < reader.chunks().size(); ++i) {
-    const auto &c = reader.chunks()[i];
-    const std::string ctx = pack::chunkContext(reader, i);
-    const pack::ChunkCodec &codec = pack::codecOf(c, ctx);
-    if (!codec.images)
-      continue;
-    for (const auto &image : codec.images(reader.payload(c), c.version, ctx)) {
-      const bool isFloat = image.pixel == Pixel::F16 || image.pixel == Pixel::F32;
-      write(dir + "/" + image.name + (isFloat ? ".exr" : ".png"), image);
-    }
-  }
-  if (reader.find(pack::kSkeleton)) {
-    const auto p = pack::loadAnimationPack(reader);
-    const uint32_t size = 512;
-    const uint32_t frame = p.clips.empty() ? 0 : p.clips[0].frameCount / 4;
-    write(dir + "/preview.png",
-          {"preview", size, size, 3, Pixel::U8, renderPreview(p, 0, frame, int(size))});
   }
 }
 

@@ -1,4 +1,5 @@
 #include "crowd/bake/pack_diff.h"
+#include "crowd/formats/registry.h"
 
 #include <algorithm>
 #include <cmath>
@@ -219,8 +220,50 @@ private:
       cloth(key);
     else if (type == "TERR")
       terrain(key);
-    else // outfits, vertex sources: exact, or they fail
-      add({key, "content", 1, "", "differs (compared exactly)", DiffVerdict::Fail});
+    else // outfits, vertex sources, a registered type: by description, exactly
+      byDescription(key);
+  }
+
+  // A chunk type without a comparison of its own: the two chunks as their codec describes them
+  // (what inspect prints), the first field or table cell that differs named; any difference
+  // fails.
+  void byDescription(const std::string &key) {
+    const pack::ChunkEntry &ea = *golden_.chunks.at(key).entry, &eb = *fresh_.chunks.at(key).entry;
+    std::string where;
+    if (ea.version != eb.version)
+      where = "chunk version " + std::to_string(ea.version) + " -> " + std::to_string(eb.version);
+    else if (const pack::ChunkCodec *codec = pack::findCodec(ea.type))
+      where =
+          firstDifference(codec->describe(golden_.payload(key), ea.version, golden_.context(key)),
+                          codec->describe(fresh_.payload(key), eb.version, fresh_.context(key)));
+    if (where.empty())
+      where = "differs in bytes, not in what its codec describes";
+    add({key, "content", 1, "", where + " (compared exactly)", DiffVerdict::Fail});
+  }
+
+  static std::string firstDifference(const pack::Description &a, const pack::Description &b) {
+    for (size_t f = 0; f < std::max(a.fields.size(), b.fields.size()); ++f) {
+      const bool inA = f < a.fields.size(), inB = f < b.fields.size();
+      if (inA && inB && a.fields[f].key == b.fields[f].key &&
+          a.fields[f].value.text == b.fields[f].value.text)
+        continue;
+      return "field '" + (inA ? a.fields[f].key : b.fields[f].key) +
+             "': " + (inA ? a.fields[f].value.text : "-") + " -> " +
+             (inB ? b.fields[f].value.text : "-");
+    }
+    for (size_t t = 0; t < std::min(a.tables.size(), b.tables.size()); ++t) {
+      const auto &ta = a.tables[t], &tb = b.tables[t];
+      if (ta.rows.size() != tb.rows.size())
+        return "table '" + ta.name + "': " + std::to_string(ta.rows.size()) + " -> " +
+               std::to_string(tb.rows.size()) + " rows";
+      for (size_t r = 0; r < ta.rows.size(); ++r)
+        for (size_t c = 0; c < std::min(ta.rows[r].size(), tb.rows[r].size()); ++c)
+          if (ta.rows[r][c].text != tb.rows[r][c].text)
+            return "table '" + ta.name + "', row " + std::to_string(r) + ", " +
+                   (c < ta.columns.size() ? ta.columns[c] : "column " + std::to_string(c)) + ": " +
+                   ta.rows[r][c].text + " -> " + tb.rows[r][c].text;
+    }
+    return "";
   }
 
   void provenance(const std::string &key) {

@@ -63,6 +63,10 @@ struct ChunkCodec {
 };
 
 const std::vector<ChunkCodec> &chunkCodecs();
+// Adds a chunk type to the registry (a plug-in's, or a test's), before any pack is read on another
+// thread: inspect, verify, export's images and diff then handle it through its codec alone.
+// Throws crowd::Error for a type already registered or a codec without describe.
+void registerChunkCodec(const ChunkCodec &codec);
 // What this build reads and writes, for --version: the container version and, per chunk type,
 // the versions it reads and the one it writes ("SKEL 1 (writes 1)", "IMPO 1-4 (writes 4)").
 std::string formatVersions();
