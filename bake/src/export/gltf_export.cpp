@@ -330,32 +330,12 @@ void morphWeights(Glb &glb, const pack::AnimationPack &p, int node) {
   }
 }
 
-} // namespace
-
-std::vector<uint8_t> exportGltf(const pack::AnimationPack &p, const GltfExportOptions &o,
-                                Reporter &reporter) {
-  runtime::PoseOptions po;
-  po.outfit = o.outfit;
-  po.lodVertices = o.lodVertices;
-  const runtime::PoseMesh drawn = runtime::poseMesh(p, po);
-  if (drawn.indices.empty())
-    throw Error("export: the outfit draws no triangle at this cut");
-
-  Glb glb;
-  glb.gltf["asset"] = {{"version", "2.0"}, {"generator", kBakerVersion}};
-  std::vector<int> jointNodes;
-  if (p.hasTexture())
-    textureAnimation(glb, p, jointNodes, reporter);
-  else
-    trackAnimation(glb, p, jointNodes);
-
-  // The vertices drawn: bind pose, unit normals (a flat-shaded vertex's, stored as zero, from
-  // its faces), UVs, 4 influences.
+// The drawn vertices' attributes: bind pose, unit normals (a flat-shaded vertex's, stored as
+// zero, from its faces), UVs, 4 influences; the JSON "attributes" every primitive shares.
+json vertexAttributes(Glb &glb, const pack::AnimationPack &p, const runtime::PoseMesh &drawn) {
   const size_t V = drawn.vertices.size();
   std::vector<glm::vec3> position(V), normal(V);
   std::vector<uint8_t> faceted(V, 0);
-  std::vector<float> positions, normals, uvs, weights;
-  std::vector<uint16_t> joints;
   for (size_t i = 0; i < V; ++i) {
     const uint32_t v = drawn.vertices[i];
     position[i] = glm::make_vec3(&p.mesh.positions[3 * v]);
@@ -363,6 +343,8 @@ std::vector<uint8_t> exportGltf(const pack::AnimationPack &p, const GltfExportOp
     faceted[i] = normal[i] == glm::vec3(0);
   }
   runtime::faceNormals(position, drawn.indices, faceted, normal);
+  std::vector<float> positions, normals, uvs, weights;
+  std::vector<uint16_t> joints;
   for (size_t i = 0; i < V; ++i) {
     const uint32_t v = drawn.vertices[i];
     const float length = glm::length(normal[i]);
@@ -386,19 +368,27 @@ std::vector<uint8_t> exportGltf(const pack::AnimationPack &p, const GltfExportOp
       {"WEIGHTS_0", glb.accessor(weights, kFloat, "VEC4", 4, false, kArrayBuffer)}};
   if (!uvs.empty())
     attributes["TEXCOORD_0"] = glb.accessor(uvs, kFloat, "VEC2", 2, false, kArrayBuffer);
+  return attributes;
+}
 
-  int texture = -1;
-  if (p.diffuse && !uvs.empty()) {
-    pack::Image image{"diffuse", p.diffuse->width,       p.diffuse->height,
-                      4,         pack::Image::Pixel::U8, p.diffuse->rgba};
-    const std::vector<uint8_t> png = images::encodePng(image);
-    const int view = glb.view(png.data(), png.size());
-    glb.push("images", {{"bufferView", view}, {"mimeType", "image/png"}});
-    glb.push("samplers", {{"magFilter", 9729}, {"minFilter", 9987}});
-    texture = glb.push("textures", {{"source", 0}, {"sampler", 0}});
-  }
-  const json targets = morphTargets(glb, p, drawn.vertices);
-  json primitives = json::array();
+// The diffuse texture as an embedded PNG, or -1 (none, or no UVs to map it).
+int diffuseTexture(Glb &glb, const pack::AnimationPack &p) {
+  if (!p.diffuse || p.mesh.uvs.empty())
+    return -1;
+  const pack::Image image{"diffuse", p.diffuse->width,       p.diffuse->height,
+                          4,         pack::Image::Pixel::U8, p.diffuse->rgba};
+  const std::vector<uint8_t> png = images::encodePng(image);
+  const int view = glb.view(png.data(), png.size());
+  glb.push("images", {{"bufferView", view}, {"mimeType", "image/png"}});
+  glb.push("samplers", {{"magFilter", 9729}, {"minFilter", 9987}});
+  return glb.push("textures", {{"source", 0}, {"sampler", 0}});
+}
+
+// A primitive and a material per drawn sub-mesh with triangles at the cut: its base colour (as
+// the player starts from it) and the texture where it applies.
+json primitives(Glb &glb, const pack::AnimationPack &p, const runtime::PoseMesh &drawn,
+                const json &attributes, const json &targets, int texture) {
+  json out = json::array();
   for (size_t k = 0; k < drawn.subMeshes.size(); ++k) {
     const uint32_t s = drawn.subMeshes[k], from = drawn.subMeshStarts[k],
                    to = drawn.subMeshStarts[k + 1];
@@ -413,45 +403,76 @@ std::vector<uint8_t> exportGltf(const pack::AnimationPack &p, const GltfExportOp
       pbr["baseColorTexture"] = {{"index", texture}};
     const int material =
         glb.push("materials", {{"name", p.mesh.subMeshes[s].name}, {"pbrMetallicRoughness", pbr}});
-    primitives.push_back(
+    out.push_back(
         {{"attributes", attributes},
          {"indices", glb.accessor(indices, kUnsignedInt, "SCALAR", 1, false, kElementArrayBuffer)},
          {"material", material}});
     if (!targets.empty())
-      primitives.back()["targets"] = targets;
+      out.back()["targets"] = targets;
   }
-  std::vector<float> inverseBind(p.skeleton.inverseBind.begin(), p.skeleton.inverseBind.end());
-  const int skin =
-      glb.push("skins", {{"joints", jointNodes},
-                         {"inverseBindMatrices", glb.accessor(inverseBind, kFloat, "MAT4", 16)}});
-  json meshJson = {{"name", drawn.outfit.empty() ? "character" : drawn.outfit},
-                   {"primitives", primitives}};
-  if (!targets.empty()) {
-    meshJson["weights"] = std::vector<float>(targets.size(), 0.0f);
-    json names = json::array();
-    for (const auto &t : p.morphs->targets)
-      names.push_back(t.name);
-    meshJson["extras"] = {{"targetNames", names}};
-  }
-  const int mesh = glb.push("meshes", meshJson);
-  json roots = json::array();
-  const size_t skeletonNodes = glb.gltf["nodes"].size();
+  return out;
+}
+
+// The scene's root nodes: the skeleton's roots (under one common root where there are several,
+// as a skin's joints need) and the mesh node.
+json sceneRoots(Glb &glb, int meshNode) {
+  const size_t skeletonNodes = size_t(meshNode);
   std::vector<uint8_t> child(skeletonNodes, 0);
-  for (const auto &node : glb.gltf["nodes"])
-    if (node.contains("children"))
-      for (const auto &c : node["children"])
+  for (size_t n = 0; n < skeletonNodes; ++n)
+    if (glb.gltf["nodes"][n].contains("children"))
+      for (const auto &c : glb.gltf["nodes"][n]["children"])
         child[c.get<size_t>()] = 1;
+  json roots = json::array();
   for (size_t n = 0; n < skeletonNodes; ++n)
     if (!child[n])
       roots.push_back(n);
-  if (roots.size() > 1) // a skin's joints need a common root: one that holds every root
+  if (roots.size() > 1)
     roots = json::array({glb.push("nodes", {{"name", "skeleton"}, {"children", roots}})});
-  const int meshNode = glb.push("nodes", {{"name", "mesh"}, {"mesh", mesh}, {"skin", skin}});
   roots.push_back(meshNode);
+  return roots;
+}
+
+} // namespace
+
+std::vector<uint8_t> exportGltf(const pack::AnimationPack &p, const GltfExportOptions &o,
+                                Reporter &reporter) {
+  runtime::PoseOptions po;
+  po.outfit = o.outfit;
+  po.lodVertices = o.lodVertices;
+  const runtime::PoseMesh drawn = runtime::poseMesh(p, po);
+  if (drawn.indices.empty())
+    throw Error("export: the outfit draws no triangle at this cut");
+
+  Glb glb;
+  glb.gltf["asset"] = {{"version", "2.0"}, {"generator", kBakerVersion}};
+  std::vector<int> jointNodes; // the skeleton's nodes come first, the animations with them
+  if (p.hasTexture())
+    textureAnimation(glb, p, jointNodes, reporter);
+  else
+    trackAnimation(glb, p, jointNodes);
+  const json attributes = vertexAttributes(glb, p, drawn);
+  const int texture = diffuseTexture(glb, p);
+  const json targets = morphTargets(glb, p, drawn.vertices);
+  json mesh = {{"name", drawn.outfit.empty() ? "character" : drawn.outfit},
+               {"primitives", primitives(glb, p, drawn, attributes, targets, texture)}};
+  if (!targets.empty()) {
+    mesh["weights"] = std::vector<float>(targets.size(), 0.0f);
+    json names = json::array();
+    for (const auto &t : p.morphs->targets)
+      names.push_back(t.name);
+    mesh["extras"] = {{"targetNames", names}};
+  }
+  const std::vector<float> inverseBind(p.skeleton.inverseBind.begin(),
+                                       p.skeleton.inverseBind.end());
+  const int skin =
+      glb.push("skins", {{"joints", jointNodes},
+                         {"inverseBindMatrices", glb.accessor(inverseBind, kFloat, "MAT4", 16)}});
+  const int meshNode =
+      glb.push("nodes", {{"name", "mesh"}, {"mesh", glb.push("meshes", mesh)}, {"skin", skin}});
   if (!targets.empty())
     morphWeights(glb, p, meshNode);
   glb.gltf["scene"] = 0;
-  glb.gltf["scenes"] = json::array({{{"nodes", roots}}});
+  glb.gltf["scenes"] = json::array({{{"nodes", sceneRoots(glb, meshNode)}}});
   return glb.bytes();
 }
 

@@ -163,94 +163,80 @@ std::vector<uint8_t> decodeView(const json &ext, const std::vector<uint8_t> &sou
   return out;
 }
 
-} // namespace
-
-bool decodeMeshoptViews(std::vector<uint8_t> &bytes, const std::string &path,
-                        const ReadBufferUri &readUri) {
-  // A cheap look first: most files never name the extension.
-  const std::string_view all(reinterpret_cast<const char *>(bytes.data()), bytes.size());
-  if (all.find("meshopt_compression") == std::string_view::npos)
-    return false;
-  Glb g = parse(bytes, path);
-  json &gltf = g.gltf;
-  if (!gltf.is_object() || !gltf.contains("bufferViews") || !gltf["bufferViews"].is_array())
-    return false;
-  const size_t buffers =
-      gltf.contains("buffers") && gltf["buffers"].is_array() ? gltf["buffers"].size() : 0;
-  // Buffer k's bytes, read once: the GLB's binary chunk (buffer 0 without a URI) or its URI.
-  std::map<size_t, std::vector<uint8_t>> data;
-  auto bufferBytes = [&](size_t k, const std::string &where) -> const std::vector<uint8_t> & {
-    if (const auto it = data.find(k); it != data.end())
+// The glTF's buffers' bytes, each read once: the GLB's binary chunk (buffer 0 without a URI) or
+// the file its URI names.
+class Buffers {
+public:
+  Buffers(const Glb &g, const ReadBufferUri &readUri) : g_(g), readUri_(readUri) {}
+  size_t count() const {
+    return g_.gltf.contains("buffers") && g_.gltf["buffers"].is_array() ? g_.gltf["buffers"].size()
+                                                                        : 0;
+  }
+  const std::vector<uint8_t> &bytes(size_t k, const std::string &where) {
+    if (const auto it = data_.find(k); it != data_.end())
       return it->second;
-    const json &buffer = gltf["buffers"][k];
+    const json &buffer = g_.gltf["buffers"][k];
     if (!buffer.contains("uri")) {
-      if (k != 0 || !g.hasBin)
+      if (k != 0 || !g_.hasBin)
         throw Error(where + ": its source buffer " + std::to_string(k) +
-                    " has no data (no URI, "
-                    "and not the GLB's binary chunk)");
-      return data[k] = g.bin;
+                    " has no data (no URI, and not the GLB's binary chunk)");
+      return data_[k] = g_.bin;
     }
     const std::string uri = buffer["uri"].is_string() ? buffer["uri"].get<std::string>() : "";
     if (uri.rfind("data:", 0) == 0)
       throw Error(where + ": its source buffer " + std::to_string(k) +
-                  " is a data: URI; crowdbake "
-                  "decodes compressed views from a .glb or a .bin file");
-    return data[k] = readUri(uri);
-  };
-  // The decoded views go after the binary chunk (buffer 0 in the GLB written), each 4-aligned.
-  const bool appendToBin = g.hasBin && buffers > 0 && !gltf["buffers"][0].contains("uri");
-  std::vector<uint8_t> decoded = appendToBin ? g.bin : std::vector<uint8_t>{};
-  std::set<size_t> decodedViews;
-  bool any = false;
-  for (size_t v = 0; v < gltf["bufferViews"].size(); ++v) {
-    json &view = gltf["bufferViews"][v];
-    if (!view.is_object() || !view.contains("extensions"))
-      continue;
-    for (const char *name : kExtensions) {
-      if (!view["extensions"].contains(name))
-        continue;
-      const std::string where = path + ": bufferViews[" + std::to_string(v) + "] " + name;
-      const json &ext = view["extensions"][name];
-      if (!ext.is_object())
-        throw Error(where + ": not an object");
-      const uint64_t buffer = field(ext, "buffer", UINT64_MAX, where);
-      const uint64_t offset = field(ext, "byteOffset", 0, where);
-      const uint64_t length = field(ext, "byteLength", UINT64_MAX, where);
-      if (buffer >= buffers)
-        throw Error(where + ": buffer " + std::to_string(buffer) + " does not exist");
-      const std::vector<uint8_t> &source = bufferBytes(buffer, where);
-      if (length == UINT64_MAX || offset > source.size() || length > source.size() - offset)
-        throw Error(where + ": bytes [" + std::to_string(offset) + ", +" +
-                    (length == UINT64_MAX ? std::string("?") : std::to_string(length)) +
-                    ") lie outside its buffer of " + std::to_string(source.size()) + " bytes");
-      const std::vector<uint8_t> out =
-          decodeView(ext,
-                     std::vector<uint8_t>(source.begin() + long(offset),
-                                          source.begin() + long(offset + length)),
-                     where);
-      decoded.resize((decoded.size() + 3) / 4 * 4, 0);
-      if (decoded.size() + out.size() > limits::kInputFileBytes)
-        throw Error(path + ": its compressed views decode to over " +
-                    std::to_string(limits::kInputFileBytes >> 20) + " MiB");
-      view["buffer"] = 0;
-      view["byteOffset"] = decoded.size();
-      view["byteLength"] = out.size();
-      if (ext.value("mode", std::string()) != "ATTRIBUTES")
-        view.erase("byteStride");
-      decoded.insert(decoded.end(), out.begin(), out.end());
-      view["extensions"].erase(name);
-      decodedViews.insert(v);
-      any = true;
-    }
-    if (view["extensions"].empty())
-      view.erase("extensions");
+                  " is a data: URI; crowdbake decodes compressed views from a .glb or a .bin file");
+    return data_[k] = readUri_(uri);
   }
-  if (!any)
-    return false;
-  // Buffer 0 is now the binary chunk: without one before, a new buffer 0, every other buffer
-  // moving up one. A fallback buffer (no data: the compressed views were its only readers)
-  // becomes one zero byte that no view reads.
-  if (!appendToBin) {
+
+private:
+  const Glb &g_;
+  const ReadBufferUri &readUri_;
+  std::map<size_t, std::vector<uint8_t>> data_;
+};
+
+// Decodes view `v`'s compressed bytes (extension `name`) onto the end of `decoded`, 4-aligned,
+// and points the view at them in buffer 0, the extension gone.
+void decodeOne(json &view, size_t v, const char *name, Buffers &buffers,
+               std::vector<uint8_t> &decoded, const std::string &path) {
+  const std::string where = path + ": bufferViews[" + std::to_string(v) + "] " + name;
+  const json &ext = view["extensions"][name];
+  if (!ext.is_object())
+    throw Error(where + ": not an object");
+  const uint64_t buffer = field(ext, "buffer", UINT64_MAX, where);
+  const uint64_t offset = field(ext, "byteOffset", 0, where);
+  const uint64_t length = field(ext, "byteLength", UINT64_MAX, where);
+  if (buffer >= buffers.count())
+    throw Error(where + ": buffer " + std::to_string(buffer) + " does not exist");
+  const std::vector<uint8_t> &source = buffers.bytes(buffer, where);
+  if (length == UINT64_MAX || offset > source.size() || length > source.size() - offset)
+    throw Error(where + ": bytes [" + std::to_string(offset) + ", +" +
+                (length == UINT64_MAX ? std::string("?") : std::to_string(length)) +
+                ") lie outside its buffer of " + std::to_string(source.size()) + " bytes");
+  const std::vector<uint8_t> out = decodeView(
+      ext,
+      std::vector<uint8_t>(source.begin() + long(offset), source.begin() + long(offset + length)),
+      where);
+  decoded.resize((decoded.size() + 3) / 4 * 4, 0);
+  if (decoded.size() + out.size() > limits::kInputFileBytes)
+    throw Error(path + ": its compressed views decode to over " +
+                std::to_string(limits::kInputFileBytes >> 20) + " MiB");
+  view["buffer"] = 0;
+  view["byteOffset"] = decoded.size();
+  view["byteLength"] = out.size();
+  if (ext.value("mode", std::string()) != "ATTRIBUTES")
+    view.erase("byteStride");
+  decoded.insert(decoded.end(), out.begin(), out.end());
+  view["extensions"].erase(name);
+}
+
+// Buffer 0 becomes the binary chunk of `bytes` bytes: without one before, a new buffer 0, every
+// other buffer moving up one (the decoded views already point at 0). A fallback buffer (no data:
+// the compressed views were its only readers) becomes one zero byte that no view reads. The
+// extension leaves the used and required lists.
+void rewriteBuffers(json &gltf, bool newBufferZero, const std::set<size_t> &decodedViews,
+                    size_t bytes) {
+  if (newBufferZero) {
     json list = json::array({json::object()});
     for (auto &b : gltf["buffers"])
       list.push_back(b);
@@ -263,7 +249,7 @@ bool decodeMeshoptViews(std::vector<uint8_t> &bytes, const std::string &path,
   for (size_t k = 1; k < gltf["buffers"].size(); ++k)
     if (json &b = gltf["buffers"][k]; b.is_object() && !b.contains("uri"))
       b = {{"byteLength", 1}, {"uri", "data:application/octet-stream;base64,AA=="}};
-  gltf["buffers"][0] = {{"byteLength", decoded.size()}};
+  gltf["buffers"][0] = {{"byteLength", bytes}};
   for (const char *list : {"extensionsUsed", "extensionsRequired"})
     if (gltf.contains(list) && gltf[list].is_array()) {
       json kept = json::array();
@@ -272,6 +258,40 @@ bool decodeMeshoptViews(std::vector<uint8_t> &bytes, const std::string &path,
           kept.push_back(e);
       gltf[list] = kept;
     }
+}
+
+} // namespace
+
+bool decodeMeshoptViews(std::vector<uint8_t> &bytes, const std::string &path,
+                        const ReadBufferUri &readUri) {
+  // A cheap look first: most files never name the extension.
+  const std::string_view all(reinterpret_cast<const char *>(bytes.data()), bytes.size());
+  if (all.find("meshopt_compression") == std::string_view::npos)
+    return false;
+  Glb g = parse(bytes, path);
+  json &gltf = g.gltf;
+  if (!gltf.is_object() || !gltf.contains("bufferViews") || !gltf["bufferViews"].is_array())
+    return false;
+  Buffers buffers(g, readUri);
+  // The decoded views go after the binary chunk (buffer 0 in the GLB written).
+  const bool appendToBin = g.hasBin && buffers.count() > 0 && !gltf["buffers"][0].contains("uri");
+  std::vector<uint8_t> decoded = appendToBin ? g.bin : std::vector<uint8_t>{};
+  std::set<size_t> decodedViews;
+  for (size_t v = 0; v < gltf["bufferViews"].size(); ++v) {
+    json &view = gltf["bufferViews"][v];
+    if (!view.is_object() || !view.contains("extensions"))
+      continue;
+    for (const char *name : kExtensions)
+      if (view["extensions"].contains(name)) {
+        decodeOne(view, v, name, buffers, decoded, path);
+        decodedViews.insert(v);
+      }
+    if (view["extensions"].empty())
+      view.erase("extensions");
+  }
+  if (decodedViews.empty())
+    return false;
+  rewriteBuffers(gltf, !appendToBin, decodedViews, decoded.size());
   g.bin = std::move(decoded);
   g.hasBin = true;
   bytes = serialize(g);
