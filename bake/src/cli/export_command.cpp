@@ -23,8 +23,9 @@ quarter of the way into the first clip, seen from the front, one tint per sub-me
 --gltf: the character as the player draws it, as a binary glTF (Blender, three.js, an engine's
 importer): an outfit's sub-meshes at a LOD cut with their materials and the diffuse texture,
 the skeleton, 4 influences a vertex, and every clip as an animation of the poses the player
-decodes (joint tracks: their own keys and interpolation; an animation texture: every frame).
-Morph targets and cloth loops are not exported (a warning says so).)";
+decodes (joint tracks: their own keys and interpolation; an animation texture: every frame),
+morph targets with their weights. Cloth loops are not exported (a warning says so: their
+garments move with their joints).)";
 
 void writeImages(const pack::Reader &reader, const std::string &dir) {
   std::error_code ec;

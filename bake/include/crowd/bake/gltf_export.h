@@ -5,7 +5,8 @@
 // animation of the poses the player decodes: from joint tracks, each track's own samples with
 // its own interpolation (LINEAR, slerp for rotations, or STEP), which is how the player decodes
 // them; from an animation texture, every stored frame as local translation, rotation and scale
-// keys (LINEAR), where the player blends frames as dual quaternions.
+// keys (LINEAR), where the player blends frames as dual quaternions; morph targets with a
+// weights key per frame.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -21,9 +22,9 @@ struct GltfExportOptions {
   uint32_t lodVertices = 0; // a LOD cut at this many vertices; 0: full detail
 };
 
-// Throws crowd::Error for an unknown outfit or a cut outside the pack's LOD. What the file
-// cannot hold as the player draws it (morph targets, cloth loops, joints that shear) is warned
-// through `reporter`.
+// Throws crowd::Error for an unknown outfit or a cut outside the pack's LOD. What a glTF node
+// cannot hold (a joint transform that shears) is warned through `reporter`; cloth loops, which
+// are not an AnimationPack's, are the caller's to report.
 std::vector<uint8_t> exportGltf(const pack::AnimationPack &pack, const GltfExportOptions &options,
                                 Reporter &reporter);
 
