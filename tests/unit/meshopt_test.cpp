@@ -209,6 +209,12 @@ TEST(Meshopt, FilesThatLieAreClearErrors) {
        }},
       {"buffer 9 does not exist", [&](json &g) { firstView(g, ext, "ATTRIBUTES")["buffer"] = 9; }},
       {"count missing", [&](json &g) { firstView(g, ext, "ATTRIBUTES").erase("count"); }},
+      // 16M elements of 256 bytes: refused before 4 GiB are allocated for them.
+      {"take the decoded views over 1024 MiB",
+       [&](json &g) {
+         json &view = firstView(g, ext, "ATTRIBUTES");
+         view["count"] = 1 << 24, view["byteStride"] = 256;
+       }},
   };
   for (const Case &c : cases) {
     const std::string message = importError(compressed(dir, ext, c.edit));

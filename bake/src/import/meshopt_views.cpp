@@ -96,8 +96,10 @@ uint64_t field(const json &object, const char *key, uint64_t fallback, const std
   return it->get<uint64_t>();
 }
 
-// One compressed view decoded: `source` the compressed bytes, `ext` the extension's object.
-std::vector<uint8_t> decodeView(const json &ext, const std::vector<uint8_t> &source,
+// One compressed view decoded: `source` the compressed bytes, `ext` the extension's object,
+// `room` the bytes the decoded views may still take (checked before the output is allocated:
+// count and byteStride alone ask for up to 4 GiB).
+std::vector<uint8_t> decodeView(const json &ext, const std::vector<uint8_t> &source, uint64_t room,
                                 const std::string &where) {
   const uint64_t count = field(ext, "count", UINT64_MAX, where);
   const uint64_t stride = field(ext, "byteStride", 0, where);
@@ -128,6 +130,10 @@ std::vector<uint8_t> decodeView(const json &ext, const std::vector<uint8_t> &sou
                 ", which the linked meshoptimizer " + meshoptVersion() +
                 " cannot decode (it reads up to version " + std::to_string(newest) +
                 "): compress with an older gltfpack, or not at all");
+  if (count * stride > room)
+    throw Error(where + ": " + std::to_string(count) + " elements of " + std::to_string(stride) +
+                " bytes take the decoded views over " +
+                std::to_string(limits::kInputFileBytes >> 20) + " MiB");
   std::vector<uint8_t> out(count * stride);
   int rc = 0;
   if (mode == "ATTRIBUTES")
@@ -213,14 +219,13 @@ void decodeOne(json &view, size_t v, const char *name, Buffers &buffers,
     throw Error(where + ": bytes [" + std::to_string(offset) + ", +" +
                 (length == UINT64_MAX ? std::string("?") : std::to_string(length)) +
                 ") lie outside its buffer of " + std::to_string(source.size()) + " bytes");
+  decoded.resize((decoded.size() + 3) / 4 * 4, 0);
+  const uint64_t room =
+      limits::kInputFileBytes - std::min<uint64_t>(decoded.size(), limits::kInputFileBytes);
   const std::vector<uint8_t> out = decodeView(
       ext,
       std::vector<uint8_t>(source.begin() + long(offset), source.begin() + long(offset + length)),
-      where);
-  decoded.resize((decoded.size() + 3) / 4 * 4, 0);
-  if (decoded.size() + out.size() > limits::kInputFileBytes)
-    throw Error(path + ": its compressed views decode to over " +
-                std::to_string(limits::kInputFileBytes >> 20) + " MiB");
+      room, where);
   view["buffer"] = 0;
   view["byteOffset"] = decoded.size();
   view["byteLength"] = out.size();
