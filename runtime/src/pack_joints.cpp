@@ -14,9 +14,7 @@ std::vector<JointRows> sampleJoints(const pack::AnimationPack &p, size_t clip, u
   const std::vector<glm::mat4> palette = decodePalette(p, {float(clip), seconds});
   std::vector<JointRows> rows(palette.size());
   for (size_t j = 0; j < palette.size(); ++j)
-    for (int r = 0; r < 3; ++r)
-      rows[j][size_t(r)] =
-          glm::vec4(palette[j][0][r], palette[j][1][r], palette[j][2][r], palette[j][3][r]);
+    rows[j] = toRows(palette[j]);
   return rows;
 }
 

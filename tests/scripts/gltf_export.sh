@@ -10,10 +10,7 @@
 set -euo pipefail
 . "$(dirname "$(realpath "$0")")/skip.sh"
 bin=$1 root=$2 work=$3 assets=$4
-tools=$root/.tools/node_modules
-command -v node >/dev/null || skip "node is not installed (./run test installs it)"
-[ -d "$tools/gltf-validator" ] && [ -d "$tools/three" ] ||
-  skip "gltf-validator and three are not installed in $tools (./run test installs them)"
+need_node_tools "$root" gltf-validator three
 rm -rf "$work" && mkdir -p "$work" && cd "$work"
 fail() { echo "FAIL: $*" >&2; exit 1; }
 cb() { "$bin/crowdbake" "$@"; }

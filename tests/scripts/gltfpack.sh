@@ -10,10 +10,7 @@
 set -euo pipefail
 . "$(dirname "$(realpath "$0")")/skip.sh"
 bin=$1 root=$2 work=$3 assets=$4
-tools=$root/.tools/node_modules
-command -v node >/dev/null || skip "node is not installed (./run test installs it)"
-[ -x "$tools/.bin/gltfpack" ] && [ -d "$tools/three" ] ||
-  skip "gltfpack and three are not installed in $tools (./run test installs them)"
+need_node_tools "$root" gltfpack three
 rm -rf "$work" && mkdir -p "$work" && cd "$work"
 "$bin/crowdbake" samples --no-cloth --out s >/dev/null
 models=(s/humanoid.glb)

@@ -27,3 +27,15 @@ skip_part() {
 end_skipped_parts() {
   [ -z "$skipped_parts" ] || exit 77
 }
+
+# need_node_tools ROOT PACKAGE...: node and each npm package, which ./run test installs into
+# ROOT/.tools; sets tools to that node_modules folder.
+need_node_tools() {
+  local root=$1 package
+  shift
+  tools=$root/.tools/node_modules
+  command -v node >/dev/null || skip "node is not installed (./run test installs it)"
+  for package in "$@"; do
+    [ -d "$tools/$package" ] || skip "$package is not installed in $tools (./run test installs it)"
+  done
+}

@@ -17,9 +17,8 @@
 set -euo pipefail
 . "$(dirname "$(realpath "$0")")/skip.sh"
 bin=$1 root=$2 work=$3 assets=$4
-three=$root/.tools/node_modules/three
-command -v node >/dev/null || skip "node is not installed (./run test installs it)"
-[ -d "$three" ] || skip "three is not installed at $three (./run test installs it)"
+need_node_tools "$root" three
+three=$tools/three
 [ -d "$assets" ] || skip_part "no shared models at $assets (../shared beside the checkout): the Blender exports only"
 rm -rf "$work" && mkdir -p "$work"
 status=0 models=0

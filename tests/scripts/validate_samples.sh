@@ -4,9 +4,7 @@
 set -euo pipefail
 . "$(dirname "$(realpath "$0")")/skip.sh"
 bin=$1 root=$2 work=$3
-validator=$root/.tools/node_modules/gltf-validator
-command -v node >/dev/null || skip "node is not installed (./run test installs it)"
-[ -d "$validator" ] || skip "gltf-validator is not installed at $validator (./run test installs it)"
+need_node_tools "$root" gltf-validator
 rm -rf "$work" && mkdir -p "$work"
 "$bin/crowdbake" samples --no-cloth --out "$work" >/dev/null
-node "$root/tests/scripts/validate.js" "$validator" "$work"/*.glb
+node "$root/tests/scripts/validate.js" "$tools/gltf-validator" "$work"/*.glb

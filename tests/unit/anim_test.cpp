@@ -1,6 +1,5 @@
 #include <filesystem>
 
-#include <glm/gtc/matrix_access.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
@@ -175,8 +174,7 @@ TEST(TextureSkinning, FrameAtWrapsLoopsAndClampsOthers) {
 // through 35.
 TEST(TextureSkinning, CrossfadeBlendsTheShortWayRound) {
   auto turn = [](float degrees) {
-    const glm::mat4 m = glm::rotate(glm::mat4(1), glm::radians(degrees), glm::vec3(0, 0, 1));
-    return runtime::JointRows{glm::row(m, 0), glm::row(m, 1), glm::row(m, 2)};
+    return runtime::toRows(glm::rotate(glm::mat4(1), glm::radians(degrees), glm::vec3(0, 0, 1)));
   };
   const runtime::JointRows mid = runtime::blendJoints(turn(-100), turn(170), 0.5f);
   const runtime::JointRows half = turn(-145);

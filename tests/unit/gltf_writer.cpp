@@ -7,6 +7,8 @@
 #include <fstream>
 #include <unistd.h>
 
+#include "crowd/bake/glb.h"
+
 namespace crowd::test {
 
 namespace {
@@ -160,23 +162,7 @@ std::string GltfBuilder::writeGlb(const std::string &dir, const std::string &nam
   while (data.size() % 4)
     data.push_back(0);
   out["buffers"] = {{{"byteLength", data.size()}}};
-  std::string json = out.dump();
-  while (json.size() % 4)
-    json += ' ';
-  std::vector<uint8_t> glb;
-  auto u32 = [&](uint32_t v) {
-    for (int k = 0; k < 4; ++k)
-      glb.push_back(uint8_t(v >> (8 * k)));
-  };
-  glb.insert(glb.end(), {'g', 'l', 'T', 'F'});
-  u32(2);
-  u32(uint32_t(12 + 8 + json.size() + 8 + data.size()));
-  u32(uint32_t(json.size()));
-  u32(0x4E4F534A);
-  glb.insert(glb.end(), json.begin(), json.end());
-  u32(uint32_t(data.size()));
-  u32(0x004E4942);
-  glb.insert(glb.end(), data.begin(), data.end());
+  const std::vector<uint8_t> glb = glbBytes(out, data);
   std::string path = dir + "/" + name + ".glb";
   std::ofstream(path, std::ios::binary)
       .write(reinterpret_cast<const char *>(glb.data()), std::streamsize(glb.size()));

@@ -15,6 +15,7 @@
 #include <meshoptimizer.h>
 #include <nlohmann/json.hpp>
 
+#include "crowd/bake/glb.h"
 #include "crowd/bake/import.h"
 #include "crowd/formats/error.h"
 #include "crowd/samples/samples.h"
@@ -32,31 +33,14 @@ struct Glb {
 
 Glb readGlb(const std::string &path) {
   std::ifstream f(path, std::ios::binary);
-  std::vector<uint8_t> b((std::istreambuf_iterator<char>(f)), {});
-  uint32_t jsonLength = 0, binLength = 0;
-  std::memcpy(&jsonLength, &b[12], 4);
-  std::memcpy(&binLength, &b[20 + jsonLength], 4);
-  return {
-      json::parse(b.begin() + 20, b.begin() + 20 + jsonLength),
-      std::vector<uint8_t>(b.begin() + 28 + jsonLength, b.begin() + 28 + jsonLength + binLength)};
+  GlbParts parts = glbParts(std::vector<uint8_t>((std::istreambuf_iterator<char>(f)), {}), path);
+  return {json::parse(parts.json), std::move(parts.bin)};
 }
 
 void writeGlb(const std::string &path, const Glb &g) {
-  std::string text = g.gltf.dump();
-  text.resize((text.size() + 3) / 4 * 4, ' ');
-  std::vector<uint8_t> bin = g.bin;
-  bin.resize((bin.size() + 3) / 4 * 4, 0);
-  std::ofstream f(path, std::ios::binary);
-  auto u32 = [&](uint32_t v) { f.write(reinterpret_cast<const char *>(&v), 4); };
-  f.write("glTF", 4);
-  u32(2);
-  u32(uint32_t(28 + text.size() + bin.size()));
-  u32(uint32_t(text.size()));
-  f.write("JSON", 4);
-  f.write(text.data(), std::streamsize(text.size()));
-  u32(uint32_t(bin.size()));
-  f.write("BIN\0", 4);
-  f.write(reinterpret_cast<const char *>(bin.data()), std::streamsize(bin.size()));
+  const std::vector<uint8_t> bytes = glbBytes(g.gltf, g.bin);
+  std::ofstream(path, std::ios::binary)
+      .write(reinterpret_cast<const char *>(bytes.data()), std::streamsize(bytes.size()));
 }
 
 // The sample humanoid with every buffer view meshopt can take compressed as gltfpack compresses

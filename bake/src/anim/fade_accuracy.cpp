@@ -21,19 +21,10 @@ double sourceSeconds(const AnimationClip &source, const pack::Clip &baked, doubl
 
 std::vector<glm::dmat4> blendedJoints(const std::vector<glm::dmat4> &from,
                                       const std::vector<glm::dmat4> &to, float weight) {
-  auto rows = [](const glm::dmat4 &m) {
-    runtime::JointRows r;
-    for (int i = 0; i < 3; ++i)
-      r[size_t(i)] = glm::vec4(float(m[0][i]), float(m[1][i]), float(m[2][i]), float(m[3][i]));
-    return r;
-  };
-  std::vector<glm::dmat4> out(from.size(), glm::dmat4(1.0));
-  for (size_t j = 0; j < from.size(); ++j) {
-    const auto r = runtime::blendJoints(rows(from[j]), rows(to[j]), weight);
-    for (int i = 0; i < 3; ++i)
-      for (int col = 0; col < 4; ++col)
-        out[j][col][i] = double(r[size_t(i)][col]);
-  }
+  std::vector<glm::dmat4> out(from.size());
+  for (size_t j = 0; j < from.size(); ++j)
+    out[j] = glm::dmat4(runtime::toMat4(runtime::blendJoints(
+        runtime::toRows(glm::mat4(from[j])), runtime::toRows(glm::mat4(to[j])), weight)));
   return out;
 }
 

@@ -7,6 +7,7 @@
 #include <glm/gtc/type_ptr.hpp>
 #include <nlohmann/json.hpp>
 
+#include "crowd/bake/glb.h"
 #include "crowd/bake/provenance.h"
 #include "crowd/formats/error.h"
 #include "crowd/formats/joint_tracks.h"
@@ -64,25 +65,9 @@ public:
     return int(list.size()) - 1;
   }
   std::vector<uint8_t> bytes() {
-    gltf["buffers"] = json::array({{{"byteLength", bin_.size()}}});
-    std::string text = gltf.dump();
-    text.resize((text.size() + 3) / 4 * 4, ' ');
     bin_.resize((bin_.size() + 3) / 4 * 4, 0);
-    std::vector<uint8_t> out;
-    auto u32 = [&](uint32_t v) {
-      for (int k = 0; k < 4; ++k)
-        out.push_back(uint8_t(v >> (8 * k)));
-    };
-    out.insert(out.end(), {'g', 'l', 'T', 'F'});
-    u32(2);
-    u32(uint32_t(12 + 8 + text.size() + 8 + bin_.size()));
-    u32(uint32_t(text.size()));
-    out.insert(out.end(), {'J', 'S', 'O', 'N'});
-    out.insert(out.end(), text.begin(), text.end());
-    u32(uint32_t(bin_.size()));
-    out.insert(out.end(), {'B', 'I', 'N', 0});
-    out.insert(out.end(), bin_.begin(), bin_.end());
-    return out;
+    gltf["buffers"] = json::array({{{"byteLength", bin_.size()}}});
+    return glbBytes(gltf, bin_);
   }
 
 private:
@@ -116,14 +101,6 @@ json nodeTrs(const Trs &x) {
   return {{"translation", {x.t.x, x.t.y, x.t.z}},
           {"rotation", {x.r.x, x.r.y, x.r.z, x.r.w}},
           {"scale", {x.s.x, x.s.y, x.s.z}}};
-}
-
-glm::mat4 fromRows(const runtime::JointRows &rows) {
-  glm::mat4 m(1);
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 4; ++c)
-      m[c][r] = rows[size_t(r)][c];
-  return m;
 }
 
 // One channel of `node`'s `path` over `input` (an accessor of times) with `values`.
@@ -179,7 +156,7 @@ void textureAnimation(Glb &glb, const pack::AnimationPack &p, std::vector<int> &
       const auto rows = runtime::sampleJoints(p, c, f, 0);
       std::vector<glm::mat4> global(J);
       for (size_t j = 0; j < J; ++j)
-        global[j] = fromRows(rows[j]) * bind[j];
+        global[j] = runtime::toMat4(rows[j]) * bind[j];
       for (size_t j = 0; j < J; ++j) {
         const Trs x = local(global, j);
         t[j].insert(t[j].end(), {x.t.x, x.t.y, x.t.z});

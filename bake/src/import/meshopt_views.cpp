@@ -7,6 +7,7 @@
 #include <meshoptimizer.h>
 #include <nlohmann/json.hpp>
 
+#include "crowd/bake/glb.h"
 #include "crowd/formats/error.h"
 #include "crowd/formats/limits.h"
 
@@ -35,56 +36,16 @@ struct Glb {
 };
 
 Glb parse(const std::vector<uint8_t> &bytes, const std::string &path) {
+  GlbParts parts = glbParts(bytes, path);
   Glb g;
-  std::string_view text(reinterpret_cast<const char *>(bytes.data()), bytes.size());
-  if (bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0) {
-    auto u32 = [&](size_t at) {
-      uint32_t v = 0;
-      if (at + 4 <= bytes.size())
-        std::memcpy(&v, bytes.data() + at, 4);
-      return v;
-    };
-    const uint64_t jsonLength = u32(12);
-    if (bytes.size() < 20 || 20 + jsonLength > bytes.size())
-      throw Error(path + ": the GLB's JSON chunk runs past the file");
-    text = text.substr(20, jsonLength);
-    const uint64_t binAt = 20 + jsonLength;
-    if (binAt + 8 <= bytes.size() && u32(binAt + 4) == 0x004E4942) { // "BIN\0"
-      const uint64_t binLength = u32(binAt);
-      if (binAt + 8 + binLength > bytes.size())
-        throw Error(path + ": the GLB's binary chunk runs past the file");
-      g.bin.assign(bytes.begin() + long(binAt + 8), bytes.begin() + long(binAt + 8 + binLength));
-      g.hasBin = true;
-    }
-  }
+  g.bin = std::move(parts.bin);
+  g.hasBin = parts.hasBin;
   try {
-    g.gltf = json::parse(text);
+    g.gltf = json::parse(parts.json);
   } catch (const json::exception &e) {
     throw Error(path + ": the glTF JSON does not parse: " + e.what());
   }
   return g;
-}
-
-std::vector<uint8_t> serialize(const Glb &g) {
-  std::string text = g.gltf.dump();
-  text.resize((text.size() + 3) / 4 * 4, ' ');
-  std::vector<uint8_t> out;
-  auto u32 = [&](uint64_t v) {
-    for (int k = 0; k < 4; ++k)
-      out.push_back(uint8_t(v >> (8 * k)));
-  };
-  const uint64_t binLength = (g.bin.size() + 3) / 4 * 4;
-  out.insert(out.end(), {'g', 'l', 'T', 'F'});
-  u32(2);
-  u32(12 + 8 + text.size() + 8 + binLength);
-  u32(text.size());
-  out.insert(out.end(), {'J', 'S', 'O', 'N'});
-  out.insert(out.end(), text.begin(), text.end());
-  u32(binLength);
-  out.insert(out.end(), {'B', 'I', 'N', 0});
-  out.insert(out.end(), g.bin.begin(), g.bin.end());
-  out.resize(out.size() + (binLength - g.bin.size()), 0);
-  return out;
 }
 
 uint64_t field(const json &object, const char *key, uint64_t fallback, const std::string &where) {
@@ -299,7 +260,7 @@ bool decodeMeshoptViews(std::vector<uint8_t> &bytes, const std::string &path,
   rewriteBuffers(gltf, !appendToBin, decodedViews, decoded.size());
   g.bin = std::move(decoded);
   g.hasBin = true;
-  bytes = serialize(g);
+  bytes = glbBytes(g.gltf, g.bin);
   return true;
 }
 

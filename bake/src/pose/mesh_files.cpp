@@ -6,6 +6,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "crowd/bake/glb.h"
+
 namespace crowd {
 
 namespace {
@@ -136,23 +138,7 @@ std::vector<uint8_t> glbBytes(const std::vector<glm::vec3> &p, const std::vector
          {"componentType", 5125},
          {"count", indices.size()},
          {"type", "SCALAR"}}}}};
-  std::string text = gltf.dump();
-  text.resize((text.size() + 3) / 4 * 4, ' ');
-  bin.resize((bin.size() + 3) / 4 * 4, 0);
-  std::vector<uint8_t> out;
-  append(out, "glTF");
-  put(out, uint32_t(2));
-  put(out, uint32_t(12 + 8 + text.size() + 8 + bin.size()));
-  put(out, uint32_t(text.size()));
-  append(out, "JSON");
-  append(out, text);
-  put(out, uint32_t(bin.size()));
-  out.push_back('B');
-  out.push_back('I');
-  out.push_back('N');
-  out.push_back(0);
-  out.insert(out.end(), bin.begin(), bin.end());
-  return out;
+  return glbBytes(gltf, bin);
 }
 
 } // namespace crowd

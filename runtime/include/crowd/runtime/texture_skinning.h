@@ -16,6 +16,16 @@ namespace crowd::runtime {
 // Rows of a 3x4 affine transform: p' = (dot(r0, p1), dot(r1, p1), dot(r2, p1)), p1 = (p, 1).
 using JointRows = std::array<glm::vec4, 3>;
 
+// A matrix's top three rows, and the matrix back (its last row 0 0 0 1).
+inline JointRows toRows(const glm::mat4 &m) {
+  return {glm::vec4(m[0][0], m[1][0], m[2][0], m[3][0]),
+          glm::vec4(m[0][1], m[1][1], m[2][1], m[3][1]),
+          glm::vec4(m[0][2], m[1][2], m[2][2], m[3][2])};
+}
+inline glm::mat4 toMat4(const JointRows &rows) {
+  return glm::transpose(glm::mat4(rows[0], rows[1], rows[2], glm::vec4(0, 0, 0, 1)));
+}
+
 // Transform of `joint` at `alpha` in [0, 1] between clip frames `frame` and `frame + 1`
 // (the second is clamped to the clip's last frame): matrix rows blend linearly, quaternion
 // frames screw-linearly (as dual quaternions), joint by joint as the texture stores them.
