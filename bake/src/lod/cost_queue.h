@@ -1,13 +1,10 @@
-// The queue bakeLod pops its cheapest collapse from. A binary heap of the ten candidates each
-// triangle pushes (nine of ten stale by the time they come up) spent half the bake sifting; here
-// a candidate goes into a bucket by its cost's top 16 float bits (sign, exponent, 7 bits of
-// mantissa), so pushing and popping take constant time. Candidates within 1/128 of each other's
-// cost share a bucket and pop last pushed first: the order stays deterministic, and no collapse
-// is taken before one costing under half as much. A bucket is a list threaded through one pool
-// of nodes, popped nodes reused first: a vector a bucket (32,641 of them, each grown on first
-// use) cost every bake about 0.1 ms to make and free, 1/3 of RiggedSimple's (188 triangles,
-// 0.23 -> 0.15 ms at 16 poses; tests/bench/lod_speed.sh) and 3% of CesiumMan's. Blocks of 8
-// items a node, for locality, were 3-6% slower.
+// The queue bakeLod pops its cheapest collapse from: a candidate goes into a bucket by its
+// cost's top 16 float bits (sign, exponent, 7 bits of mantissa), so pushing and popping take
+// constant time, where a binary heap spent half the bake sifting mostly stale candidates.
+// Candidates within 1/128 of each other's cost share a bucket and pop last pushed first: the
+// order stays deterministic, and no collapse is taken before one costing under half as much. A
+// bucket is a list threaded through one pool of nodes, popped nodes reused first (not a vector a
+// bucket, which small meshes paid for in allocations).
 #pragma once
 #include <algorithm>
 #include <bit>

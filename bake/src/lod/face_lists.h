@@ -1,8 +1,6 @@
 // Each vertex's faces, as bakeLod's collapses hand them on from the vertex that goes to the one
 // it goes into: every list in one array, not a vector a vertex (an allocation each to make and
-// free, and more as they grow): humanoid's bake 0.89 of the time, RecursiveSkeletons' 0.91,
-// CesiumMan's 0.98 at 16 poses (tests/bench/lod_speed.sh, 6 rounds), the 1M grid's peak
-// +312 -> +292 MB (lod_bench). A list that outgrows its room moves to the end of the array with
+// free, and more as they grow). A list that outgrows its room moves to the end of the array with
 // twice the room; when the moves have about doubled the array, every list packs into a new one.
 #pragma once
 #include <algorithm>

@@ -1,11 +1,6 @@
 // The LOD's error quadrics, one per vertex per pose. A collapse of a into b costs (Qa + Qb) at
-// b's position in the pose where that is largest: the worst frame is what the player shows (the
-// mean over poses let a collapse that tears one pose win over one moderate in all, and came out
-// worse than the bind pose alone on CesiumMan and RiggedSimple). The rest pose counts as one pose
-// among them, so its error may grow to the worst pose's: weighting its cost 4 (16) times, to
-// bring rest-pose errors nearer meshopt's, lowered them only to 0.94 (0.88) of this order's while
-// raising the animated maximum to 1.07 (1.29) of it (geometric means over lod_bench's levels),
-// and the levels whose animated maximum exceeds meshopt's went from 3 to 12 (13).
+// b's position in the pose where that is largest: the worst frame is what the player shows. The
+// rest pose counts as one pose among them, weighted as the others (docs/bakes/lod.md says why).
 #pragma once
 #include <array>
 #include <cstddef>
@@ -35,9 +30,7 @@ public:
   // Adds, to the ends of the open or seam edge ab of face abc in every pose, a plane through the
   // edge perpendicular to the face, weighted the edge's squared length (as a face of about that
   // area would be): straightening the line or cutting across it costs what moving the surface
-  // as far would. 100 times that held borders and seams so hard that the rest of the mesh paid:
-  // with the plain weight and the noise floor, lod_bench's animated error fell at 29 of its 60
-  // levels (up to 3.1 times) and rose at 6 (up to 1.35 times).
+  // as far would (a heavier weight held borders so hard that the rest of the mesh paid).
   void addBorder(uint32_t a, uint32_t b, uint32_t c);
   void finish(); // after the last plane
   // b takes on a's quadric as a collapses into it.
@@ -53,11 +46,9 @@ public:
   bool boundIsCost() const { return poses_ == 1; }
   // Where a collapse of this cost (cost() or bound()) queues: at the cost itself, or where that is
   // 0, below every cost above the noise floor, by the octave of its edge's length in the rest
-  // pose, shorter first. All in one bucket, last pushed first, a flat region's free collapses went
-  // into the vertex last collapsed into, its ring grew with each, and a flat grid of 80,000
-  // triangles took 15 s. Within an octave they stay last pushed first, near each other: ordered
-  // by exact length they swept the mesh, and a nearly flat 1M-triangle grid took 2.33 s, against
-  // 1.57 s by octaves (2.04 s in one bucket).
+  // pose, shorter first: in one bucket, a flat region's free collapses all went into one vertex
+  // whose ring grew with each. Within an octave they stay last pushed first, near each other
+  // (ordered by exact length they swept the mesh, and ran slower).
   double key(uint32_t a, uint32_t b, double cost) const;
   static constexpr int kShortest = -200; // the octave of edges that short or shorter
   static constexpr double kNoise = 1e-6;
