@@ -5,13 +5,14 @@
 #include <cstdio>
 #include <cstring>
 
+#include "anim_accuracy.h"
 #include "crowd/bake/evaluate.h"
 #include "crowd/bake/fade_accuracy.h"
 #include "crowd/bake/morph_frames.h"
 #include "crowd/bake/parallel.h"
 #include "crowd/formats/error.h"
 #include "crowd/formats/limits.h"
-#include "crowd/runtime/texture_skinning.h"
+#include "exact_frames.h"
 
 namespace crowd {
 
@@ -197,46 +198,21 @@ void applyStore(const AnimBakeOptions &options, AnimBakeResult &result, Reporter
   reporter.step("stores " + result.stored + ": " + result.storeReason);
 }
 
-} // namespace
-
-StoreChoice chooseStore(double budgetMm, StoreCandidate texture, StoreCandidate tracks) {
-  const bool textureMeets = texture.worstMm <= budgetMm, tracksMeet = tracks.worstMm <= budgetMm;
-  const std::string figures =
-      "texture " + std::to_string(texture.bytes) + " bytes, " + millimetres(texture.worstMm) +
-      "; tracks " + std::to_string(tracks.bytes) + " bytes, " + millimetres(tracks.worstMm);
-  StoreChoice c;
-  if (textureMeets && tracksMeet) {
-    c.stored = tracks.bytes <= texture.bytes ? "tracks" : "texture";
-    c.reason = "both meet the budget, " + c.stored + " in fewer bytes (" + figures + ")";
-  } else if (textureMeets || tracksMeet) {
-    c.stored = tracksMeet ? "tracks" : "texture";
-    c.reason = "only " + c.stored + " meets the budget (" + figures + ")";
-  } else {
-    c.stored = tracks.worstMm <= texture.worstMm ? "tracks" : "texture";
-    c.reason = "neither meets the budget, " + c.stored + " errs less (" + figures + ")";
-  }
-  return c;
-}
-
-AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
-                             Reporter &reporter) {
-  options.validate();
-  AnimBakeResult result;
-  result.diagonal = restDiagonal(c);
-  result.mmPerUnit = millimetresPerUnit(c, &result.heightIsDiagonal);
-  result.errorBudgetMm = options.errorBudgetMm;
-
+std::vector<const AnimationClip *> chosenClips(const Character &c, const AnimBakeOptions &options) {
   std::vector<const AnimationClip *> sourceClips;
   for (const auto &clip : c.clips)
     if (options.clip.empty() || clip.name == options.clip)
       sourceClips.push_back(&clip);
   if (sourceClips.empty() && !options.clip.empty())
     throw unknownName("clip", options.clip, c.clipNames());
+  return sourceClips;
+}
 
-  // Each clip's rate and the pack's precision: forced, or the budget's choice.
-  BudgetChoice &budget = result.budget;
-  const auto matrixJoints = matrixJointsByBudget(c, sourceClips, options.errorBudgetMm,
-                                                 result.mmPerUnit, options.threads);
+// Each clip's rate and the pack's precision: forced, or the budget's choice.
+BudgetChoice chooseRates(const Character &c, const std::vector<const AnimationClip *> &sourceClips,
+                         const std::vector<uint32_t> &matrixJoints, double mmPerUnit,
+                         const AnimBakeOptions &options, Reporter &reporter) {
+  BudgetChoice budget;
   const bool forced = options.fps != AnimBakeOptions::kFpsFromBudget && options.precision != "auto";
   if (forced || sourceClips.empty()) {
     budget.precision = options.precision == "auto" ? "float" : options.precision;
@@ -244,24 +220,27 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
     for (const auto *clip : sourceClips)
       budget.clips.push_back(
           {clip->name, options.fps > 0 ? options.fps : sourceRate(*clip), sourceRate(*clip), {}});
-  } else {
-    BudgetSearch search;
-    search.budgetMm = options.errorBudgetMm;
-    search.mmPerUnit = result.mmPerUnit;
-    if (options.fps > 0)
-      search.rates = {options.fps};
-    search.sourceRateOnly = options.fps == AnimBakeOptions::kFpsSource;
-    for (const auto &p : precisions())
-      if (options.precision == "auto" || p.name == options.precision)
-        search.tried.push_back(&p);
-    search.maxWidth = options.maxWidth;
-    search.threads = options.threads;
-    search.matrixJoints = matrixJoints;
-    search.step = reporter.onStep;
-    budget = chooseByBudget(c, sourceClips, search);
+    return budget;
   }
-  const Precision &chosen = precisionByName(budget.precision);
+  BudgetSearch search;
+  search.budgetMm = options.errorBudgetMm;
+  search.mmPerUnit = mmPerUnit;
+  if (options.fps > 0)
+    search.rates = {options.fps};
+  search.sourceRateOnly = options.fps == AnimBakeOptions::kFpsSource;
+  for (const auto &p : precisions())
+    if (options.precision == "auto" || p.name == options.precision)
+      search.tried.push_back(&p);
+  search.maxWidth = options.maxWidth;
+  search.threads = options.threads;
+  search.matrixJoints = matrixJoints;
+  search.step = reporter.onStep;
+  return chooseByBudget(c, sourceClips, search);
+}
 
+std::vector<ClipFrames> planClips(const std::vector<const AnimationClip *> &sourceClips,
+                                  const BudgetChoice &budget, const AnimBakeOptions &options,
+                                  Reporter &reporter) {
   std::vector<ClipFrames> clips;
   for (size_t ci = 0; ci < sourceClips.size(); ++ci)
     clips.push_back(planFrames(*sourceClips[ci], budget.clips[ci].fps));
@@ -269,31 +248,15 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
     reporter.warn("no_animation", "no animation: baked the rest pose as one-frame clip 'rest'");
     clips.push_back({nullptr, "rest", 0, 0, 1, options.fps > 0 ? options.fps : 30.0});
   }
+  return clips;
+}
 
-  // Every frame's joint matrices and morph weights, exact and in double. Its vertex positions
-  // (`reference`) are skinned again where needed, never kept for every frame at once: they held
-  // 48 bytes a vertex a frame, and a 3,273-vertex character with 250 two-second clips was over
-  // the 64M frame-vertex limit that bounded them.
-  std::vector<std::pair<size_t, uint32_t>> frameList;
-  for (size_t ci = 0; ci < clips.size(); ++ci)
-    for (uint32_t i = 0; i < clips[ci].count; ++i)
-      frameList.push_back({ci, i});
-  size_t total = frameList.size();
-  std::vector<std::vector<glm::dmat4>> joints(total);
-  std::vector<std::vector<double>> morphWeightsAt(total);
-  parallelFor(total, options.threads, [&](size_t f) {
-    const auto &cf = clips[frameList[f].first];
-    uint32_t i = frameList[f].second;
-    joints[f] = jointMatrices(c, cf.clip, cf.start + i * cf.step);
-    morphWeightsAt[f] = morphWeights(c, cf.clip, cf.start + i * cf.step);
-  });
-  auto reference = [&](size_t f) { return skinPositions(c, joints[f], morphWeightsAt[f]); };
-
-  auto &pk = result.pack;
-
-  pk.skeleton.names.resize(c.jointCount());
+// Joint names, each joint's nearest ancestor that is a joint, and the inverse bind matrices.
+pack::Skeleton packSkeleton(const Character &c) {
+  pack::Skeleton skeleton;
+  skeleton.names.resize(c.jointCount());
   for (size_t j = 0; j < c.jointCount(); ++j) {
-    pk.skeleton.names[j] = c.jointName(j);
+    skeleton.names[j] = c.jointName(j);
     int parent = -1;
     for (int p = c.nodes[size_t(c.jointNodes[j])].parent; p >= 0 && parent < 0;
          p = c.nodes[size_t(p)].parent) {
@@ -301,11 +264,16 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
       if (it != c.jointNodes.end())
         parent = int(it - c.jointNodes.begin());
     }
-    pk.skeleton.parents.push_back(parent);
+    skeleton.parents.push_back(parent);
     for (int k = 0; k < 16; ++k)
-      pk.skeleton.inverseBind.push_back(float(c.inverseBind[j][k / 4][k % 4]));
+      skeleton.inverseBind.push_back(float(c.inverseBind[j][k / 4][k % 4]));
   }
+  return skeleton;
+}
 
+// The clip table: a clip loops where its last frame is its first (within 1e-4 of the diagonal).
+void packClips(const Character &c, const std::vector<ClipFrames> &clips, const ExactFrames &frames,
+               AnimBakeResult &result, Reporter &reporter) {
   uint32_t first = 0;
   for (const auto &cf : clips) {
     pack::Clip clip;
@@ -314,19 +282,22 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
     clip.startTime = float(cf.start);
     clip.firstFrame = first;
     clip.frameCount = cf.count;
-    const auto start = reference(first), end = reference(first + cf.count - 1);
+    const auto start = framePositions(c, frames, first),
+               end = framePositions(c, frames, first + cf.count - 1);
     double gap = 0;
     for (size_t v = 0; v < c.mesh.vertexCount(); ++v)
       gap = std::max(gap, glm::length(start[v] - end[v]));
     clip.loop = cf.count > 2 && gap <= 1e-4 * result.diagonal;
     if (cf.count > 2 && !clip.loop)
       warnRootMotion(start, end, cf, result, reporter);
-    pk.clips.push_back(clip);
+    result.pack.clips.push_back(clip);
     first += cf.count;
   }
+}
 
-  pk.skin = buildSkinTexture(c.mesh, options.maxWidth); // the same for every precision
-  pk.morphs = buildMorphs(c.mesh, morphWeightsAt, &result.morphOverflow);
+void packMorphs(const Character &c, const ExactFrames &frames, AnimBakeResult &result,
+                Reporter &reporter) {
+  result.pack.morphs = buildMorphs(c.mesh, frames.morphWeights, &result.morphOverflow);
   if (result.morphOverflow.frames)
     reporter.warn("morph_slots_full",
                   std::to_string(result.morphOverflow.frames) + " frames have more than " +
@@ -334,98 +305,13 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
                       std::to_string(result.morphOverflow.mostActive) +
                       "): the ones moving the mesh least are dropped; the errors include them",
                   result.morphOverflow.frames);
-  // Accuracy of every precision, with the player's interpolation (runtime/texture_skinning),
-  // at every frame time, every mid-frame time and kRandomTimesPerClip seeded random times.
-  const auto &all = precisions();
-  std::vector<pack::AnimationTexture> textures;
-  for (const auto &p : all)
-    textures.push_back(
-        buildAnimationTexture(joints, c.jointCount(), p, options.maxWidth, matrixJoints));
-  const size_t np = all.size();
-  const uint32_t vertexCount = uint32_t(c.mesh.vertexCount());
-  reporter.step("accuracy: " + std::to_string(np) + " precisions at " + std::to_string(total) +
-                " frames, their mid-frames and random times");
-  // Error of every precision at (frame, alpha) of pack clip `ci` against `exact`: max[p], sum[p].
-  auto measure = [&](size_t ci, uint32_t frame, float alpha, const std::vector<glm::dvec3> &exact,
-                     double *max, double *sum) {
-    const runtime::ClipTime at{&pk.clips[ci], frame, alpha};
-    std::vector<std::vector<runtime::JointRows>> sampled;
-    for (const auto &t : textures)
-      sampled.push_back(runtime::sampleJoints(t, pk.clips[ci], frame, alpha));
-    for (uint32_t v = 0; v < vertexCount; ++v) {
-      const glm::vec3 bind = morphedBind(c.mesh, pk.morphs, at, v); // the same for every p
-      for (size_t p = 0; p < np; ++p) {
-        double e =
-            glm::length(glm::dvec3(runtime::skinVertex(sampled[p], pk.skin, v, bind)) - exact[v]);
-        max[p] = std::max(max[p], e);
-        sum[p] += e;
-      }
-    }
-  };
-  std::vector<double> frameMax(total * np), frameSum(total * np), midMax(total * np),
-      midSum(total * np);
-  std::vector<glm::dvec3> frameLow(total, glm::dvec3(INFINITY)),
-      frameHigh(total, glm::dvec3(-INFINITY));
-  parallelFor(total, options.threads, [&](size_t f) {
-    const size_t ci = frameList[f].first;
-    const uint32_t i = frameList[f].second;
-    const auto exact = reference(f);
-    for (const auto &q : exact) {
-      frameLow[f] = glm::min(frameLow[f], q);
-      frameHigh[f] = glm::max(frameHigh[f], q);
-    }
-    measure(ci, i, 0.0f, exact, &frameMax[f * np], &frameSum[f * np]);
-    const auto &cf = clips[ci];
-    if (i + 1 < cf.count)
-      measure(ci, i, 0.5f, posedPositions(c, cf.clip, cf.start + (i + 0.5) * cf.step),
-              &midMax[f * np], &midSum[f * np]);
-  });
-  // Random times: uniform over each clip's duration, from a fixed seed per clip (the budget's).
-  std::vector<std::pair<size_t, double>> randomTimes; // (clip, seconds into the clip)
-  for (size_t ci = 0; ci < clips.size(); ++ci)
-    if (clips[ci].count > 1)
-      for (double t : seededTimes(ci, clips[ci].clip->end - clips[ci].clip->start))
-        randomTimes.push_back({ci, t});
-  std::vector<double> randomMax(randomTimes.size() * np), randomSum(randomTimes.size() * np);
-  parallelFor(randomTimes.size(), options.threads, [&](size_t r) {
-    const auto [ci, t] = randomTimes[r];
-    const auto exact = posedPositions(c, clips[ci].clip, clips[ci].start + t);
-    uint32_t frame;
-    float alpha;
-    runtime::frameAt(pk.clips[ci], float(t), frame, alpha);
-    measure(ci, frame, alpha, exact, &randomMax[r * np], &randomSum[r * np]);
-  });
+}
 
-  for (size_t p = 0; p < np; ++p) {
-    PrecisionAccuracy pa{all[p], textures[p].texels.size(), {}};
-    size_t f = 0, r = 0;
-    const double vc = double(vertexCount);
-    for (size_t ci = 0; ci < pk.clips.size(); ++ci) {
-      const pack::Clip &clip = pk.clips[ci];
-      ClipAccuracy a{clip.name, clip.frameCount};
-      for (uint32_t i = 0; i < clip.frameCount; ++i, ++f) {
-        a.maxAtFrames = std::max(a.maxAtFrames, frameMax[f * np + p]);
-        a.meanAtFrames += frameSum[f * np + p] / (vc * clip.frameCount);
-        a.maxAtMidframes = std::max(a.maxAtMidframes, midMax[f * np + p]);
-        if (clip.frameCount > 1)
-          a.meanAtMidframes += midSum[f * np + p] / (vc * (clip.frameCount - 1));
-      }
-      for (; r < randomTimes.size() && randomTimes[r].first == ci; ++r) {
-        a.maxAtRandom = std::max(a.maxAtRandom, randomMax[r * np + p]);
-        a.meanAtRandom += randomSum[r * np + p] / (vc * kRandomTimesPerClip);
-      }
-      pa.clips.push_back(a);
-    }
-    if (all[p].name == chosen.name) {
-      result.baked = result.accuracy.size();
-      pk.animation = std::move(textures[p]);
-    }
-    result.accuracy.push_back(std::move(pa));
-  }
-  budget.met = true; // from the full measure, frame times included
-  for (const auto &a : result.accuracy[result.baked].clips)
-    budget.met &= a.maxAnyTime() * result.mmPerUnit <= options.errorBudgetMm;
-
+// Tracks where asked, the store chosen, and what the pack does not store dropped.
+void chooseWhatIsStored(const Character &c, const std::vector<const AnimationClip *> &sourceClips,
+                        const AnimBakeOptions &options, AnimBakeResult &result,
+                        Reporter &reporter) {
+  auto &pk = result.pack;
   if (options.compressesTracks())
     compressTracks(c, sourceClips, options, result, reporter);
   applyStore(options, result, reporter);
@@ -438,14 +324,10 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
   }
   if (!result.storesTracks())
     pk.tracks.reset();
+}
 
-  if (sourceClips.size() > 1) { // as the player fades what the pack stores
-    reporter.step("crossfades between " + std::to_string(sourceClips.size()) + " clips");
-    result.fades = measureFades(c, sourceClips, pk, options.threads);
-  }
-
-  // Mesh, with a bounding sphere over every frame of every clip. Matrix blends keep mid-frame
-  // positions inside the frames' hull; the baked precision's worst error is added on top.
+// The rest mesh, its sub-meshes with their looks, the glTF source of each vertex, the texture.
+void packMesh(const Character &c, pack::AnimationPack &pk) {
   auto &mesh = pk.mesh;
   for (size_t v = 0; v < c.mesh.vertexCount(); ++v) {
     for (int k = 0; k < 3; ++k) {
@@ -470,15 +352,22 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
       pk.looks->colours.push_back(std::clamp(part.colour[k], 0.0f, 1.0f));
     pk.looks->textured.push_back(part.textured && pk.diffuse ? 1 : 0);
   }
+}
+
+// A bounding sphere over every frame of every clip. Matrix blends keep mid-frame positions
+// inside the frames' hull; the stored animation's worst error is added on top.
+std::array<float, 4> boundingSphere(const Character &c, const ExactFrames &frames,
+                                    const FrameBounds &bounds, const AnimBakeResult &result,
+                                    int threads) {
   glm::dvec3 lo(INFINITY), hi(-INFINITY);
-  for (size_t f = 0; f < total; ++f) {
-    lo = glm::min(lo, frameLow[f]);
-    hi = glm::max(hi, frameHigh[f]);
+  for (size_t f = 0; f < frames.count(); ++f) {
+    lo = glm::min(lo, bounds.low[f]);
+    hi = glm::max(hi, bounds.high[f]);
   }
   glm::dvec3 centre = (lo + hi) * 0.5;
-  std::vector<double> frameRadius(total, 0.0);
-  parallelFor(total, options.threads, [&](size_t f) {
-    for (const auto &q : reference(f))
+  std::vector<double> frameRadius(frames.count(), 0.0);
+  parallelFor(frames.count(), threads, [&](size_t f) {
+    for (const auto &q : framePositions(c, frames, f))
       frameRadius[f] = std::max(frameRadius[f], glm::length(q - centre));
   });
   double radius = 0;
@@ -492,7 +381,62 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
     for (const auto &t : result.tracks)
       slack = std::max(slack, t.maxAnyTimeMm() / result.mmPerUnit);
   radius = (radius + slack) * (1 + 1e-6) + 1e-6 * result.diagonal;
-  mesh.boundingSphere = {float(centre.x), float(centre.y), float(centre.z), float(radius)};
+  return {float(centre.x), float(centre.y), float(centre.z), float(radius)};
+}
+
+} // namespace
+
+StoreChoice chooseStore(double budgetMm, StoreCandidate texture, StoreCandidate tracks) {
+  const bool textureMeets = texture.worstMm <= budgetMm, tracksMeet = tracks.worstMm <= budgetMm;
+  const std::string figures =
+      "texture " + std::to_string(texture.bytes) + " bytes, " + millimetres(texture.worstMm) +
+      "; tracks " + std::to_string(tracks.bytes) + " bytes, " + millimetres(tracks.worstMm);
+  StoreChoice c;
+  if (textureMeets && tracksMeet) {
+    c.stored = tracks.bytes <= texture.bytes ? "tracks" : "texture";
+    c.reason = "both meet the budget, " + c.stored + " in fewer bytes (" + figures + ")";
+  } else if (textureMeets || tracksMeet) {
+    c.stored = tracksMeet ? "tracks" : "texture";
+    c.reason = "only " + c.stored + " meets the budget (" + figures + ")";
+  } else {
+    c.stored = tracks.worstMm <= texture.worstMm ? "tracks" : "texture";
+    c.reason = "neither meets the budget, " + c.stored + " errs less (" + figures + ")";
+  }
+  return c;
+}
+
+// The stages: the clips and their rates, every frame exactly, the pack's skeleton, clips, skin
+// and morphs, every precision measured, what is stored, the fades, the mesh and its bounds.
+AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
+                             Reporter &reporter) {
+  options.validate();
+  AnimBakeResult result;
+  result.diagonal = restDiagonal(c);
+  result.mmPerUnit = millimetresPerUnit(c, &result.heightIsDiagonal);
+  result.errorBudgetMm = options.errorBudgetMm;
+  const std::vector<const AnimationClip *> sourceClips = chosenClips(c, options);
+  const auto matrixJoints = matrixJointsByBudget(c, sourceClips, options.errorBudgetMm,
+                                                 result.mmPerUnit, options.threads);
+  result.budget = chooseRates(c, sourceClips, matrixJoints, result.mmPerUnit, options, reporter);
+  const std::vector<ClipFrames> clips = planClips(sourceClips, result.budget, options, reporter);
+  const ExactFrames frames = sampleFrames(c, clips, options.threads);
+  auto &pk = result.pack;
+  pk.skeleton = packSkeleton(c);
+  packClips(c, clips, frames, result, reporter);
+  pk.skin = buildSkinTexture(c.mesh, options.maxWidth); // the same for every precision
+  packMorphs(c, frames, result, reporter);
+  const FrameBounds bounds =
+      measurePrecisions(c, clips, frames, matrixJoints, options, result, reporter);
+  result.budget.met = true; // from the full measure, frame times included
+  for (const auto &a : result.accuracy[result.baked].clips)
+    result.budget.met &= a.maxAnyTime() * result.mmPerUnit <= options.errorBudgetMm;
+  chooseWhatIsStored(c, sourceClips, options, result, reporter);
+  if (sourceClips.size() > 1) { // as the player fades what the pack stores
+    reporter.step("crossfades between " + std::to_string(sourceClips.size()) + " clips");
+    result.fades = measureFades(c, sourceClips, pk, options.threads);
+  }
+  packMesh(c, pk);
+  pk.mesh.boundingSphere = boundingSphere(c, frames, bounds, result, options.threads);
   return result;
 }
 
