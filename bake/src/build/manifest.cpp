@@ -77,18 +77,168 @@ template <class Options> void validate(const JsonChecker &c, const Options &o, c
   }
 }
 
+Keys below(Keys keys, const std::string &key) {
+  keys.push_back(key);
+  return keys;
+}
+
+// "anim": the animation bake's options.
+void parseAnim(const JsonChecker &c, const json &a, const Keys &k, AnimBakeOptions &anim) {
+  c.onlyKeys(a, k, {"fps", "max_width", "precision", "error_budget_mm", "store"});
+  if (a.contains("fps"))
+    anim.fps = a["fps"].is_string() ? fpsOf(c, c.string(a["fps"], below(k, "fps")), below(k, "fps"))
+                                    : c.number(a["fps"], below(k, "fps"), 1e-3, 1000);
+  if (a.contains("error_budget_mm"))
+    anim.errorBudgetMm = c.number(a["error_budget_mm"], below(k, "error_budget_mm"), 1e-6, 1e6);
+  if (a.contains("max_width"))
+    anim.maxWidth = whole(c, a["max_width"], below(k, "max_width"), 2, limits::kTextureSide);
+  if (a.contains("precision"))
+    anim.precision = c.string(a["precision"], below(k, "precision"));
+  if (a.contains("store"))
+    anim.store = c.string(a["store"], below(k, "store"));
+  validate(c, anim, k);
+}
+
+// "lod": true, false or the LOD bake's options.
+void parseLod(const JsonChecker &c, const json &l, const Keys &k, CharacterManifest &m) {
+  if (l.is_boolean()) {
+    m.lod = l.get<bool>();
+  } else {
+    c.onlyKeys(l, k, {"floor", "poses"});
+    if (l.contains("floor"))
+      m.lodOptions.floorFraction = c.number(l["floor"], below(k, "floor"), 0, 1);
+    if (l.contains("poses"))
+      m.lodOptions.poses = whole(c, l["poses"], below(k, "poses"), 0, 1024);
+    validate(c, m.lodOptions, k);
+  }
+}
+
+// "visibility": the outfit bake's visibility options.
+void parseVisibility(const JsonChecker &c, const json &v, const Keys &k, CharacterManifest &m) {
+  auto &vis = m.outfitOptions.visibility;
+  c.onlyKeys(v, k,
+             {"frame_step", "loop_frames", "rays", "points", "ring", "ground", "regions",
+              "min_saving", "check"});
+  if (v.contains("loop_frames"))
+    vis.loopFrames = whole(c, v["loop_frames"], below(k, "loop_frames"), 0, 100000);
+  if (v.contains("frame_step"))
+    vis.frameStep = whole(c, v["frame_step"], below(k, "frame_step"), 1, 100000);
+  if (v.contains("rays"))
+    vis.rays = whole(c, v["rays"], below(k, "rays"), 1, 4096);
+  if (v.contains("points"))
+    vis.points = whole(c, v["points"], below(k, "points"), 1, 4);
+  if (v.contains("ring"))
+    vis.ring = whole(c, v["ring"], below(k, "ring"), 0, 64);
+  if (v.contains("ground"))
+    vis.ground = c.boolean(v["ground"], below(k, "ground"));
+  if (v.contains("regions"))
+    m.outfitOptions.regions = c.string(v["regions"], below(k, "regions"));
+  if (v.contains("min_saving"))
+    m.outfitOptions.minSaving = c.number(v["min_saving"], below(k, "min_saving"), 0, 1);
+  if (v.contains("check"))
+    m.outfitOptions.check = whole(c, v["check"], below(k, "check"), 0, 100000);
+}
+
+// "impostor": its options, and the (clip, outfit) pairs baked, each among the character's.
+void parseImpostor(const JsonChecker &c, const json &im, const Keys &k, CharacterManifest &m) {
+  c.onlyKeys(im, k, {"clips", "outfits", "frames", "views", "texels", "mirror", "measure"});
+  std::vector<std::string> clips, outfits;
+  if (im.contains("clips"))
+    clips = names(c, im["clips"], below(k, "clips"));
+  else
+    clips = {m.clips.empty() ? std::string() : m.clips.front()}; // "": the first
+  if (im.contains("outfits"))
+    outfits = names(c, im["outfits"], below(k, "outfits"));
+  else if (m.outfits.empty())
+    outfits = {""};
+  else
+    for (const auto &o : m.outfits)
+      outfits.push_back(o.first);
+  for (const auto &o : outfits) {
+    bool known = o.empty(); // the bare body
+    for (const auto &[name, file] : m.outfits)
+      known = known || name == o;
+    if (!known)
+      c.fail(below(k, "outfits"), "'" + o + "' is not one of the character's outfits");
+  }
+  for (const auto &clip : clips)
+    if (!m.clips.empty() && std::find(m.clips.begin(), m.clips.end(), clip) == m.clips.end())
+      c.fail(below(k, "clips"), "clip '" + clip + "' is not among the character's \"clips\"");
+  for (const auto &clip : clips)
+    for (const auto &outfit : outfits)
+      m.impostorPairs.emplace_back(clip, outfit);
+  if (im.contains("frames"))
+    m.impostor.frames = whole(c, im["frames"], below(k, "frames"), 1, 4096);
+  if (im.contains("texels"))
+    m.impostor.texels = whole(c, im["texels"], below(k, "texels"), 4, 4096);
+  if (im.contains("mirror"))
+    m.impostor.mirror = c.boolean(im["mirror"], below(k, "mirror"));
+  if (im.contains("measure"))
+    m.impostor.measure = c.boolean(im["measure"], below(k, "measure"));
+  if (im.contains("views")) {
+    std::string views = c.string(im["views"], below(k, "views"));
+    unsigned a = 0, e = 0;
+    char x = 0;
+    std::istringstream in(views);
+    if (!(in >> a >> x >> e) || x != 'x' || !in.eof())
+      c.fail(below(k, "views"), "expected \"AxE\", e.g. \"32x8\", got '" + views + "'");
+    m.impostor.azimuths = a;
+    m.impostor.elevations = e;
+  }
+  validate(c, m.impostor, k);
+}
+
+// "cloth": the cloth loops, each of a known outfit and clip, no two of one garment and clip.
+void parseCloth(const JsonChecker &c, const json &list, const Keys &keys, const InputPolicy &policy,
+                CharacterManifest &m) {
+  if (!list.is_array())
+    c.fail(keys, "expected [{\"outfit\", \"garment\", \"clip\", \"cache\"}, ...]");
+  for (size_t i = 0; i < list.size(); ++i) {
+    const Keys k = below(keys, std::to_string(i));
+    const json &e = list[i];
+    c.onlyKeys(e, k,
+               {"outfit", "garment", "clip", "cache", "fps", "blend", "candidates", "views",
+                "max_cycles"});
+    for (const char *required : {"outfit", "garment", "clip", "cache"})
+      if (!e.contains(required))
+        c.fail(k, std::string("a cloth loop needs \"") + required + "\"");
+    ClothEntry cl;
+    cl.outfit = c.string(e["outfit"], below(k, "outfit"));
+    cl.garment = c.string(e["garment"], below(k, "garment"));
+    cl.clip = c.string(e["clip"], below(k, "clip"));
+    cl.cache = inputFile(c, e["cache"], below(k, "cache"), policy);
+    if (std::none_of(m.outfits.begin(), m.outfits.end(),
+                     [&](const auto &o) { return o.first == cl.outfit; }))
+      c.fail(below(k, "outfit"), "'" + cl.outfit + "' is not one of the character's outfits");
+    if (!m.clips.empty() && std::find(m.clips.begin(), m.clips.end(), cl.clip) == m.clips.end())
+      c.fail(below(k, "clip"), "clip '" + cl.clip + "' is not among the character's \"clips\"");
+    for (const auto &other : m.cloth)
+      if (other.outfit == cl.outfit && other.garment == cl.garment && other.clip == cl.clip)
+        c.fail(k, "a second loop of garment '" + cl.garment + "' of outfit '" + cl.outfit +
+                      "' over clip '" + cl.clip + "'");
+    auto &o = cl.options;
+    if (e.contains("fps"))
+      o.cache.fps = c.number(e["fps"], below(k, "fps"), 0, 1000);
+    if (e.contains("blend")) { // a whole number of frames, or -1: what the seam needs
+      const double blend = c.number(e["blend"], below(k, "blend"), -1, 100000);
+      if (blend != std::floor(blend))
+        c.fail(below(k, "blend"), "expected a whole number of frames (-1: what the seam needs)");
+      o.blend = int(blend);
+    }
+    if (e.contains("candidates"))
+      o.loop.search.candidates = whole(c, e["candidates"], below(k, "candidates"), 1, 100);
+    if (e.contains("views"))
+      o.loop.edges.views = whole(c, e["views"], below(k, "views"), 1, 64);
+    if (e.contains("max_cycles"))
+      o.loop.search.maxCycles = whole(c, e["max_cycles"], below(k, "max_cycles"), 0, 100000);
+    validate(c, o, k);
+    m.cloth.push_back(std::move(cl));
+  }
+}
+
 CharacterManifest parse(const JsonChecker &c, const json &j, const Keys &at,
                         const InputPolicy &policy) {
-  auto key = [&](const std::string &k) {
-    Keys keys = at;
-    keys.push_back(k);
-    return keys;
-  };
-  auto key2 = [&](const std::string &section, const std::string &k) {
-    Keys keys = key(section);
-    keys.push_back(k);
-    return keys;
-  };
+  auto key = [&](const std::string &k) { return below(at, k); };
   c.onlyKeys(j, at,
              {"name", "body", "outfits", "clips", "mesh", "anim", "lod", "visibility", "impostor",
               "cloth", "comment"});
@@ -120,172 +270,21 @@ CharacterManifest parse(const JsonChecker &c, const json &j, const Keys &at,
     m.clips = names(c, j["clips"], key("clips"));
   if (j.contains("mesh"))
     m.mesh = c.string(j["mesh"], key("mesh"));
-  if (j.contains("anim")) {
-    const Keys k = key("anim");
-    const json &a = j["anim"];
-    c.onlyKeys(a, k, {"fps", "max_width", "precision", "error_budget_mm", "store"});
-    if (a.contains("fps"))
-      m.anim.fps = a["fps"].is_string()
-                       ? fpsOf(c, c.string(a["fps"], key2("anim", "fps")), key2("anim", "fps"))
-                       : c.number(a["fps"], key2("anim", "fps"), 1e-3, 1000);
-    if (a.contains("error_budget_mm"))
-      m.anim.errorBudgetMm =
-          c.number(a["error_budget_mm"], key2("anim", "error_budget_mm"), 1e-6, 1e6);
-    if (a.contains("max_width"))
-      m.anim.maxWidth =
-          whole(c, a["max_width"], key2("anim", "max_width"), 2, limits::kTextureSide);
-    if (a.contains("precision"))
-      m.anim.precision = c.string(a["precision"], key2("anim", "precision"));
-    if (a.contains("store"))
-      m.anim.store = c.string(a["store"], key2("anim", "store"));
-    validate(c, m.anim, k);
-  }
-  if (j.contains("lod")) {
-    const Keys k = key("lod");
-    const json &l = j["lod"];
-    if (l.is_boolean()) {
-      m.lod = l.get<bool>();
-    } else {
-      c.onlyKeys(l, k, {"floor", "poses"});
-      if (l.contains("floor"))
-        m.lodOptions.floorFraction = c.number(l["floor"], key2("lod", "floor"), 0, 1);
-      if (l.contains("poses"))
-        m.lodOptions.poses = whole(c, l["poses"], key2("lod", "poses"), 0, 1024);
-      validate(c, m.lodOptions, k);
-    }
-  }
+  if (j.contains("anim"))
+    parseAnim(c, j["anim"], key("anim"), m.anim);
+  if (j.contains("lod"))
+    parseLod(c, j["lod"], key("lod"), m);
+  if (j.contains("visibility"))
+    parseVisibility(c, j["visibility"], key("visibility"), m);
   auto &vis = m.outfitOptions.visibility;
-  if (j.contains("visibility")) {
-    const Keys k = key("visibility");
-    const json &v = j["visibility"];
-    c.onlyKeys(v, k,
-               {"frame_step", "loop_frames", "rays", "points", "ring", "ground", "regions",
-                "min_saving", "check"});
-    if (v.contains("loop_frames"))
-      vis.loopFrames = whole(c, v["loop_frames"], key2("visibility", "loop_frames"), 0, 100000);
-    if (v.contains("frame_step"))
-      vis.frameStep = whole(c, v["frame_step"], key2("visibility", "frame_step"), 1, 100000);
-    if (v.contains("rays"))
-      vis.rays = whole(c, v["rays"], key2("visibility", "rays"), 1, 4096);
-    if (v.contains("points"))
-      vis.points = whole(c, v["points"], key2("visibility", "points"), 1, 4);
-    if (v.contains("ring"))
-      vis.ring = whole(c, v["ring"], key2("visibility", "ring"), 0, 64);
-    if (v.contains("ground"))
-      vis.ground = c.boolean(v["ground"], key2("visibility", "ground"));
-    if (v.contains("regions"))
-      m.outfitOptions.regions = c.string(v["regions"], key2("visibility", "regions"));
-    if (v.contains("min_saving"))
-      m.outfitOptions.minSaving = c.number(v["min_saving"], key2("visibility", "min_saving"), 0, 1);
-    if (v.contains("check"))
-      m.outfitOptions.check = whole(c, v["check"], key2("visibility", "check"), 0, 100000);
-  }
   // The outfit bake's animation texture is the character's.
   m.outfitOptions.anim = m.anim;
   vis.fps = m.anim.fps > 0 ? m.anim.fps : vis.fps;
   validate(c, m.outfitOptions, key("visibility"));
-  if (j.contains("impostor")) {
-    const Keys k = key("impostor");
-    const json &im = j["impostor"];
-    c.onlyKeys(im, k, {"clips", "outfits", "frames", "views", "texels", "mirror", "measure"});
-    std::vector<std::string> clips, outfits;
-    if (im.contains("clips"))
-      clips = names(c, im["clips"], key2("impostor", "clips"));
-    else
-      clips = {m.clips.empty() ? std::string() : m.clips.front()}; // "": the first
-    if (im.contains("outfits"))
-      outfits = names(c, im["outfits"], key2("impostor", "outfits"));
-    else if (m.outfits.empty())
-      outfits = {""};
-    else
-      for (const auto &o : m.outfits)
-        outfits.push_back(o.first);
-    for (const auto &o : outfits) {
-      bool known = o.empty(); // the bare body
-      for (const auto &[name, file] : m.outfits)
-        known = known || name == o;
-      if (!known)
-        c.fail(key2("impostor", "outfits"), "'" + o + "' is not one of the character's outfits");
-    }
-    for (const auto &clip : clips)
-      if (!m.clips.empty() && std::find(m.clips.begin(), m.clips.end(), clip) == m.clips.end())
-        c.fail(key2("impostor", "clips"),
-               "clip '" + clip + "' is not among the character's \"clips\"");
-    for (const auto &clip : clips)
-      for (const auto &outfit : outfits)
-        m.impostorPairs.emplace_back(clip, outfit);
-    if (im.contains("frames"))
-      m.impostor.frames = whole(c, im["frames"], key2("impostor", "frames"), 1, 4096);
-    if (im.contains("texels"))
-      m.impostor.texels = whole(c, im["texels"], key2("impostor", "texels"), 4, 4096);
-    if (im.contains("mirror"))
-      m.impostor.mirror = c.boolean(im["mirror"], key2("impostor", "mirror"));
-    if (im.contains("measure"))
-      m.impostor.measure = c.boolean(im["measure"], key2("impostor", "measure"));
-    if (im.contains("views")) {
-      std::string views = c.string(im["views"], key2("impostor", "views"));
-      unsigned a = 0, e = 0;
-      char x = 0;
-      std::istringstream in(views);
-      if (!(in >> a >> x >> e) || x != 'x' || !in.eof())
-        c.fail(key2("impostor", "views"), "expected \"AxE\", e.g. \"32x8\", got '" + views + "'");
-      m.impostor.azimuths = a;
-      m.impostor.elevations = e;
-    }
-    validate(c, m.impostor, k);
-  }
-  if (j.contains("cloth")) {
-    const json &list = j["cloth"];
-    if (!list.is_array())
-      c.fail(key("cloth"), "expected [{\"outfit\", \"garment\", \"clip\", \"cache\"}, ...]");
-    for (size_t i = 0; i < list.size(); ++i) {
-      Keys k = key("cloth");
-      k.push_back(std::to_string(i));
-      auto at = [&](const std::string &name) {
-        Keys kk = k;
-        kk.push_back(name);
-        return kk;
-      };
-      const json &e = list[i];
-      c.onlyKeys(e, k,
-                 {"outfit", "garment", "clip", "cache", "fps", "blend", "candidates", "views",
-                  "max_cycles"});
-      for (const char *required : {"outfit", "garment", "clip", "cache"})
-        if (!e.contains(required))
-          c.fail(k, std::string("a cloth loop needs \"") + required + "\"");
-      ClothEntry cl;
-      cl.outfit = c.string(e["outfit"], at("outfit"));
-      cl.garment = c.string(e["garment"], at("garment"));
-      cl.clip = c.string(e["clip"], at("clip"));
-      cl.cache = inputFile(c, e["cache"], at("cache"), policy);
-      if (std::none_of(m.outfits.begin(), m.outfits.end(),
-                       [&](const auto &o) { return o.first == cl.outfit; }))
-        c.fail(at("outfit"), "'" + cl.outfit + "' is not one of the character's outfits");
-      if (!m.clips.empty() && std::find(m.clips.begin(), m.clips.end(), cl.clip) == m.clips.end())
-        c.fail(at("clip"), "clip '" + cl.clip + "' is not among the character's \"clips\"");
-      for (const auto &other : m.cloth)
-        if (other.outfit == cl.outfit && other.garment == cl.garment && other.clip == cl.clip)
-          c.fail(k, "a second loop of garment '" + cl.garment + "' of outfit '" + cl.outfit +
-                        "' over clip '" + cl.clip + "'");
-      auto &o = cl.options;
-      if (e.contains("fps"))
-        o.cache.fps = c.number(e["fps"], at("fps"), 0, 1000);
-      if (e.contains("blend")) { // a whole number of frames, or -1: what the seam needs
-        const double blend = c.number(e["blend"], at("blend"), -1, 100000);
-        if (blend != std::floor(blend))
-          c.fail(at("blend"), "expected a whole number of frames (-1: what the seam needs)");
-        o.blend = int(blend);
-      }
-      if (e.contains("candidates"))
-        o.loop.search.candidates = whole(c, e["candidates"], at("candidates"), 1, 100);
-      if (e.contains("views"))
-        o.loop.edges.views = whole(c, e["views"], at("views"), 1, 64);
-      if (e.contains("max_cycles"))
-        o.loop.search.maxCycles = whole(c, e["max_cycles"], at("max_cycles"), 0, 100000);
-      validate(c, o, k);
-      m.cloth.push_back(std::move(cl));
-    }
-  }
+  if (j.contains("impostor"))
+    parseImpostor(c, j["impostor"], key("impostor"), m);
+  if (j.contains("cloth"))
+    parseCloth(c, j["cloth"], key("cloth"), policy, m);
   return m;
 }
 
