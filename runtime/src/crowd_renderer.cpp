@@ -139,230 +139,282 @@ void writeRows(float *d, const glm::vec3 &position, float yaw) {
   std::copy(rows, rows + 12, d);
 }
 
+// A scene's impostor pack drawn with this pack: its clip and outfit must be the pack's.
+void checkImpostorMatches(const pack::AnimationPack &p, const pack::Impostor &m,
+                          const std::string &name) {
+  const bool clip = std::any_of(p.clips.begin(), p.clips.end(),
+                                [&](const pack::Clip &k) { return k.name == m.clip; });
+  const bool outfit =
+      m.outfit.empty() ||
+      (p.outfits && std::any_of(p.outfits->outfits.begin(), p.outfits->outfits.end(),
+                                [&](const auto &o) { return o.name == m.outfit; }));
+  if (!clip || !outfit)
+    throw Error("pack '" + name + "': its impostor shows " +
+                (clip ? "outfit '" + m.outfit + "', which the pack does not have"
+                      : "clip '" + m.clip + "', which the pack does not have") +
+                " (bake the impostor from this pack)");
+}
+
+// Per scene clip name, its clip in this pack ("" = the first clip).
+std::vector<uint32_t> sceneClipsIn(const pack::AnimationPack &p, const Scene &scene, size_t pi) {
+  std::vector<uint32_t> clipOf;
+  for (const auto &name : scene.clipNames) {
+    uint32_t found = name.empty() ? 0 : UINT32_MAX;
+    for (uint32_t k = 0; k < p.clips.size() && found == UINT32_MAX; ++k)
+      if (p.clips[k].name == name)
+        found = k;
+    if (found == UINT32_MAX) {
+      std::string names;
+      for (const auto &cl : p.clips)
+        names += (names.empty() ? "" : ", ") + cl.name;
+      throw Error(scene.path + ": clip '" + name + "' is not in pack '" + scene.packNames[pi] +
+                  "' (clips: " + names + ")");
+    }
+    clipOf.push_back(found);
+  }
+  return clipOf;
+}
+
+// Per scene outfit name, its outfit in this pack ("" = the first, or none).
+std::vector<uint32_t> sceneOutfitsIn(const pack::AnimationPack &p, const Scene &scene, size_t pi) {
+  std::vector<uint32_t> outfitOf;
+  for (const auto &name : scene.outfitNames) {
+    if (name.empty()) {
+      outfitOf.push_back(0);
+      continue;
+    }
+    if (!p.outfits)
+      throw Error(scene.path + ": outfit '" + name + "' asked of pack '" + scene.packNames[pi] +
+                  "', which has no outfits (bake one with crowdbake outfits)");
+    const auto &list = p.outfits->outfits;
+    auto it = std::find_if(list.begin(), list.end(), [&](auto &o) { return o.name == name; });
+    if (it == list.end()) {
+      std::string names;
+      for (const auto &o : list)
+        names += (names.empty() ? "" : ", ") + o.name;
+      throw Error(scene.path + ": outfit '" + name + "' is not in pack '" + scene.packNames[pi] +
+                  "' (outfits: " + names + ")");
+    }
+    outfitOf.push_back(uint32_t(it - list.begin()));
+  }
+  return outfitOf;
+}
+
+// The clip table the shader reads: fps, frames, first frame, loop.
+std::vector<float> clipTable(const pack::AnimationPack &p) {
+  std::vector<float> clips;
+  for (const auto &cl : p.clips)
+    clips.insert(clips.end(),
+                 {cl.fps, float(cl.frameCount), float(cl.firstFrame), cl.loop ? 1.0f : 0.0f});
+  return clips;
+}
+
+// Per palette, per sub-mesh: RGB, and in A how much the diffuse texture applies.
+std::vector<float> paletteColours(const pack::AnimationPack &p, const Scene &scene) {
+  std::vector<float> colours;
+  for (const auto &palette : scene.palettes)
+    for (size_t s = 0; s < p.mesh.subMeshes.size(); ++s) {
+      const auto rgba = regionColour(p, s, palette);
+      colours.insert(colours.end(), rgba.begin(), rgba.end());
+    }
+
+  return colours;
+}
+
 } // namespace
 
+// Per pack: its character checked against the scene and placed, then its GPU data.
 CrowdRenderer::CrowdRenderer(const std::vector<const pack::AnimationPack *> &packs,
                              const std::vector<const pack::Impostor *> &impostors,
                              const Scene &scene, const std::vector<ClothLoops> &cloths)
     : scene_(scene), schedule_(scene_), light_(scene.lightDirection) {
   program_ = buildProgram(kCrowdVert, kCrowdFrag, "crowd");
   impostorProgram_ = buildProgram(kImpostorVert, kImpostorFrag, "impostor");
-  for (size_t pi = 0; pi < packs.size(); ++pi) {
-    const auto &p = *packs[pi];
-    characters_.push_back(std::make_unique<Character>());
-    Character *c = characters_.back().get();
-    c->pack = &p;
-    c->impostor = pi < impostors.size() ? impostors[pi] : nullptr;
-    checkTexturesFit(p, c->impostor, scene.packNames[pi]);
-    if (c->impostor) { // a scene's impostor pack drawn with this pack: its clip and outfit exist
-      const auto &m = *c->impostor;
-      const bool clip = std::any_of(p.clips.begin(), p.clips.end(),
-                                    [&](const pack::Clip &k) { return k.name == m.clip; });
-      const bool outfit =
-          m.outfit.empty() ||
-          (p.outfits && std::any_of(p.outfits->outfits.begin(), p.outfits->outfits.end(),
-                                    [&](const auto &o) { return o.name == m.outfit; }));
-      if (!clip || !outfit)
-        throw Error("pack '" + scene.packNames[pi] + "': its impostor shows " +
-                    (clip ? "outfit '" + m.outfit + "', which the pack does not have"
-                          : "clip '" + m.clip + "', which the pack does not have") +
-                    " (bake the impostor from this pack)");
-    }
-    if (pi < cloths.size()) {
-      try {
-        c->cloth = clothBuffers(p, cloths[pi]);
-      } catch (const Error &e) {
-        throw Error("pack '" + scene.packNames[pi] + "': " + e.what());
-      }
-    }
-    selection_.addCharacter(p, c->impostor, c->cloth.empty() ? nullptr : &c->cloth.sphere);
-    // Clip of each scene clip name in this pack ("" = the first clip).
-    std::vector<uint32_t> &clipOf = c->clipOf;
-    for (const auto &name : scene.clipNames) {
-      uint32_t found = name.empty() ? 0 : UINT32_MAX;
-      for (uint32_t k = 0; k < p.clips.size() && found == UINT32_MAX; ++k)
-        if (p.clips[k].name == name)
-          found = k;
-      if (found == UINT32_MAX) {
-        std::string names;
-        for (const auto &cl : p.clips)
-          names += (names.empty() ? "" : ", ") + cl.name;
-        throw Error(scene.path + ": clip '" + name + "' is not in pack '" + scene.packNames[pi] +
-                    "' (clips: " + names + ")");
-      }
-      clipOf.push_back(found);
-      c->clipFits.push_back(c->impostor && p.clips[found].name == c->impostor->clip);
-    }
-    // Outfit of each scene outfit name in this pack ("" = the first, or none).
-    std::vector<uint32_t> outfitOf;
-    for (const auto &name : scene.outfitNames) {
-      if (name.empty()) {
-        outfitOf.push_back(0);
-        continue;
-      }
-      if (!p.outfits)
-        throw Error(scene.path + ": outfit '" + name + "' asked of pack '" + scene.packNames[pi] +
-                    "', which has no outfits (bake one with crowdbake outfits)");
-      const auto &list = p.outfits->outfits;
-      auto it = std::find_if(list.begin(), list.end(), [&](auto &o) { return o.name == name; });
-      if (it == list.end()) {
-        std::string names;
-        for (const auto &o : list)
-          names += (names.empty() ? "" : ", ") + o.name;
-        throw Error(scene.path + ": outfit '" + name + "' is not in pack '" + scene.packNames[pi] +
-                    "' (outfits: " + names + ")");
-      }
-      outfitOf.push_back(uint32_t(it - list.begin()));
-    }
-    for (uint32_t i = 0; i < scene.instances.size(); ++i) {
-      const Instance &inst = scene.instances[i];
-      if (inst.pack != pi)
-        continue;
-      c->instanceData.resize(c->instanceData.size() + kInstanceFloats);
-      writeRows(&c->instanceData[c->instanceData.size() - kInstanceFloats],
-                glm::vec3(inst.position), float(inst.yaw));
-      c->sceneIndex.push_back(i);
-      c->outfitOf.push_back(outfitOf[inst.outfit]);
-      // An outfit's impostor shows only that outfit; a bare-body impostor any.
-      c->outfitFits.push_back(
-          c->impostor &&
-          (c->impostor->outfit.empty() ||
-           (p.outfits && p.outfits->outfits[outfitOf[inst.outfit]].name == c->impostor->outfit)));
-      selection_.addInstance(glm::vec3(inst.position), float(inst.yaw), false);
-      ++c->instanceCount;
-    }
-    updateClips(*c, characters_.size() - 1, 0.0);
-    std::vector<float> clips;
-    for (const auto &cl : p.clips)
-      clips.insert(clips.end(),
-                   {cl.fps, float(cl.frameCount), float(cl.firstFrame), cl.loop ? 1.0f : 0.0f});
-    for (bool wholeBody : {false, true})
-      c->queues[wholeBody] =
-          RenderQueues(outfitSubMeshes(p, wholeBody), uint32_t(p.mesh.subMeshes.size()));
-    // Per palette, per sub-mesh: RGB, and in A how much the diffuse texture applies.
-    std::vector<float> colours;
-    for (const auto &palette : scene.palettes)
-      for (size_t s = 0; s < p.mesh.subMeshes.size(); ++s) {
-        const auto rgba = regionColour(p, s, palette);
-        colours.insert(colours.end(), rgba.begin(), rgba.end());
-      }
+  for (size_t pi = 0; pi < packs.size(); ++pi)
+    addCharacter(pi, *packs[pi], pi < impostors.size() ? impostors[pi] : nullptr,
+                 pi < cloths.size() ? &cloths[pi] : nullptr);
+}
 
-    // Index data of every LOD level, built once (see lod_select.h). Each level is a copy of its
-    // own, so each sub-mesh's triangles there can be in any order: in the order the GPU's vertex
-    // cache reuses most (meshoptimizer's), not the LOD's (by the collapse that removes them,
-    // scattered over the mesh). The player's vertex shader is most of a frame: at full detail
-    // the sample humanoid ran it 1.74 times a triangle in the LOD's order on an H100 (1.35 on
-    // llvmpipe), 0.85 (0.69) in the cache's.
-    std::vector<uint32_t> indices, starts;
-    for (uint32_t v : selection_.ladders.back().vertices) {
-      auto level = lodIndices(p, v, starts);
-      for (size_t s = 0; s + 1 < starts.size(); ++s) {
-        const std::vector<uint32_t> lodOrder(level.begin() + starts[s],
-                                             level.begin() + starts[s + 1]);
-        meshopt_optimizeVertexCache(&level[starts[s]], lodOrder.data(), lodOrder.size(), v);
-      }
-      for (uint32_t st : starts)
-        c->levelStarts.push_back(uint32_t(indices.size()) + st);
-      indices.insert(indices.end(), level.begin(), level.end());
+void CrowdRenderer::addCharacter(size_t pi, const pack::AnimationPack &p,
+                                 const pack::Impostor *impostor, const ClothLoops *cloth) {
+  const Scene &scene = scene_;
+  characters_.push_back(std::make_unique<Character>());
+  Character *c = characters_.back().get();
+  c->pack = &p;
+  c->impostor = impostor;
+  checkTexturesFit(p, c->impostor, scene.packNames[pi]);
+  if (c->impostor)
+    checkImpostorMatches(p, *c->impostor, scene.packNames[pi]);
+  if (cloth) {
+    try {
+      c->cloth = clothBuffers(p, *cloth);
+    } catch (const Error &e) {
+      throw Error("pack '" + scene.packNames[pi] + "': " + e.what());
     }
-    glCreateVertexArrays(1, &c->vao);
-    glCreateBuffers(GLsizei(std::size(c->buffers)), c->buffers);
-    auto upload = [](unsigned b, const auto &v) {
-      glNamedBufferStorage(b, GLsizeiptr(v.size() * sizeof(v[0])), v.data(), 0);
-    };
-    upload(c->buffers[0], p.mesh.positions);
-    upload(c->buffers[1], p.mesh.normals);
-    upload(c->buffers[2], indices);
-    upload(c->buffers[3], clips);
-    if (c->instanceData.empty())
-      c->instanceData.assign(kInstanceFloats, 0.0f);
-    glNamedBufferStorage(c->buffers[4], GLsizeiptr(c->instanceData.size() * sizeof(float)),
-                         c->instanceData.data(),
-                         schedule_.dynamic() || scene.world.enabled() ? GL_DYNAMIC_STORAGE_BIT : 0);
-    upload(c->buffers[5], colours);
-    upload(c->buffers[16], p.hasTexture() ? jointTexelWords(p.animation)
-                                          : std::vector<int32_t>(2, 0)); // unread, but bound
-    upload(c->buffers[11], morphSlotWords(p.morphs ? &*p.morphs : nullptr));
-    upload(c->buffers[12], p.morphs ? p.morphs->offsets : std::vector<float>(8, 0.0f));
-    if (c->cloth.empty()) { // unread, but bound
-      upload(c->buffers[13], std::vector<int32_t>(2, -1));
-      upload(c->buffers[14], std::vector<GpuClothLoop>(1));
-      upload(c->buffers[15], std::vector<uint32_t>(2, 0));
-    } else {
-      upload(c->buffers[13], c->cloth.vertices);
-      upload(c->buffers[14], c->cloth.loops);
-      upload(c->buffers[15], c->cloth.positions);
-    }
-    // Which instances draw as geometry, and which as impostors: rewritten every frame.
-    const size_t queued =
-        std::max(c->queues[0].capacity(c->instanceCount), c->queues[1].capacity(c->instanceCount));
-    glNamedBufferStorage(c->buffers[7], GLsizeiptr(std::max<size_t>(queued, 1) * 4), nullptr,
-                         GL_DYNAMIC_STORAGE_BIT);
-    glNamedBufferStorage(c->buffers[8], GLsizeiptr(std::max(c->instanceCount, 1u) * 4), nullptr,
-                         GL_DYNAMIC_STORAGE_BIT);
-    glNamedBufferStorage(c->buffers[10], GLsizeiptr(c->levelStarts.size() * 5 * sizeof(uint32_t)),
-                         nullptr, GL_DYNAMIC_STORAGE_BIT);
-    // Attribute 3: the instance's id, one per instance; a command's baseInstance picks its run.
-    glVertexArrayVertexBuffer(c->vao, 3, c->buffers[7], 0, 4);
-    glVertexArrayBindingDivisor(c->vao, 3, 1);
-    glEnableVertexArrayAttrib(c->vao, 3);
-    glVertexArrayAttribIFormat(c->vao, 3, 1, GL_UNSIGNED_INT, 0);
-    glVertexArrayAttribBinding(c->vao, 3, 3);
-    glVertexArrayVertexBuffer(c->vao, 0, c->buffers[0], 0, 12);
-    glVertexArrayVertexBuffer(c->vao, 1, c->buffers[1], 0, 12);
-    for (unsigned a = 0; a < 2; ++a) {
-      glEnableVertexArrayAttrib(c->vao, a);
-      glVertexArrayAttribFormat(c->vao, a, 3, GL_FLOAT, GL_FALSE, 0);
-      glVertexArrayAttribBinding(c->vao, a, a);
-    }
-    if (!p.mesh.uvs.empty()) { // otherwise attribute 2 reads its default (0, 0)
-      upload(c->buffers[6], p.mesh.uvs);
-      glVertexArrayVertexBuffer(c->vao, 2, c->buffers[6], 0, 8);
-      glEnableVertexArrayAttrib(c->vao, 2);
-      glVertexArrayAttribFormat(c->vao, 2, 2, GL_FLOAT, GL_FALSE, 0);
-      glVertexArrayAttribBinding(c->vao, 2, 2);
-    }
-    glVertexArrayElementBuffer(c->vao, c->buffers[2]);
+  }
+  selection_.addCharacter(p, c->impostor, c->cloth.empty() ? nullptr : &c->cloth.sphere);
+  c->clipOf = sceneClipsIn(p, scene, pi);
+  for (uint32_t k : c->clipOf)
+    c->clipFits.push_back(c->impostor && p.clips[k].name == c->impostor->clip);
+  placeInstances(*c, pi, sceneOutfitsIn(p, scene, pi));
+  updateClips(*c, characters_.size() - 1, 0.0);
+  for (bool wholeBody : {false, true})
+    c->queues[wholeBody] =
+        RenderQueues(outfitSubMeshes(p, wholeBody), uint32_t(p.mesh.subMeshes.size()));
+  uploadGeometry(*c, lodIndexData(*c));
+  uploadTextures(*c);
+}
 
-    glCreateTextures(GL_TEXTURE_2D, 3, c->textures);
-    if (c->impostor) {
-      glCreateTextures(GL_TEXTURE_2D_ARRAY, 2, c->textures + 3);
-      const unsigned buffers[3] = {c->buffers[9], c->buffers[17], c->buffers[18]};
-      c->impostorGpu = uploadImpostor(*c->impostor, c->textures + 3, buffers);
+// The scene's instances of pack pi: their rows, outfits and whether an impostor may show them.
+void CrowdRenderer::placeInstances(Character &c, size_t pi, const std::vector<uint32_t> &outfitOf) {
+  const Scene &scene = scene_;
+  const pack::AnimationPack &p = *c.pack;
+  for (uint32_t i = 0; i < scene.instances.size(); ++i) {
+    const Instance &inst = scene.instances[i];
+    if (inst.pack != pi)
+      continue;
+    c.instanceData.resize(c.instanceData.size() + kInstanceFloats);
+    writeRows(&c.instanceData[c.instanceData.size() - kInstanceFloats], glm::vec3(inst.position),
+              float(inst.yaw));
+    c.sceneIndex.push_back(i);
+    c.outfitOf.push_back(outfitOf[inst.outfit]);
+    // An outfit's impostor shows only that outfit; a bare-body impostor any.
+    c.outfitFits.push_back(
+        c.impostor &&
+        (c.impostor->outfit.empty() ||
+         (p.outfits && p.outfits->outfits[outfitOf[inst.outfit]].name == c.impostor->outfit)));
+    selection_.addInstance(glm::vec3(inst.position), float(inst.yaw), false);
+    ++c.instanceCount;
+  }
+}
+
+// Index data of every LOD level, built once (see lod_select.h). Each level is a copy of its own,
+// so each sub-mesh's triangles there can be in any order: in the order the GPU's vertex cache
+// reuses most (meshoptimizer's), not the LOD's (by the collapse that removes them, scattered over
+// the mesh), which ran the vertex shader, most of a frame, about twice as often (docs/player.md).
+std::vector<uint32_t> CrowdRenderer::lodIndexData(Character &c) {
+  const pack::AnimationPack &p = *c.pack;
+  std::vector<uint32_t> indices, starts;
+  for (uint32_t v : selection_.ladders.back().vertices) {
+    auto level = lodIndices(p, v, starts);
+    for (size_t s = 0; s + 1 < starts.size(); ++s) {
+      const std::vector<uint32_t> lodOrder(level.begin() + starts[s],
+                                           level.begin() + starts[s + 1]);
+      meshopt_optimizeVertexCache(&level[starts[s]], lodOrder.data(), lodOrder.size(), v);
     }
-    if (p.hasTexture()) {
-      const auto &t = p.animation;
-      bool half = t.format == pack::TexelFormat::RGBA16F;
-      glTextureStorage2D(c->textures[0], 1, half ? GL_RGBA16F : GL_RGBA32F, GLsizei(t.width),
-                         GLsizei(t.height));
-      glTextureSubImage2D(c->textures[0], 0, 0, 0, GLsizei(t.width), GLsizei(t.height), GL_RGBA,
-                          half ? GL_HALF_FLOAT : GL_FLOAT, t.texels.data());
-    } else { // joint tracks alone: unread (the palettes skin), but bound
-      const float zero[4] = {0, 0, 0, 0};
-      glTextureStorage2D(c->textures[0], 1, GL_RGBA32F, 1, 1);
-      glTextureSubImage2D(c->textures[0], 0, 0, 0, 1, 1, GL_RGBA, GL_FLOAT, zero);
-    }
-    glTextureStorage2D(c->textures[1], 1, GL_RGBA32F, GLsizei(p.skin.width),
-                       GLsizei(p.skin.height));
-    glTextureSubImage2D(c->textures[1], 0, 0, 0, GLsizei(p.skin.width), GLsizei(p.skin.height),
-                        GL_RGBA, GL_FLOAT, p.skin.texels.data());
-    for (unsigned tex : {c->textures[0], c->textures[1]}) {
-      glTextureParameteri(tex, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-      glTextureParameteri(tex, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    }
-    if (p.diffuse) {
-      const auto &d = *p.diffuse;
-      c->diffuseTexelsPerUnit = diffuseTexelsPerUnit(p.mesh, d.width, d.height);
-      int levels = 1;
-      while ((std::max(d.width, d.height) >> levels) > 0)
-        ++levels;
-      glTextureStorage2D(c->textures[2], levels, GL_RGBA8, GLsizei(d.width), GLsizei(d.height));
-      glTextureSubImage2D(c->textures[2], 0, 0, 0, GLsizei(d.width), GLsizei(d.height), GL_RGBA,
-                          GL_UNSIGNED_BYTE, d.rgba.data());
-      glGenerateTextureMipmap(c->textures[2]);
-      glTextureParameteri(c->textures[2], GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
-      glTextureParameteri(c->textures[2], GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    }
+    for (uint32_t st : starts)
+      c.levelStarts.push_back(uint32_t(indices.size()) + st);
+    indices.insert(indices.end(), level.begin(), level.end());
+  }
+  return indices;
+}
+
+// The character's buffers and vertex array: mesh, LOD indices, clips, instances, colours, joint
+// texels, morphs, cloth (bound even where unread), and the per-frame queues' storage.
+void CrowdRenderer::uploadGeometry(Character &c, const std::vector<uint32_t> &indices) {
+  const Scene &scene = scene_;
+  const pack::AnimationPack &p = *c.pack;
+  const std::vector<float> clips = clipTable(p), colours = paletteColours(p, scene);
+  glCreateVertexArrays(1, &c.vao);
+  glCreateBuffers(GLsizei(std::size(c.buffers)), c.buffers);
+  auto upload = [](unsigned b, const auto &v) {
+    glNamedBufferStorage(b, GLsizeiptr(v.size() * sizeof(v[0])), v.data(), 0);
+  };
+  upload(c.buffers[0], p.mesh.positions);
+  upload(c.buffers[1], p.mesh.normals);
+  upload(c.buffers[2], indices);
+  upload(c.buffers[3], clips);
+  if (c.instanceData.empty())
+    c.instanceData.assign(kInstanceFloats, 0.0f);
+  glNamedBufferStorage(c.buffers[4], GLsizeiptr(c.instanceData.size() * sizeof(float)),
+                       c.instanceData.data(),
+                       schedule_.dynamic() || scene.world.enabled() ? GL_DYNAMIC_STORAGE_BIT : 0);
+  upload(c.buffers[5], colours);
+  upload(c.buffers[16], p.hasTexture() ? jointTexelWords(p.animation)
+                                       : std::vector<int32_t>(2, 0)); // unread, but bound
+  upload(c.buffers[11], morphSlotWords(p.morphs ? &*p.morphs : nullptr));
+  upload(c.buffers[12], p.morphs ? p.morphs->offsets : std::vector<float>(8, 0.0f));
+  if (c.cloth.empty()) { // unread, but bound
+    upload(c.buffers[13], std::vector<int32_t>(2, -1));
+    upload(c.buffers[14], std::vector<GpuClothLoop>(1));
+    upload(c.buffers[15], std::vector<uint32_t>(2, 0));
+  } else {
+    upload(c.buffers[13], c.cloth.vertices);
+    upload(c.buffers[14], c.cloth.loops);
+    upload(c.buffers[15], c.cloth.positions);
+  }
+  // Which instances draw as geometry, and which as impostors: rewritten every frame.
+  const size_t queued =
+      std::max(c.queues[0].capacity(c.instanceCount), c.queues[1].capacity(c.instanceCount));
+  glNamedBufferStorage(c.buffers[7], GLsizeiptr(std::max<size_t>(queued, 1) * 4), nullptr,
+                       GL_DYNAMIC_STORAGE_BIT);
+  glNamedBufferStorage(c.buffers[8], GLsizeiptr(std::max(c.instanceCount, 1u) * 4), nullptr,
+                       GL_DYNAMIC_STORAGE_BIT);
+  glNamedBufferStorage(c.buffers[10], GLsizeiptr(c.levelStarts.size() * 5 * sizeof(uint32_t)),
+                       nullptr, GL_DYNAMIC_STORAGE_BIT);
+  // Attribute 3: the instance's id, one per instance; a command's baseInstance picks its run.
+  glVertexArrayVertexBuffer(c.vao, 3, c.buffers[7], 0, 4);
+  glVertexArrayBindingDivisor(c.vao, 3, 1);
+  glEnableVertexArrayAttrib(c.vao, 3);
+  glVertexArrayAttribIFormat(c.vao, 3, 1, GL_UNSIGNED_INT, 0);
+  glVertexArrayAttribBinding(c.vao, 3, 3);
+  glVertexArrayVertexBuffer(c.vao, 0, c.buffers[0], 0, 12);
+  glVertexArrayVertexBuffer(c.vao, 1, c.buffers[1], 0, 12);
+  for (unsigned a = 0; a < 2; ++a) {
+    glEnableVertexArrayAttrib(c.vao, a);
+    glVertexArrayAttribFormat(c.vao, a, 3, GL_FLOAT, GL_FALSE, 0);
+    glVertexArrayAttribBinding(c.vao, a, a);
+  }
+  if (!p.mesh.uvs.empty()) { // otherwise attribute 2 reads its default (0, 0)
+    upload(c.buffers[6], p.mesh.uvs);
+    glVertexArrayVertexBuffer(c.vao, 2, c.buffers[6], 0, 8);
+    glEnableVertexArrayAttrib(c.vao, 2);
+    glVertexArrayAttribFormat(c.vao, 2, 2, GL_FLOAT, GL_FALSE, 0);
+    glVertexArrayAttribBinding(c.vao, 2, 2);
+  }
+  glVertexArrayElementBuffer(c.vao, c.buffers[2]);
+}
+
+// Its textures: animation (or a bound placeholder), skin weights, diffuse with mipmaps, impostor.
+void CrowdRenderer::uploadTextures(Character &c) {
+  const pack::AnimationPack &p = *c.pack;
+  glCreateTextures(GL_TEXTURE_2D, 3, c.textures);
+  if (c.impostor) {
+    glCreateTextures(GL_TEXTURE_2D_ARRAY, 2, c.textures + 3);
+    const unsigned buffers[3] = {c.buffers[9], c.buffers[17], c.buffers[18]};
+    c.impostorGpu = uploadImpostor(*c.impostor, c.textures + 3, buffers);
+  }
+  if (p.hasTexture()) {
+    const auto &t = p.animation;
+    bool half = t.format == pack::TexelFormat::RGBA16F;
+    glTextureStorage2D(c.textures[0], 1, half ? GL_RGBA16F : GL_RGBA32F, GLsizei(t.width),
+                       GLsizei(t.height));
+    glTextureSubImage2D(c.textures[0], 0, 0, 0, GLsizei(t.width), GLsizei(t.height), GL_RGBA,
+                        half ? GL_HALF_FLOAT : GL_FLOAT, t.texels.data());
+  } else { // joint tracks alone: unread (the palettes skin), but bound
+    const float zero[4] = {0, 0, 0, 0};
+    glTextureStorage2D(c.textures[0], 1, GL_RGBA32F, 1, 1);
+    glTextureSubImage2D(c.textures[0], 0, 0, 0, 1, 1, GL_RGBA, GL_FLOAT, zero);
+  }
+  glTextureStorage2D(c.textures[1], 1, GL_RGBA32F, GLsizei(p.skin.width), GLsizei(p.skin.height));
+  glTextureSubImage2D(c.textures[1], 0, 0, 0, GLsizei(p.skin.width), GLsizei(p.skin.height),
+                      GL_RGBA, GL_FLOAT, p.skin.texels.data());
+  for (unsigned tex : {c.textures[0], c.textures[1]}) {
+    glTextureParameteri(tex, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(tex, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  }
+  if (p.diffuse) {
+    const auto &d = *p.diffuse;
+    c.diffuseTexelsPerUnit = diffuseTexelsPerUnit(p.mesh, d.width, d.height);
+    int levels = 1;
+    while ((std::max(d.width, d.height) >> levels) > 0)
+      ++levels;
+    glTextureStorage2D(c.textures[2], levels, GL_RGBA8, GLsizei(d.width), GLsizei(d.height));
+    glTextureSubImage2D(c.textures[2], 0, 0, 0, GLsizei(d.width), GLsizei(d.height), GL_RGBA,
+                        GL_UNSIGNED_BYTE, d.rgba.data());
+    glGenerateTextureMipmap(c.textures[2]);
+    glTextureParameteri(c.textures[2], GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glTextureParameteri(c.textures[2], GL_TEXTURE_MAG_FILTER, GL_LINEAR);
   }
 }
 
@@ -648,8 +700,9 @@ DrawStats CrowdRenderer::draw(const FrameView &view, float seconds, const DrawOp
           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count();
       glUseProgram(program_);
     }
-    // With a world, a shadow pass first (Tecchia, Loscos & Chrysanthou §4.5): every character flat on its ground
-    // along the light, each pixel darkened once (stencil), behind what is nearer (depth).
+    // With a world, a shadow pass first (Tecchia, Loscos & Chrysanthou §4.5): every character flat
+    // on its ground along the light, each pixel darkened once (stencil), behind what is nearer
+    // (depth).
     for (int pass = world_ && !naive ? 0 : 1; pass < 2; ++pass) {
       setShadowPass(pass == 0);
       drawCharacter(*c, chosen, queues, view, seconds, naive, pass == 0, stats);

@@ -73,6 +73,14 @@ public:
 
 private:
   struct Character;
+  // The constructor's stages for pack pi: its character checked against the scene (clips,
+  // outfits, impostor, cloth) and its instances placed, then its GPU buffers and textures.
+  void addCharacter(size_t pi, const pack::AnimationPack &p, const pack::Impostor *impostor,
+                    const ClothLoops *cloth);
+  void placeInstances(Character &c, size_t pi, const std::vector<uint32_t> &outfitOf);
+  std::vector<uint32_t> lodIndexData(Character &c);
+  void uploadGeometry(Character &c, const std::vector<uint32_t> &indices);
+  static void uploadTextures(Character &c);
   // Writes character ci's instances where the world's agents stand, with their clips.
   void moveInstances(Character &c, size_t ci, double seconds);
   // With a world: the shadow pass's state and uniforms (on) or the normal pass's (off).
