@@ -199,8 +199,130 @@ void failOnHoles(const HoleCheck &holes, const Character &body) {
                 " a frame step of 1)");
   }
 }
+// The pack's mesh as it is assembled: body parts first, then per outfit its copies and its
+// garments, each triangle remembering its source (a body triangle, or itself).
+struct PackMesh {
+  Character &out;
+  const Character &joined;
+  OutfitBakeResult &r;
+  uint32_t appendPart(SkinnedMesh::Part part, const std::vector<uint32_t> &triangles) {
+    part.firstIndex = uint32_t(out.mesh.indices.size());
+    part.indexCount = uint32_t(triangles.size() * 3);
+    for (uint32_t t : triangles) {
+      for (int k = 0; k < 3; ++k)
+        out.mesh.indices.push_back(joined.mesh.indices[3 * t + k]);
+      r.sourceTriangle.push_back(t < r.bodyTriangles ? t : uint32_t(r.sourceTriangle.size()));
+    }
+    out.mesh.parts.push_back(part);
+    return uint32_t(out.mesh.parts.size() - 1);
+  }
+};
+
+// One outfit's table entry and figures: each body sub-mesh visible, hidden or partly hidden (a
+// copy of its visible faces, shared by outfits that leave the same ones), then its garments.
+void bakeOneOutfit(size_t oi, const std::vector<OutfitInput> &outfits, const Character &body,
+                   const std::vector<size_t> &garmentParts, const OutfitOptions &options,
+                   PackMesh &mesh,
+                   std::map<std::pair<size_t, std::vector<uint32_t>>, uint32_t> &copies,
+                   pack::Outfits &table, Reporter &reporter) {
+  OutfitBakeResult &r = mesh.r;
+  const auto &bodyMesh = body.mesh;
+  reporter.step("visibility: outfit " + std::to_string(oi + 1) + " of " +
+                std::to_string(outfits.size()) + " (" + outfits[oi].name + ")");
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<PlacedLoop> worn;
+  for (const PlacedLoop &l : r.loops)
+    if (l.outfit == oi)
+      worn.push_back(l);
+  const auto hidden =
+      hiddenBodyFaces(mesh.joined, r.bodyTriangles, garmentParts, options.visibility, worn);
+  OutfitFigures fig;
+  fig.name = outfits[oi].name;
+  pack::Outfits::Outfit entry;
+  entry.name = outfits[oi].name;
+  for (size_t s = 0; s < bodyMesh.parts.size(); ++s) {
+    const auto &part = bodyMesh.parts[s];
+    std::vector<uint32_t> visible;
+    for (uint32_t t = part.firstIndex / 3; t < (part.firstIndex + part.indexCount) / 3; ++t)
+      if (!hidden[t])
+        visible.push_back(t);
+    SubMeshCoverage sc{part.name, faces(part), uint32_t(faces(part) - visible.size()), "", false};
+    fig.hiddenFaces += sc.hidden;
+    pack::Coverage c = pack::Coverage::Visible;
+    if (visible.empty()) {
+      c = pack::Coverage::Hidden;
+    } else if (sc.hidden > 0 && double(sc.hidden) >= options.minSaving * double(sc.faces)) {
+      c = pack::Coverage::Partial;
+      auto [it, fresh] = copies.try_emplace({s, visible}, 0);
+      if (fresh) {
+        SkinnedMesh::Part copy = part;
+        copy.name = part.name + "@" + outfits[oi].name;
+        it->second = mesh.appendPart(copy, visible);
+      }
+      entry.subMeshes.push_back(it->second);
+    } else {
+      sc.keptWhole = sc.hidden > 0;
+      entry.subMeshes.push_back(uint32_t(s));
+    }
+    if (c != pack::Coverage::Visible)
+      fig.removedFaces += sc.hidden;
+    sc.coverage = pack::name(c);
+    entry.coverage.push_back(c);
+    fig.subMeshes.push_back(sc);
+  }
+  for (size_t p : garmentParts) {
+    const auto &part = mesh.joined.mesh.parts[p];
+    std::vector<uint32_t> triangles;
+    for (uint32_t t = part.firstIndex / 3; t < (part.firstIndex + part.indexCount) / 3; ++t)
+      triangles.push_back(t);
+    entry.subMeshes.push_back(mesh.appendPart(part, triangles));
+    fig.garmentFaces += faces(part);
+  }
+  std::sort(entry.subMeshes.begin(), entry.subMeshes.end());
+  if (fig.hiddenFaces <= r.bareHiddenFaces)
+    reporter.warn("outfit_hides_nothing", "outfit '" + fig.name +
+                                              "' hides no body face the body does not hide by "
+                                              "itself");
+  fig.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  r.naiveFaces += fig.garmentFaces;
+  r.prefittedFaces += r.bodyTriangles - fig.removedFaces + fig.garmentFaces;
+  r.taggedFaces += fig.garmentFaces;
+  table.outfits.push_back(std::move(entry));
+  r.outfits.push_back(std::move(fig));
+}
+
+// The merged mesh in LOD order (options.lod): triangles reorder within each sub-mesh, so the
+// outfit table stays valid; the triangles' sources and the loops' vertices follow.
+pack::Lod applyOutfitLod(OutfitBakeResult &r, const Character &joined, const OutfitOptions &options,
+                         Reporter &reporter) {
+  Character &out = r.merged;
+  const std::vector<uint32_t> partOf = triangleParts(out.mesh);
+  LodResult details;
+  std::vector<uint32_t> looped; // the pack places a loop's vertices by their glTF source
+  for (const PlacedLoop &l : r.loops)
+    looped.insert(looped.end(), l.vertices.begin(), l.vertices.end());
+  pack::Lod lod = applyLod(out, *options.lod, reporter, &details, looped);
+  std::vector<uint32_t> source; // applyLod's output order: per part, the kept triangles
+  for (uint32_t p = 0; p < out.mesh.parts.size(); ++p)
+    for (uint32_t t : details.source)
+      if (partOf[t] == p)
+        source.push_back(r.sourceTriangle[t]);
+  r.sourceTriangle = std::move(source);
+  // The loops' vertices follow the LOD's order (and its flat-shading weld), or the hole check
+  // would pose the loops onto other vertices of the reordered mesh.
+  std::vector<uint32_t> newOf(joined.mesh.vertexCount(), UINT32_MAX);
+  for (uint32_t k = 0; k < details.order.size(); ++k)
+    newOf[details.order[k]] = k;
+  for (PlacedLoop &l : r.loops)
+    for (uint32_t &v : l.vertices)
+      v = newOf[v];
+  return lod;
+}
+
 } // namespace
 
+// The stages: every garment joined onto the body, the faces the body hides by itself, each
+// outfit's table entry, the totals, the LOD, the animation bake, the hole check.
 OutfitBakeResult bakeOutfits(const Character &template_, const std::vector<OutfitInput> &outfits,
                              const OutfitOptions &options, Reporter &reporter) {
   options.validate();
@@ -223,24 +345,13 @@ OutfitBakeResult bakeOutfits(const Character &template_, const std::vector<Outfi
   }
   r.loops = placeLoops(joined, outfits, firstVertex);
 
-  // The pack's mesh: body parts, then per outfit its copies and its garments.
   Character &out = r.merged;
   out = joined;
   out.mesh.indices.assign(bodyMesh.indices.begin(), bodyMesh.indices.end());
   out.mesh.parts.assign(bodyMesh.parts.begin(), bodyMesh.parts.end());
   for (uint32_t t = 0; t < r.bodyTriangles; ++t)
     r.sourceTriangle.push_back(t);
-  auto appendPart = [&](SkinnedMesh::Part part, const std::vector<uint32_t> &triangles) {
-    part.firstIndex = uint32_t(out.mesh.indices.size());
-    part.indexCount = uint32_t(triangles.size() * 3);
-    for (uint32_t t : triangles) {
-      for (int k = 0; k < 3; ++k)
-        out.mesh.indices.push_back(joined.mesh.indices[3 * t + k]);
-      r.sourceTriangle.push_back(t < r.bodyTriangles ? t : uint32_t(r.sourceTriangle.size()));
-    }
-    out.mesh.parts.push_back(part);
-    return uint32_t(out.mesh.parts.size() - 1);
-  };
+  PackMesh mesh{out, joined, r};
 
   // Faces the body hides by itself (and the ground): no outfit is needed to drop them.
   reporter.step("visibility: the body alone");
@@ -251,70 +362,8 @@ OutfitBakeResult bakeOutfits(const Character &template_, const std::vector<Outfi
   pack::Outfits table;
   table.bodySubMeshes = uint32_t(bodyMesh.parts.size());
   std::map<std::pair<size_t, std::vector<uint32_t>>, uint32_t> copies; // shared when identical
-  for (size_t oi = 0; oi < outfits.size(); ++oi) {
-    reporter.step("visibility: outfit " + std::to_string(oi + 1) + " of " +
-                  std::to_string(outfits.size()) + " (" + outfits[oi].name + ")");
-    const auto start = std::chrono::steady_clock::now();
-    std::vector<PlacedLoop> worn;
-    for (const PlacedLoop &l : r.loops)
-      if (l.outfit == oi)
-        worn.push_back(l);
-    const auto hidden =
-        hiddenBodyFaces(joined, r.bodyTriangles, garmentParts[oi], options.visibility, worn);
-    OutfitFigures fig;
-    fig.name = outfits[oi].name;
-    pack::Outfits::Outfit entry;
-    entry.name = outfits[oi].name;
-    for (size_t s = 0; s < bodyMesh.parts.size(); ++s) {
-      const auto &part = bodyMesh.parts[s];
-      std::vector<uint32_t> visible;
-      for (uint32_t t = part.firstIndex / 3; t < (part.firstIndex + part.indexCount) / 3; ++t)
-        if (!hidden[t])
-          visible.push_back(t);
-      SubMeshCoverage sc{part.name, faces(part), uint32_t(faces(part) - visible.size()), "", false};
-      fig.hiddenFaces += sc.hidden;
-      pack::Coverage c = pack::Coverage::Visible;
-      if (visible.empty()) {
-        c = pack::Coverage::Hidden;
-      } else if (sc.hidden > 0 && double(sc.hidden) >= options.minSaving * double(sc.faces)) {
-        c = pack::Coverage::Partial;
-        auto [it, fresh] = copies.try_emplace({s, visible}, 0);
-        if (fresh) {
-          SkinnedMesh::Part copy = part;
-          copy.name = part.name + "@" + outfits[oi].name;
-          it->second = appendPart(copy, visible);
-        }
-        entry.subMeshes.push_back(it->second);
-      } else {
-        sc.keptWhole = sc.hidden > 0;
-        entry.subMeshes.push_back(uint32_t(s));
-      }
-      if (c != pack::Coverage::Visible)
-        fig.removedFaces += sc.hidden;
-      sc.coverage = pack::name(c);
-      entry.coverage.push_back(c);
-      fig.subMeshes.push_back(sc);
-    }
-    for (size_t p : garmentParts[oi]) {
-      const auto &part = joined.mesh.parts[p];
-      std::vector<uint32_t> triangles;
-      for (uint32_t t = part.firstIndex / 3; t < (part.firstIndex + part.indexCount) / 3; ++t)
-        triangles.push_back(t);
-      entry.subMeshes.push_back(appendPart(part, triangles));
-      fig.garmentFaces += faces(part);
-    }
-    std::sort(entry.subMeshes.begin(), entry.subMeshes.end());
-    if (fig.hiddenFaces <= r.bareHiddenFaces)
-      reporter.warn("outfit_hides_nothing",
-                    "outfit '" + fig.name +
-                        "' hides no body face the body does not hide by itself");
-    fig.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    r.naiveFaces += fig.garmentFaces;
-    r.prefittedFaces += r.bodyTriangles - fig.removedFaces + fig.garmentFaces;
-    r.taggedFaces += fig.garmentFaces;
-    table.outfits.push_back(std::move(entry));
-    r.outfits.push_back(std::move(fig));
-  }
+  for (size_t oi = 0; oi < outfits.size(); ++oi)
+    bakeOneOutfit(oi, outfits, body, garmentParts[oi], options, mesh, copies, table, reporter);
   for (const auto &[key, sub] : copies)
     r.specificFaces += key.second.size();
   r.naiveFaces += r.bodyTriangles;
@@ -333,28 +382,8 @@ OutfitBakeResult bakeOutfits(const Character &template_, const std::vector<Outfi
     table.textured.push_back(part.textured && out.diffuse ? 1 : 0);
   }
   std::optional<pack::Lod> lod;
-  if (options.lod) { // reorders triangles within each sub-mesh: the outfit table stays valid
-    const std::vector<uint32_t> partOf = triangleParts(out.mesh);
-    LodResult details;
-    std::vector<uint32_t> looped; // the pack places a loop's vertices by their glTF source
-    for (const PlacedLoop &l : r.loops)
-      looped.insert(looped.end(), l.vertices.begin(), l.vertices.end());
-    lod = applyLod(out, *options.lod, reporter, &details, looped);
-    std::vector<uint32_t> source; // applyLod's output order: per part, the kept triangles
-    for (uint32_t p = 0; p < out.mesh.parts.size(); ++p)
-      for (uint32_t t : details.source)
-        if (partOf[t] == p)
-          source.push_back(r.sourceTriangle[t]);
-    r.sourceTriangle = std::move(source);
-    // The loops' vertices follow the LOD's order (and its flat-shading weld), or the hole check
-    // would pose the loops onto other vertices of the reordered mesh.
-    std::vector<uint32_t> newOf(joined.mesh.vertexCount(), UINT32_MAX);
-    for (uint32_t k = 0; k < details.order.size(); ++k)
-      newOf[details.order[k]] = k;
-    for (PlacedLoop &l : r.loops)
-      for (uint32_t &v : l.vertices)
-        v = newOf[v];
-  }
+  if (options.lod)
+    lod = applyOutfitLod(r, joined, options, reporter);
   r.anim = bakeAnimation(out, options.anim, reporter);
   r.anim.pack.lod = std::move(lod);
   r.anim.pack.outfits = std::move(table);
