@@ -80,6 +80,98 @@ template <class T> bool contains(const std::vector<T> &v, const T &x) {
   return std::find(v.begin(), v.end(), x) != v.end();
 }
 
+// What the scene's instances of character m (scene pack `pack`) play and wear, and how far each
+// (clip, outfit) pair gets from the camera's eyes.
+struct Drawn {
+  std::vector<std::string> clips, outfits;
+  std::map<Pair, double> farthest; // per pair drawn, the farthest any instance gets
+};
+Drawn whatTheSceneDraws(const runtime::Scene &scene, size_t pack, const CharacterManifest &m,
+                        const RestSphere &rest, const std::vector<glm::dvec3> &eyePositions,
+                        const std::string &ctx) {
+  Drawn d;
+  auto &clips = d.clips;
+  auto &outfits = d.outfits;
+  auto &farthest = d.farthest;
+  std::vector<std::string> outfitNames;
+  for (const auto &[name, file] : m.outfits)
+    outfitNames.push_back(name);
+  for (const auto &inst : scene.instances) {
+    if (inst.pack != pack)
+      continue;
+    std::string clip = scene.clipNames.empty() ? "" : scene.clipNames[inst.clip];
+    if (clip.empty() && !rest.clips.empty())
+      clip = rest.clips.front(); // "": the first clip
+    if (!clip.empty() && !contains(rest.clips, clip))
+      throw Error(ctx + " has no clip '" + clip + "' (clips: " + listed(rest.clips) + ")");
+    std::string outfit = scene.outfitNames[inst.outfit];
+    if (outfit.empty() && !outfitNames.empty())
+      outfit = outfitNames.front(); // "": the first outfit
+    if (!outfit.empty() && !contains(outfitNames, outfit))
+      throw Error(ctx + " has no outfit '" + outfit + "' (outfits: " + listed(outfitNames) + ")");
+    if (!contains(clips, clip))
+      clips.push_back(clip);
+    if (!outfit.empty() && !contains(outfits, outfit))
+      outfits.push_back(outfit);
+    const glm::dvec3 centre =
+        inst.position +
+        glm::dvec3(std::cos(inst.yaw) * rest.centre.x + std::sin(inst.yaw) * rest.centre.z,
+                   rest.centre.y,
+                   -std::sin(inst.yaw) * rest.centre.x + std::cos(inst.yaw) * rest.centre.z);
+    double far = 0;
+    for (const auto &eye : eyePositions)
+      far = std::max(far, glm::length(eye - centre));
+    double &f = farthest[{clip, outfit}];
+    f = std::max(f, far);
+  }
+  return d;
+}
+
+// The manifest's impostor pairs kept: those an instance takes past the switch distance (with the
+// player's hysteresis); the rest, and pairs drawn far that the manifest does not list, said in
+// `cj`.
+std::vector<Pair> impostorsNeeded(const CharacterManifest &m, const RestSphere &rest,
+                                  const Drawn &drawnPairs, const runtime::Scene &scene,
+                                  const SceneBuildOptions &o, ordered_json &cj) {
+  const auto &farthest = drawnPairs.farthest;
+  // The player goes over to an impostor this much past its switch distance (hysteresis).
+  const double farFactor = 1 + runtime::kImpostorHysteresis;
+  const double fovY = glm::radians(scene.camera.fovYDegrees);
+  const double switchAt = o.switchDistance > 0 ? o.switchDistance
+                                               : 2 * rest.radius / m.impostor.texels *
+                                                     o.screenHeight / (2 * std::tan(fovY / 2));
+  std::vector<std::pair<std::string, std::string>> pairs;
+  for (const auto &listedPair : m.impostorPairs) { // kept as listed: the same job key
+    const std::string &outfit = listedPair.second;
+    std::string clip = listedPair.first;
+    if (clip.empty() && !rest.clips.empty())
+      clip = rest.clips.front();
+    ordered_json pj{{"clip", clip}, {"outfit", outfit}};
+    const auto drawn = farthest.find({clip, outfit});
+    if (drawn == farthest.end()) {
+      pj["why"] = "no instance plays this clip in this outfit";
+    } else if (drawn->second <= switchAt * farFactor) {
+      pj["why"] = "no instance gets past the switch distance (the farthest: " +
+                  std::to_string(drawn->second) + ")";
+    } else {
+      pairs.push_back(listedPair);
+      cj["impostors"].push_back({{"clip", clip}, {"outfit", outfit}});
+      continue;
+    }
+    cj["impostors_left_out"].push_back(pj);
+  }
+  auto listedInManifest = [&](const Pair &p) {
+    return contains(m.impostorPairs, p) || (!rest.clips.empty() && p.first == rest.clips.front() &&
+                                            contains(m.impostorPairs, Pair{"", p.second}));
+  };
+  for (const auto &[pair, far] : farthest)
+    if (far > switchAt * farFactor && !listedInManifest(pair))
+      cj["drawn_far_without_an_impostor"].push_back(
+          {{"clip", pair.first}, {"outfit", pair.second}, {"why", "the manifest lists none"}});
+  cj["switch_distance"] = switchAt;
+  return pairs;
+}
+
 } // namespace
 
 void SceneBuildOptions::validate() const {
@@ -94,8 +186,6 @@ ordered_json narrowToScene(Library &library, const SceneBuildOptions &o,
   o.validate();
   const runtime::Scene scene = runtime::loadScene(o.scene);
   const auto eyePositions = eyes(scene.camera);
-  // The player goes over to an impostor this much past its switch distance (hysteresis).
-  const double farFactor = 1 + runtime::kImpostorHysteresis;
 
   ordered_json report;
   report["file"] = o.scene;
@@ -127,40 +217,8 @@ ordered_json narrowToScene(Library &library, const SceneBuildOptions &o,
     }
     const RestSphere rest = restSphere(m, policy);
     const std::string ctx = o.scene + ": character '" + m.name + "'";
-    // What each instance of this character plays and wears, and how far it gets from the eye.
-    std::vector<std::string> clips, outfits;
-    std::map<Pair, double> farthest; // per pair drawn, the farthest any instance gets
-    std::vector<std::string> outfitNames;
-    for (const auto &[name, file] : m.outfits)
-      outfitNames.push_back(name);
-    for (const auto &inst : scene.instances) {
-      if (inst.pack != it->second)
-        continue;
-      std::string clip = scene.clipNames.empty() ? "" : scene.clipNames[inst.clip];
-      if (clip.empty() && !rest.clips.empty())
-        clip = rest.clips.front(); // "": the first clip
-      if (!clip.empty() && !contains(rest.clips, clip))
-        throw Error(ctx + " has no clip '" + clip + "' (clips: " + listed(rest.clips) + ")");
-      std::string outfit = scene.outfitNames[inst.outfit];
-      if (outfit.empty() && !outfitNames.empty())
-        outfit = outfitNames.front(); // "": the first outfit
-      if (!outfit.empty() && !contains(outfitNames, outfit))
-        throw Error(ctx + " has no outfit '" + outfit + "' (outfits: " + listed(outfitNames) + ")");
-      if (!contains(clips, clip))
-        clips.push_back(clip);
-      if (!outfit.empty() && !contains(outfits, outfit))
-        outfits.push_back(outfit);
-      const glm::dvec3 centre =
-          inst.position +
-          glm::dvec3(std::cos(inst.yaw) * rest.centre.x + std::sin(inst.yaw) * rest.centre.z,
-                     rest.centre.y,
-                     -std::sin(inst.yaw) * rest.centre.x + std::cos(inst.yaw) * rest.centre.z);
-      double far = 0;
-      for (const auto &eye : eyePositions)
-        far = std::max(far, glm::length(eye - centre));
-      double &f = farthest[{clip, outfit}];
-      f = std::max(f, far);
-    }
+    const Drawn drawn = whatTheSceneDraws(scene, it->second, m, rest, eyePositions, ctx);
+    const auto &clips = drawn.clips, &outfits = drawn.outfits;
     if (clips.empty()) {
       cj["left_out"] = "the scene lists its pack, but no instance uses it";
       report["characters"].push_back(cj);
@@ -187,41 +245,7 @@ ordered_json narrowToScene(Library &library, const SceneBuildOptions &o,
     if (!droppedOutfits.empty())
       cj["outfits_left_out"] = {{"names", droppedOutfits}, {"why", "no instance wears them"}};
 
-    // Impostors: a listed pair is kept when an instance of it gets past the switch distance.
-    const double fovY = glm::radians(scene.camera.fovYDegrees);
-    const double switchAt = o.switchDistance > 0 ? o.switchDistance
-                                                 : 2 * rest.radius / m.impostor.texels *
-                                                       o.screenHeight / (2 * std::tan(fovY / 2));
-    std::vector<std::pair<std::string, std::string>> pairs;
-    for (const auto &listedPair : m.impostorPairs) { // kept as listed: the same job key
-      const std::string &outfit = listedPair.second;
-      std::string clip = listedPair.first;
-      if (clip.empty() && !rest.clips.empty())
-        clip = rest.clips.front();
-      ordered_json pj{{"clip", clip}, {"outfit", outfit}};
-      const auto drawn = farthest.find({clip, outfit});
-      if (drawn == farthest.end()) {
-        pj["why"] = "no instance plays this clip in this outfit";
-      } else if (drawn->second <= switchAt * farFactor) {
-        pj["why"] = "no instance gets past the switch distance (the farthest: " +
-                    std::to_string(drawn->second) + ")";
-      } else {
-        pairs.push_back(listedPair);
-        cj["impostors"].push_back({{"clip", clip}, {"outfit", outfit}});
-        continue;
-      }
-      cj["impostors_left_out"].push_back(pj);
-    }
-    auto listedInManifest = [&](const Pair &p) {
-      return contains(m.impostorPairs, p) ||
-             (!rest.clips.empty() && p.first == rest.clips.front() &&
-              contains(m.impostorPairs, Pair{"", p.second}));
-    };
-    for (const auto &[pair, far] : farthest)
-      if (far > switchAt * farFactor && !listedInManifest(pair))
-        cj["drawn_far_without_an_impostor"].push_back(
-            {{"clip", pair.first}, {"outfit", pair.second}, {"why", "the manifest lists none"}});
-    cj["switch_distance"] = switchAt;
+    const std::vector<Pair> pairs = impostorsNeeded(m, rest, drawn, scene, o, cj);
     cj["rest_radius"] = rest.radius;
     // Only what changes is narrowed: a character the scene draws whole keeps its job keys,
     // and with them what a full build left in the cache.
