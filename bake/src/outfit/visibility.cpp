@@ -67,6 +67,189 @@ std::vector<glm::dvec3> hemisphere(uint32_t azimuths) {
   return d;
 }
 
+constexpr uint32_t kNone = UINT32_MAX;
+
+// Occluders: the body and the worn, opaque garments.
+std::vector<uint32_t> occludersOf(const SkinnedMesh &mesh, uint32_t bodyTriangles,
+                                  const std::vector<size_t> &garmentParts) {
+  std::vector<uint32_t> occluders;
+  for (uint32_t t = 0; t < bodyTriangles; ++t)
+    occluders.push_back(t);
+  for (size_t p : garmentParts) {
+    const auto &part = mesh.parts[p];
+    if (part.seeThrough)
+      continue;
+    for (uint32_t t = part.firstIndex / 3; t < (part.firstIndex + part.indexCount) / 3; ++t)
+      occluders.push_back(t);
+  }
+  return occluders;
+}
+
+// One frame's occluders posed, in a CGAL tree and as crossing() reads them, and the answer to
+// whether a ray is blocked, remembering by what: the guesses first, then the occluders within
+// kSteps edge steps of its last blocker (the ray slid off it onto a neighbour; where it has none
+// yet, of its neighbours' first), then the tree. Every answer is the tree's: the guesses only
+// spare it the query (a tree query costs about what 100 of these tests do; within 3 steps was
+// the fastest, docs/bakes/outfits.md).
+class FrameOccluders {
+public:
+  FrameOccluders(const std::vector<glm::dvec3> &p, const std::vector<uint32_t> &idx,
+                 const std::vector<uint32_t> &occluders,
+                 const std::vector<std::array<uint32_t, 3>> &across, double nudge)
+      : across_(across), soupOf_(occluders.size()) {
+    auto point = [&](uint32_t v) { return K::Point_3(p[v].x, p[v].y, p[v].z); };
+    glm::dvec3 low = p[0], high = p[0]; // every ray starts and every occluder lies in this box
+    for (const glm::dvec3 &x : p)
+      low = glm::min(low, x), high = glm::max(high, x);
+    const double span = glm::length(high - low) + 2 * nudge; // the farthest a ray starts
+    for (uint32_t k = 0; k < occluders.size(); ++k) {
+      const uint32_t t = occluders[k];
+      Triangle tri(point(idx[3 * t]), point(idx[3 * t + 1]), point(idx[3 * t + 2]));
+      soupOf_[k] = tri.is_degenerate() ? kNone : uint32_t(soup_.size());
+      if (!tri.is_degenerate()) {
+        soup_.push_back(tri);
+        soupEdges_.push_back(
+            outfit::edgesOf(p[idx[3 * t]], p[idx[3 * t + 1]], p[idx[3 * t + 2]], span));
+        occluderOf_.push_back(k);
+      }
+    }
+    tree_.insert(soup_.begin(), soup_.end());
+    tree_.build();
+  }
+
+  bool blocked(const glm::dvec3 &o, const glm::dvec3 &w, uint32_t &last,
+               std::initializer_list<uint32_t> guesses) const {
+    constexpr int kSteps = 3;
+    // CGAL's ray, made where CGAL is asked: for about 1.5% of the sample dress's rays.
+    std::optional<K::Ray_3> cgalRay;
+    const auto ray = [&]() -> const K::Ray_3 & {
+      if (!cgalRay)
+        cgalRay.emplace(K::Point_3(o.x, o.y, o.z), K::Vector_3(w.x, w.y, w.z));
+      return *cgalRay;
+    };
+    const auto blocks = [&](uint32_t k) {
+      if (k == kNone || soupOf_[k] == kNone)
+        return false;
+      const outfit::Crossing c = outfit::crossing(o, w, soupEdges_[soupOf_[k]]);
+      return c == outfit::Crossing::kYes ||
+             (c == outfit::Crossing::kUnsure && CGAL::do_intersect(ray(), soup_[soupOf_[k]]));
+    };
+    for (auto g = guesses.begin(); g != guesses.end(); ++g)
+      if (std::find(guesses.begin(), g, *g) == g && blocks(*g)) {
+        last = *g;
+        return true;
+      }
+    uint32_t seed = kNone; // its last blocker, else its neighbours'
+    for (auto g = guesses.begin(); g != guesses.end() && seed == kNone; ++g)
+      seed = *g;
+    if (seed != kNone) { // nearest first, each occluder once
+      std::array<uint32_t, 64> near{seed};
+      size_t n = 1, from = 0;
+      for (int step = 0; step < kSteps; ++step) {
+        const size_t to = n;
+        for (size_t i = from; i < to; ++i)
+          for (uint32_t k : across_[near[i]])
+            if (k != kNone && n < near.size() &&
+                std::find(near.data(), near.data() + n, k) == near.data() + n) {
+              near[n++] = k; // searched from, but tested only if not a guess (all missed)
+              if (std::find(guesses.begin(), guesses.end(), k) == guesses.end() && blocks(k)) {
+                last = k;
+                return true;
+              }
+            }
+        from = to;
+      }
+    }
+    const auto hit = tree_.any_intersected_primitive(ray());
+    if (!hit)
+      return false;
+    last = occluderOf_[size_t(*hit - soup_.cbegin())];
+    return true;
+  }
+
+private:
+  const std::vector<std::array<uint32_t, 3>> &across_;
+  std::vector<Triangle> soup_;
+  std::vector<outfit::Edges> soupEdges_;      // soup_'s triangles as crossing() reads them
+  std::vector<uint32_t> soupOf_, occluderOf_; // occluder <-> soup triangle
+  Tree tree_;
+};
+
+// The rays a body face casts: from `points` points on it, nudged off it, over the hemisphere.
+struct Rays {
+  const std::vector<glm::dvec3> &directions;
+  uint32_t points;
+  double nudge, ground, reach; // ground: the plane's height (INFINITY: none); reach: its extent
+};
+
+// Whether face t (wound to its outward side `side`) sees out in pose p along any ray; `last`:
+// its rays' blockers of the last frame, updated.
+bool faceSeen(const std::vector<glm::dvec3> &p, const std::vector<uint32_t> &idx, uint32_t t,
+              double side, const Rays &rays, const FrameOccluders &occluders, uint32_t *last) {
+  static const glm::dvec3 weights[4] = {{1.0 / 3, 1.0 / 3, 1.0 / 3},
+                                        {4.0 / 6, 1.0 / 6, 1.0 / 6},
+                                        {1.0 / 6, 4.0 / 6, 1.0 / 6},
+                                        {1.0 / 6, 1.0 / 6, 4.0 / 6}};
+  const auto &directions = rays.directions;
+  const glm::dvec3 a = p[idx[3 * t]], b = p[idx[3 * t + 1]], c = p[idx[3 * t + 2]];
+  glm::dvec3 n = glm::cross(b - a, c - a) * side;
+  const double len = glm::length(n);
+  if (!(len > 1e-14)) // degenerate in this pose: nothing to decide, keep it (conservative)
+    return true;
+  n /= len;
+  const glm::dvec3 u = glm::normalize(std::abs(n.x) < 0.9 ? glm::cross(n, glm::dvec3(1, 0, 0))
+                                                          : glm::cross(n, glm::dvec3(0, 1, 0)));
+  const glm::dvec3 v = glm::cross(n, u);
+  for (uint32_t k = 0; k < rays.points; ++k) {
+    const glm::dvec3 q = a * weights[k].x + b * weights[k].y + c * weights[k].z + n * rays.nudge;
+    for (size_t j = 0; j < directions.size(); ++j) {
+      const glm::dvec3 &d = directions[j];
+      const glm::dvec3 w = u * d.x + v * d.y + n * d.z;
+      // The ground, analytically (in the tree, its huge triangles would slow every query).
+      if (w.y < 0 && q.y >= rays.ground && q.y - rays.ground < -w.y * rays.reach)
+        continue;
+      // Its own blocker of the last frame, then its neighbours': the previous direction's
+      // (this frame), the next one's (the last frame) and the previous point's.
+      const size_t r = k * directions.size() + j;
+      const uint32_t before = j > 0 ? last[r - 1] : kNone;
+      const uint32_t after = j + 1 < directions.size() ? last[r + 1] : kNone;
+      const uint32_t other = k > 0 ? last[r - directions.size()] : kNone;
+      if (!occluders.blocked(q, w, last[r], {last[r], before, after, other}))
+        return true;
+    }
+  }
+  return false;
+}
+
+// Safety ring: faces sharing a vertex position with a visible face stay visible, `ring` times.
+void addSafetyRing(const SkinnedMesh &mesh, uint32_t bodyTriangles, uint32_t ring,
+                   std::vector<uint8_t> &hidden) {
+  const auto &idx = mesh.indices;
+  std::vector<uint32_t> weld(mesh.vertexCount());
+  std::vector<uint32_t> order(mesh.vertexCount());
+  for (uint32_t v = 0; v < order.size(); ++v)
+    order[v] = v;
+  auto key = [&](uint32_t v) {
+    const auto &q = mesh.positions[v];
+    return std::make_tuple(q.x, q.y, q.z);
+  };
+  std::sort(order.begin(), order.end(),
+            [&](uint32_t x, uint32_t y) { return key(x) != key(y) ? key(x) < key(y) : x < y; });
+  for (size_t i = 0; i < order.size(); ++i)
+    weld[order[i]] = i && key(order[i]) == key(order[i - 1]) ? weld[order[i - 1]] : order[i];
+  for (uint32_t step = 0; step < ring; ++step) {
+    std::vector<uint8_t> touched(mesh.vertexCount(), 0);
+    for (uint32_t t = 0; t < bodyTriangles; ++t)
+      if (!hidden[t])
+        for (int k = 0; k < 3; ++k)
+          touched[weld[idx[3 * t + k]]] = 1;
+    for (uint32_t t = 0; t < bodyTriangles; ++t)
+      for (int k = 0; k < 3; ++k)
+        if (touched[weld[idx[3 * t + k]]])
+          hidden[t] = 0;
+  }
+}
+
 } // namespace
 
 std::vector<std::pair<const AnimationClip *, double>> outfitFrames(const Character &c, double fps,
@@ -84,6 +267,10 @@ std::vector<std::pair<const AnimationClip *, double>> outfitFrames(const Charact
   return out;
 }
 
+// Every frame, each body face still hidden casts its rays; one that sees out is visible and
+// leaves the candidates. Per (face, point, direction) the occluder that blocked that ray in the
+// last frame that cast it goes first: bodies move little between frames, so it (or the one that
+// blocked a neighbouring ray) usually blocks the ray again (sample dress: 98% of the rays).
 std::vector<uint8_t> hiddenBodyFaces(const Character &merged, uint32_t bodyTriangles,
                                      const std::vector<size_t> &garmentParts,
                                      const VisibilityOptions &o,
@@ -93,26 +280,12 @@ std::vector<uint8_t> hiddenBodyFaces(const Character &merged, uint32_t bodyTrian
     throw Error("visibility: rays must be in 1..4096, points 1 or 4, frame step >= 1, fps > 0");
   const auto &mesh = merged.mesh;
   const auto &idx = mesh.indices;
-  // Occluders: the body and the worn, opaque garments.
-  std::vector<uint32_t> occluders;
-  for (uint32_t t = 0; t < bodyTriangles; ++t)
-    occluders.push_back(t);
-  for (size_t p : garmentParts) {
-    const auto &part = mesh.parts[p];
-    if (part.seeThrough)
-      continue;
-    for (uint32_t t = part.firstIndex / 3; t < (part.firstIndex + part.indexCount) / 3; ++t)
-      occluders.push_back(t);
-  }
+  const std::vector<uint32_t> occluders = occludersOf(mesh, bodyTriangles, garmentParts);
   // Outward side of each body face as drawn: the side its vertex normals point to.
   const std::vector<double> side = outwardSides(merged);
   const auto directions = hemisphere(o.rays);
-  const double nudge = 1e-4 * restDiagonal(merged);
-  const glm::dvec3 weights[4] = {{1.0 / 3, 1.0 / 3, 1.0 / 3},
-                                 {4.0 / 6, 1.0 / 6, 1.0 / 6},
-                                 {1.0 / 6, 4.0 / 6, 1.0 / 6},
-                                 {1.0 / 6, 1.0 / 6, 4.0 / 6}};
-
+  Rays rays{directions, o.points, 1e-4 * restDiagonal(merged), INFINITY,
+            100 * restDiagonal(merged)};
   std::vector<uint8_t> hidden(bodyTriangles, 1);
   std::vector<uint32_t> candidates(bodyTriangles);
   for (uint32_t t = 0; t < bodyTriangles; ++t)
@@ -120,143 +293,24 @@ std::vector<uint8_t> hiddenBodyFaces(const Character &merged, uint32_t bodyTrian
   const auto frames = outfitPoses(merged, o.fps, o.frameStep, loops, o.loopFrames);
   // The ground: a plane under the body's lowest point over every tested frame, as wide as the
   // ground rays can reach (100 body diagonals).
-  double ground = INFINITY;
   if (o.ground)
     for (const auto &pose : frames) {
       const auto p = posed(merged, pose);
       for (uint32_t i = 0; i < bodyTriangles * 3; ++i)
-        ground = std::min(ground, p[idx[i]].y);
+        rays.ground = std::min(rays.ground, p[idx[i]].y);
     }
-  const double reach = 100 * restDiagonal(merged);
-  // Per (body face, point, direction): the occluder that blocked that ray in the last frame that
-  // cast it (kNone: none yet). Bodies move little between frames, so the same triangle, or the
-  // one that blocked a neighbouring ray, usually blocks the ray again: tested alone first (the
-  // predicate the tree's own test uses, after a quick test that is sure of most answers), they
-  // answer most rays without a tree query (sample dress: 98% of them). When none blocks, the tree
-  // answers, so every answer is the tree's: the hidden faces are the same bits as without the
-  // cache.
-  constexpr uint32_t kNone = UINT32_MAX;
   const size_t raysPerFace = size_t(o.points) * directions.size();
   std::vector<uint32_t> blocker(size_t(bodyTriangles) * raysPerFace, kNone);
   const auto across = edgeNeighbours(idx, occluders);
-  std::vector<Triangle> soup;
-  std::vector<outfit::Edges> soupEdges; // soup's triangles as crossing() reads them
-  std::vector<uint32_t> soupOf(occluders.size()), occluderOf; // occluder <-> soup triangle
   for (const auto &pose : frames) {
     if (candidates.empty())
       break;
     const auto p = posed(merged, pose);
-    auto point = [&](uint32_t v) { return K::Point_3(p[v].x, p[v].y, p[v].z); };
-    soup.clear();
-    soupEdges.clear();
-    occluderOf.clear();
-    glm::dvec3 low = p[0], high = p[0]; // every ray starts and every occluder lies in this box
-    for (const glm::dvec3 &x : p)
-      low = glm::min(low, x), high = glm::max(high, x);
-    const double span = glm::length(high - low) + 2 * nudge; // the farthest a ray starts
-    for (uint32_t k = 0; k < occluders.size(); ++k) {
-      const uint32_t t = occluders[k];
-      Triangle tri(point(idx[3 * t]), point(idx[3 * t + 1]), point(idx[3 * t + 2]));
-      soupOf[k] = tri.is_degenerate() ? kNone : uint32_t(soup.size());
-      if (!tri.is_degenerate()) {
-        soup.push_back(tri);
-        soupEdges.push_back(
-            outfit::edgesOf(p[idx[3 * t]], p[idx[3 * t + 1]], p[idx[3 * t + 2]], span));
-        occluderOf.push_back(k);
-      }
-    }
-    Tree tree(soup.begin(), soup.end());
-    tree.build();
-    // Whether the ray is blocked, remembering by what: the guesses first, then the occluders
-    // within kSteps edge steps of its last blocker (the ray slid off it onto a neighbour; where
-    // it has none yet, of its neighbours' first), then the tree. A tree query costs
-    // about what 100 of these tests do: within 3 steps, the sample dress's visibility took
-    // 6.0 -> 5.7 s (2 steps before; 4: the same, 6: 6.0 s), and from a neighbour's blocker
-    // where the ray has none (the first frame) 5.4 s.
-    constexpr int kSteps = 3;
-    const auto blocked = [&](const glm::dvec3 &o, const glm::dvec3 &w, uint32_t &last,
-                             std::initializer_list<uint32_t> guesses) {
-      // CGAL's ray, made where CGAL is asked: for about 1.5% of the sample dress's rays.
-      std::optional<K::Ray_3> cgalRay;
-      const auto ray = [&]() -> const K::Ray_3 & {
-        if (!cgalRay)
-          cgalRay.emplace(K::Point_3(o.x, o.y, o.z), K::Vector_3(w.x, w.y, w.z));
-        return *cgalRay;
-      };
-      const auto blocks = [&](uint32_t k) {
-        if (k == kNone || soupOf[k] == kNone)
-          return false;
-        const outfit::Crossing c = outfit::crossing(o, w, soupEdges[soupOf[k]]);
-        return c == outfit::Crossing::kYes ||
-               (c == outfit::Crossing::kUnsure && CGAL::do_intersect(ray(), soup[soupOf[k]]));
-      };
-      for (auto g = guesses.begin(); g != guesses.end(); ++g)
-        if (std::find(guesses.begin(), g, *g) == g && blocks(*g)) {
-          last = *g;
-          return true;
-        }
-      uint32_t seed = kNone; // its last blocker, else its neighbours'
-      for (auto g = guesses.begin(); g != guesses.end() && seed == kNone; ++g)
-        seed = *g;
-      if (seed != kNone) { // nearest first, each occluder once
-        std::array<uint32_t, 64> near{seed};
-        size_t n = 1, from = 0;
-        for (int step = 0; step < kSteps; ++step) {
-          const size_t to = n;
-          for (size_t i = from; i < to; ++i)
-            for (uint32_t k : across[near[i]])
-              if (k != kNone && n < near.size() &&
-                  std::find(near.data(), near.data() + n, k) == near.data() + n) {
-                near[n++] = k; // searched from, but tested only if not a guess (all missed)
-                if (std::find(guesses.begin(), guesses.end(), k) == guesses.end() && blocks(k)) {
-                  last = k;
-                  return true;
-                }
-              }
-          from = to;
-        }
-      }
-      const auto hit = tree.any_intersected_primitive(ray());
-      if (!hit)
-        return false;
-      last = occluderOf[size_t(*hit - soup.cbegin())];
-      return true;
-    };
+    const FrameOccluders frame(p, idx, occluders, across, rays.nudge);
     std::vector<uint8_t> seen(candidates.size(), 0);
     parallelFor(candidates.size(), o.threads, [&](size_t i) {
       const uint32_t t = candidates[i];
-      const glm::dvec3 a = p[idx[3 * t]], b = p[idx[3 * t + 1]], c = p[idx[3 * t + 2]];
-      glm::dvec3 n = glm::cross(b - a, c - a) * side[t];
-      const double len = glm::length(n);
-      if (!(len > 1e-14)) { // degenerate in this pose: nothing to decide, keep it (conservative)
-        seen[i] = 1;
-        return;
-      }
-      n /= len;
-      const glm::dvec3 u = glm::normalize(std::abs(n.x) < 0.9 ? glm::cross(n, glm::dvec3(1, 0, 0))
-                                                              : glm::cross(n, glm::dvec3(0, 1, 0)));
-      const glm::dvec3 v = glm::cross(n, u);
-      uint32_t *last = &blocker[size_t(t) * raysPerFace];
-      for (uint32_t k = 0; k < o.points && !seen[i]; ++k) {
-        const glm::dvec3 q = a * weights[k].x + b * weights[k].y + c * weights[k].z + n * nudge;
-        for (size_t j = 0; j < directions.size(); ++j) {
-          const glm::dvec3 &d = directions[j];
-          const glm::dvec3 w = u * d.x + v * d.y + n * d.z;
-          // The ground, analytically (in the tree, its huge triangles would slow every query).
-          if (w.y < 0 && q.y >= ground && q.y - ground < -w.y * reach)
-            continue;
-          // Its own blocker of the last frame, then its neighbours': the previous direction's
-          // (this frame), the next one's (the last frame) and the previous point's.
-          const size_t r = k * directions.size() + j;
-          const uint32_t before = j > 0 ? last[r - 1] : kNone;
-          const uint32_t after = j + 1 < directions.size() ? last[r + 1] : kNone;
-          const uint32_t other = k > 0 ? last[r - directions.size()] : kNone;
-          if (!blocked(q, w, last[r], {last[r], before, after, other})) {
-            seen[i] = 1;
-            break;
-          }
-        }
-      }
+      seen[i] = faceSeen(p, idx, t, side[t], rays, frame, &blocker[size_t(t) * raysPerFace]);
     });
     std::vector<uint32_t> left;
     for (size_t i = 0; i < candidates.size(); ++i) {
@@ -267,35 +321,8 @@ std::vector<uint8_t> hiddenBodyFaces(const Character &merged, uint32_t bodyTrian
     }
     candidates.swap(left);
   }
-
-  // Safety ring: faces sharing a vertex position with a visible face stay visible.
-  if (o.ring > 0) {
-    std::vector<uint32_t> weld(mesh.vertexCount());
-    {
-      std::vector<uint32_t> order(mesh.vertexCount());
-      for (uint32_t v = 0; v < order.size(); ++v)
-        order[v] = v;
-      auto key = [&](uint32_t v) {
-        const auto &q = mesh.positions[v];
-        return std::make_tuple(q.x, q.y, q.z);
-      };
-      std::sort(order.begin(), order.end(),
-                [&](uint32_t x, uint32_t y) { return key(x) != key(y) ? key(x) < key(y) : x < y; });
-      for (size_t i = 0; i < order.size(); ++i)
-        weld[order[i]] = i && key(order[i]) == key(order[i - 1]) ? weld[order[i - 1]] : order[i];
-    }
-    for (uint32_t step = 0; step < o.ring; ++step) {
-      std::vector<uint8_t> touched(mesh.vertexCount(), 0);
-      for (uint32_t t = 0; t < bodyTriangles; ++t)
-        if (!hidden[t])
-          for (int k = 0; k < 3; ++k)
-            touched[weld[idx[3 * t + k]]] = 1;
-      for (uint32_t t = 0; t < bodyTriangles; ++t)
-        for (int k = 0; k < 3; ++k)
-          if (touched[weld[idx[3 * t + k]]])
-            hidden[t] = 0;
-    }
-  }
+  if (o.ring > 0)
+    addSafetyRing(mesh, bodyTriangles, o.ring, hidden);
   return hidden;
 }
 
