@@ -200,27 +200,26 @@ private:
     add(i);
   }
 
+  // The comparison of each chunk type that has one of its own, by tolerance where the player
+  // shows the difference (a new type adds its line here); any other type (outfits, vertex
+  // sources, a registered type) is compared by its codec's description, exactly.
+  using Comparison = void (Differ::*)(const std::string &);
+  static const std::map<std::string, Comparison> &comparisons() {
+    static const std::map<std::string, Comparison> table = {
+        {"PROV", &Differ::provenance},     {"SKEL", &Differ::animationGroup},
+        {"CLIP", &Differ::animationGroup}, {"ANIM", &Differ::animationGroup},
+        {"TRAK", &Differ::animationGroup}, {"MRPH", &Differ::animationGroup},
+        {"SKIN", &Differ::skin},           {"MESH", &Differ::mesh},
+        {"TEXR", &Differ::diffuse},        {"LODS", &Differ::lod},
+        {"IMPO", &Differ::impostor},       {"CLTH", &Differ::cloth},
+        {"TERR", &Differ::terrain}};
+    return table;
+  }
   void compare(const std::string &key) {
-    const std::string type = key.substr(0, 4);
-    if (type == "PROV")
-      provenance(key);
-    else if (type == "SKEL" || type == "CLIP" || type == "ANIM" || type == "TRAK" || type == "MRPH")
-      animationGroup(key);
-    else if (type == "SKIN")
-      skin(key);
-    else if (type == "MESH")
-      mesh(key);
-    else if (type == "TEXR")
-      diffuse(key);
-    else if (type == "LODS")
-      lod(key);
-    else if (type == "IMPO")
-      impostor(key);
-    else if (type == "CLTH")
-      cloth(key);
-    else if (type == "TERR")
-      terrain(key);
-    else // outfits, vertex sources, a registered type: by description, exactly
+    const auto it = comparisons().find(key.substr(0, 4));
+    if (it != comparisons().end())
+      (this->*it->second)(key);
+    else
       byDescription(key);
   }
 
