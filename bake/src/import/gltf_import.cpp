@@ -20,10 +20,10 @@ std::string oneLine(std::string s) {
   return s;
 }
 
+// Where tinygltf hands each image over: `model` as parsed so far (its buffers and views first).
 struct ImageSink {
   EncodedImages *images;
-  const tinygltf::Model
-      *model; // as tinygltf has parsed it so far: its buffers and views come first
+  const tinygltf::Model *model;
 };
 bool keepEncodedImage(tinygltf::Image *image, const int index, std::string *err, std::string *, int,
                       int, const unsigned char *bytes, int size, void *user) {

@@ -1,15 +1,16 @@
+// applyLod: a character's mesh through bakeLod (its triangles, welding groups and poses), and
+// the mesh put back in the LOD order, sub-mesh by sub-mesh.
+#include "crowd/bake/lod_bake.h"
+
 #include <algorithm>
 #include <array>
 #include <map>
 
 #include "crowd/bake/character.h"
 #include "crowd/bake/evaluate.h"
-#include "crowd/bake/lod_bake.h"
 #include "crowd/formats/error.h"
 #include "float_key.h"
 
-// applyLod: a character's mesh through bakeLod (its triangles, welding groups and poses), and
-// the mesh put back in the LOD order, sub-mesh by sub-mesh.
 namespace crowd {
 
 LodTriangles lodTriangles(const SkinnedMesh &in) {
