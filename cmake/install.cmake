@@ -11,9 +11,10 @@ install(DIRECTORY ${PROJECT_SOURCE_DIR}/formats/include/ ${CMAKE_BINARY_DIR}/gen
 set(crowd_targets crowd_formats)
 set(CROWD_PC_FILES crowdbake-formats)
 if(NOT CROWD_FORMATS_ONLY)
-  list(APPEND crowd_targets crowd_runtime crowd_gl)
+  list(APPEND crowd_targets crowd_support crowd_runtime crowd_gl)
   list(APPEND CROWD_PC_FILES crowdbake-runtime)
-  install(DIRECTORY ${PROJECT_SOURCE_DIR}/runtime/include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+  install(DIRECTORY ${PROJECT_SOURCE_DIR}/support/include/ ${PROJECT_SOURCE_DIR}/runtime/include/
+    DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
   install(TARGETS crowdbake crowdplay RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
   install(TARGETS crowd_oiio LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}/crowdbake)
   install(FILES ${CROWD_SHADER_FILES} DESTINATION ${CMAKE_INSTALL_DATADIR}/crowdbake/shaders)

@@ -17,6 +17,58 @@ namespace crowd::pack {
 
 using namespace checks;
 
+namespace {
+
+// The animation texture, the clip table and the skin texture against each other and the
+// skeleton: joint counts, every clip inside the texture and every frame in a clip, one skin
+// entry per mesh vertex naming real joints.
+void checkFramesAndSkin(const AnimationPack &p, const std::string &pack) {
+  auto ctx = [&](uint32_t type) { return "pack '" + pack + "', chunk " + fourccName(type); };
+  if (p.animation.jointCount != p.skeleton.jointCount())
+    throw Error(ctx(kAnimationTexture) +
+                ", field 'joint count': " + std::to_string(p.animation.jointCount) +
+                " but the skeleton has " + std::to_string(p.skeleton.jointCount()));
+  for (const auto &c : p.clips)
+    if (uint64_t(c.firstFrame) + c.frameCount > p.animation.frameCount)
+      throw Error(ctx(kClips) + ", field 'first frame': clip '" + c.name +
+                  "' runs past the texture's " + std::to_string(p.animation.frameCount) +
+                  " frames");
+  // Every frame belongs to a clip (a pack without clips has nothing a consumer may play, and
+  // export, pose and the player index its first clip).
+  std::vector<std::pair<uint64_t, uint64_t>> spans; // [first, end) of each clip's frames
+  for (const auto &c : p.clips)
+    spans.push_back({c.firstFrame, uint64_t(c.firstFrame) + c.frameCount});
+  std::sort(spans.begin(), spans.end());
+  uint64_t covered = 0;
+  for (const auto &[first, end] : spans) {
+    if (first > covered)
+      break;
+    covered = std::max(covered, end);
+  }
+  if (covered < p.animation.frameCount)
+    throw Error(ctx(kClips) + ", field 'clip count': " +
+                (p.clips.empty() ? std::string("no clips, ")
+                                 : std::to_string(p.clips.size()) + " clips, ") +
+                "and frame " + std::to_string(covered) + " of the texture's " +
+                std::to_string(p.animation.frameCount) + " belongs to none");
+  if (p.skin.vertexCount != p.mesh.vertexCount())
+    throw Error(ctx(kSkinTexture) +
+                ", field 'vertex count': " + std::to_string(p.skin.vertexCount) +
+                " but the mesh has " + std::to_string(p.mesh.vertexCount()));
+  for (uint32_t v = 0; v < p.skin.vertexCount; ++v)
+    for (int k = 0; k < 4; ++k) {
+      const float id = p.skin.texels[size_t(v) * 8 + k]; // a whole joint index, as a float
+      if (!(id >= 0 && id < float(p.skeleton.jointCount()) && id == std::floor(id))) {
+        char text[32];
+        std::snprintf(text, sizeof text, "%g", double(id));
+        throw Error(ctx(kSkinTexture) + ", field 'texels': vertex " + std::to_string(v) +
+                    " uses joint " + text + " of " + std::to_string(p.skeleton.jointCount()));
+      }
+    }
+}
+
+} // namespace
+
 AnimationPack loadAnimationPack(const Reader &reader) {
   auto ctx = [&](uint32_t type) {
     return "pack '" + reader.name() + "', chunk " + fourccName(type);
@@ -103,47 +155,7 @@ AnimationPack loadAnimationPack(const Reader &reader) {
         throw Error(ctx(kJointTracks) + ", field 'clip name': clip " + std::to_string(i) + " is '" +
                     p.tracks->clips[i].name + "', the clip table's '" + p.clips[i].name + "'");
   }
-  if (p.animation.jointCount != p.skeleton.jointCount())
-    throw Error(ctx(kAnimationTexture) +
-                ", field 'joint count': " + std::to_string(p.animation.jointCount) +
-                " but the skeleton has " + std::to_string(p.skeleton.jointCount()));
-  for (const auto &c : p.clips)
-    if (uint64_t(c.firstFrame) + c.frameCount > p.animation.frameCount)
-      throw Error(ctx(kClips) + ", field 'first frame': clip '" + c.name +
-                  "' runs past the texture's " + std::to_string(p.animation.frameCount) +
-                  " frames");
-  // Every frame belongs to a clip (a pack without clips has nothing a consumer may play, and
-  // export, pose and the player index its first clip).
-  std::vector<std::pair<uint64_t, uint64_t>> spans; // [first, end) of each clip's frames
-  for (const auto &c : p.clips)
-    spans.push_back({c.firstFrame, uint64_t(c.firstFrame) + c.frameCount});
-  std::sort(spans.begin(), spans.end());
-  uint64_t covered = 0;
-  for (const auto &[first, end] : spans) {
-    if (first > covered)
-      break;
-    covered = std::max(covered, end);
-  }
-  if (covered < p.animation.frameCount)
-    throw Error(ctx(kClips) + ", field 'clip count': " +
-                (p.clips.empty() ? std::string("no clips, ")
-                                 : std::to_string(p.clips.size()) + " clips, ") +
-                "and frame " + std::to_string(covered) + " of the texture's " +
-                std::to_string(p.animation.frameCount) + " belongs to none");
-  if (p.skin.vertexCount != p.mesh.vertexCount())
-    throw Error(ctx(kSkinTexture) +
-                ", field 'vertex count': " + std::to_string(p.skin.vertexCount) +
-                " but the mesh has " + std::to_string(p.mesh.vertexCount()));
-  for (uint32_t v = 0; v < p.skin.vertexCount; ++v)
-    for (int k = 0; k < 4; ++k) {
-      const float id = p.skin.texels[size_t(v) * 8 + k]; // a whole joint index, as a float
-      if (!(id >= 0 && id < float(p.skeleton.jointCount()) && id == std::floor(id))) {
-        char text[32];
-        std::snprintf(text, sizeof text, "%g", double(id));
-        throw Error(ctx(kSkinTexture) + ", field 'texels': vertex " + std::to_string(v) +
-                    " uses joint " + text + " of " + std::to_string(p.skeleton.jointCount()));
-      }
-    }
+  checkFramesAndSkin(p, reader.name());
   return p;
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 #include "crowd/formats/error.h"
 #include "crowd/formats/limits.h"
@@ -11,7 +12,7 @@ namespace crowd::runtime {
 
 namespace {
 
-constexpr float kPi = 3.14159265358979f;
+constexpr float kPi = std::numbers::pi_v<float>;
 constexpr size_t kNowhere = std::numeric_limits<size_t>::max();
 
 uint64_t mix(uint64_t x) { // splitmix64's finaliser

@@ -2,16 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include <glm/gtc/type_ptr.hpp>
 
 #include "crowd/formats/bc5.h"
 
 namespace crowd::runtime {
-
-namespace {
-constexpr double kPi = 3.14159265358979323846;
-}
 
 ImpostorFrame impostorViewFrame(double azimuth, double elevation) {
   ImpostorFrame v;
@@ -23,8 +20,8 @@ ImpostorFrame impostorViewFrame(double azimuth, double elevation) {
 }
 
 ImpostorFrame impostorViewFrame(const pack::Impostor &m, uint32_t elevation, uint32_t azimuth) {
-  return impostorViewFrame(2 * kPi * azimuth / m.azimuths,
-                           0.5 * kPi * (elevation + 0.5) / m.elevations);
+  return impostorViewFrame(2 * std::numbers::pi * azimuth / m.azimuths,
+                           0.5 * std::numbers::pi * (elevation + 0.5) / m.elevations);
 }
 
 ImpostorChoice chooseImpostorViews(const pack::Impostor &m, glm::dvec3 toEye, double clipTime,
@@ -40,9 +37,9 @@ ImpostorChoice chooseImpostorViews(const pack::Impostor &m, glm::dvec3 toEye, do
   // degrees; below the first and above the last row the nearest row).
   const double len = glm::length(toEye);
   const double el = len > 0 ? std::asin(std::clamp(toEye.y / len, 0.0, 1.0)) : 0.0;
-  const double ga = std::atan2(toEye.x, toEye.z) / (2 * kPi / m.azimuths);
+  const double ga = std::atan2(toEye.x, toEye.z) / (2 * std::numbers::pi / m.azimuths);
   const double ge =
-      std::clamp(el / (0.5 * kPi / m.elevations) - 0.5, 0.0, double(m.elevations - 1));
+      std::clamp(el / (0.5 * std::numbers::pi / m.elevations) - 0.5, 0.0, double(m.elevations - 1));
   const long a0 = long(std::floor(ga)), e0 = std::min(long(ge), long(m.elevations) - 1);
   const long e1 = std::min(e0 + 1, long(m.elevations) - 1);
   const double s = ga - double(a0), t = ge - double(e0);

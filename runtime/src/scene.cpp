@@ -10,7 +10,7 @@
 #include "crowd/formats/error.h"
 #include "crowd/formats/file_read.h"
 #include "crowd/formats/limits.h"
-#include "crowd/runtime/json_checker.h"
+#include "crowd/support/json_checker.h"
 
 namespace crowd::runtime {
 namespace {
@@ -18,9 +18,9 @@ namespace {
 using nlohmann::json;
 
 // The scene's own value shapes on top of the shared checks.
-class Checker : public JsonChecker {
+class Checker : public support::JsonChecker {
 public:
-  using JsonChecker::JsonChecker;
+  using support::JsonChecker::JsonChecker;
 
   glm::dvec3 vec3(const json &j, const std::vector<std::string> &keys) const {
     if (!j.is_array() || j.size() != 3)

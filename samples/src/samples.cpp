@@ -13,7 +13,7 @@
 
 #include "crowd/formats/container.h"
 #include "crowd/formats/error.h"
-#include "crowd/runtime/images.h"
+#include "crowd/support/images.h"
 #include "rig.h"
 #include "village.h"
 

@@ -1,4 +1,4 @@
-// The agents' step time (issue 16, item 4): the sample village's terrain (its 80 x 80 m, and
+// The agents' step time: the sample village's terrain (its 80 x 80 m, and
 // tiled 2 x 2 for 30k agents), agents spawned over it, every cell wandering, one core (the step
 // is sequential by design: agents move in index order). Per crowd: the mean CPU time of a step
 // over a simulated minute, against the same crowd looking one cell ahead instead of three (the

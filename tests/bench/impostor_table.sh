@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Impostor bake figures for the sample humanoid's walk (16 frames): accuracy and memory against
 # the view count (8x4, 16x8, 32x8, 64x16 at 128 texels, mirrored) and against texels per view
-# (32..256 at 32x8), charted as accuracy against bytes per frame (issue 15's memory/accuracy
+# (32..256 at 32x8), charted as accuracy against bytes per frame (the memory/accuracy
 # chart), and bake time at 1 and 2 threads (32x8, 128 texels, unmirrored: the speed target).
 # Accuracy: frame 0 redrawn from the stored views against the true render, at the views and
 # halfway between them, and popping (the largest per-pixel change a step of a slow orbit, in 8-bit

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# LOD speed against a baseline in the same run (issue 17, item 1): this build's lod_bench and a
+# LOD speed against a baseline in the same run: this build's lod_bench and a
 # baseline's, both in --times-only mode on the models of lod_assets.sh, alternating for ROUNDS
 # rounds (who goes first swaps each round). Per model and figure, the median over the rounds of
 # this build's time over the baseline's: on a noisy machine single timings move by 30%, these

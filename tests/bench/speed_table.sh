@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Bake speed per character and per job of the demo library (issue 17, item 6): this crowdbake
+# Bake speed per character and per job of the demo library: this crowdbake
 # against a baseline crowdbake (the previous release) in the same run, each building the library
 # cold (its own empty cache), one after the other on the same machine. Per job: seconds for both,
 # the ratio, the input size and this build's throughput. Writes OUT/speed_table.csv.

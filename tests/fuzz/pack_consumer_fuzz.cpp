@@ -1,4 +1,4 @@
-// Fuzzes what consumers do with a pack the reader accepts (issue 68: a pack that verified crashed
+// Fuzzes what consumers do with a pack the reader accepts (a pack that verified once crashed
 // export and the player): the player's CPU-side preparation (joint texel and morph slot words,
 // cloth buffers, LOD ladders and their index data, render queues, impostor mips and spans, joint
 // track words and palettes, no GL), crowdbake pose at a few times, and the images export writes.

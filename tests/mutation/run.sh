@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The mutation check (issue 64; not in CI): each mutation of tests/mutation/mutations.txt changes
+# The mutation check (not in CI): each mutation of tests/mutation/mutations.txt changes
 # one line that carries a central decision, rebuilds BUILD (default build/, configured), runs the
 # tests that should catch it and restores the line; a table of caught and surviving mutations
 # goes to stdout and to OUT (default docs/mutation.md). A mutation whose line is no longer in its

@@ -756,7 +756,7 @@ TEST(Player, BadInputIsOneClearLine) {
 } // namespace
 
 namespace {
-// Issue 68: a pack whose clip table was emptied (checksums recomputed) drew the bind pose alone
+// A pack whose clip table was emptied (checksums recomputed) drew the bind pose alone
 // and crashed with an impostor in a scene; the loader rejects it, in one line.
 TEST(Player, APackWhoseFramesNoClipOwnsIsOneClearLine) {
   const std::string texture = work() + "/humanoid_texture.crowdpack";

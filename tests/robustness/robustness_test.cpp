@@ -1,4 +1,5 @@
 // Malformed inputs through the real CLI: each must exit 1 with one line naming the problem.
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -136,6 +137,25 @@ const std::vector<Case> kCases = {
        size_t offset = b.j["bufferViews"][view]["byteOffset"];
        b.bin[offset + 4] = 7;
        return b.write(d, "j");
+     }},
+    // Found by the glTF fuzzer: a float accessor's 1e24 as an index was cast to an integer.
+    {"float_index_past_every_integer", "index 1 = 1.20892582e+24 names no vertex of 4",
+     [](const std::string &d) {
+       auto b = quad();
+       int idx = b.j["meshes"][0]["primitives"][0]["indices"];
+       b.j["accessors"][size_t(idx)]["componentType"] = 5126;
+       b.j["accessors"][size_t(idx)]["count"] = 3;
+       poke(b, idx, 0, 0.0f);
+       poke(b, idx, 1, std::ldexp(1.0f, 80)); // exact in a float
+       poke(b, idx, 2, 2.0f);
+       return b.write(d, "fi");
+     }},
+    {"fractional_joint", "uses joint 0.5 but the skin has 2",
+     [](const std::string &d) {
+       auto b = quad();
+       int joints = b.floats({0, 1, 0, 0, 0.5f, 1, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0}, "VEC4");
+       b.j["meshes"][0]["primitives"][0]["attributes"]["JOINTS_0"] = joints;
+       return b.write(d, "fj");
      }},
     {"negative_weight", "negative weight",
      [](const std::string &d) {
@@ -366,7 +386,7 @@ TEST(DamagedPack, TruncatedAndBitFlippedPacksFailVerify) {
   fs::remove_all(dir);
 }
 
-// Issue 68: a pack whose clip table was emptied, its checksums recomputed (what a bad tool or a
+// A pack whose clip table was emptied, its checksums recomputed (what a bad tool or a
 // hand edit writes), crashed export (it previews the first clip). The loader every consumer uses
 // now rejects a texture whose frames belong to no clip: one line each, naming the chunk.
 TEST(DamagedPack, FramesThatNoClipOwnsAreRejectedByEveryConsumer) {

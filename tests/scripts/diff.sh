@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# crowdbake diff's acceptance (issue 18): a pack against itself and against a re-bake at another
+# crowdbake diff's acceptance: a pack against itself and against a re-bake at another
 # thread count exits 0; against a bake at another precision 1 or 2, naming the worst joint, clip
 # and time; a truncated pack, a bad tolerances file and a FIFO for one exit 4 with one clear
 # line; --report writes the verdict and the tolerances used.

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The outfit hole check fails where it should (issue 64): visibility forced coarse (3 rays, one
+# The outfit hole check fails where it should: visibility forced coarse (3 rays, one
 # point per face, every 30th frame, no ring) hides faces that show, and both `outfits --check K`
 # and a library build with "visibility": {"check": K} exit 1 with one error naming the body
 # parts, the frame and the view. With FULL=1 (release) the sample outfits at the tests' settings

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# crowdbake report (issue 18): a library build (two characters: LOD, outfits, a cloth loop,
+# crowdbake report: a library build (two characters: LOD, outfits, a cloth loop,
 # impostors) and a bake report into one page, which loads in Debian's chromium headless (its DOM
 # holds every chart the page has, its screenshot is not blank, its console is silent); a JSON
 # that is not a report and a folder without a build report are clear errors. Without chromium

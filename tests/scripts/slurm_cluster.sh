@@ -38,7 +38,7 @@ chmod 700 "$dir/munge"
 # A free pair of ports: the daemons of another test run may hold the usual ones.
 port=$((20000 + RANDOM % 20000))
 host=$(hostname -s)
-cpus=$(nproc)
+cpus=${CPUS:-$(nproc)} # more than the cores: latency-bound tiny tasks (slurm_bench.sh)
 memory=$(awk '/MemTotal/ {print int($2 / 1024 * 0.8)}' /proc/meminfo)
 cat > "$dir/slurm.conf" <<EOF
 ClusterName=crowdbake-test
@@ -60,6 +60,7 @@ SchedulerType=sched/backfill
 SelectType=select/cons_tres
 SelectTypeParameters=CR_Core
 ReturnToService=2
+SlurmdParameters=config_overrides
 StateSaveLocation=$dir/state
 SlurmdSpoolDir=$dir/spool
 SlurmctldPidFile=$dir/slurmctld.pid
@@ -68,7 +69,7 @@ SlurmctldLogFile=$dir/slurmctld.log
 SlurmdLogFile=$dir/slurmd.log
 SlurmctldDebug=info
 SlurmdDebug=info
-MaxArraySize=100000
+MaxArraySize=${MAX_ARRAY_SIZE:-100000}
 NodeName=$host CPUs=$cpus RealMemory=$memory State=UNKNOWN
 PartitionName=test Nodes=$host Default=YES MaxTime=INFINITE State=UP
 EOF

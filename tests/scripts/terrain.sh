@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# crowdbake terrain from the command line (issue 16): the sample village bakes, verifies, exports
+# crowdbake terrain from the command line: the sample village bakes, verifies, exports
 # its three maps and is byte-identical at 1 and 2 threads; bad options are usage errors (exit 2)
 # and bad environments one-line errors (exit 1) that leave no pack behind.
 set -euo pipefail

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# crowdplay with a world (issue 16): samples/scenes/village.json's agents walk the sample
+# crowdplay with a world: samples/scenes/village.json's agents walk the sample
 # village's terrain and draw (headless, Mesa under Xvfb); a walker casts its shadow on the ground;
 # a behaviour image of another size than the terrain's grid, a missing terrain pack and a FIFO
 # for an image are one-line errors.

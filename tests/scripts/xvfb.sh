@@ -17,7 +17,7 @@ cleanup() {
 }
 trap cleanup EXIT
 mkfifo "$dir/display"
-Xvfb -displayfd 3 -screen 0 640x480x24 -nolisten tcp 3>"$dir/display" 2>"$dir/log" &
+Xvfb -displayfd 3 -screen 0 640x480x24 -nolisten tcp -noreset 3>"$dir/display" 2>"$dir/log" &
 server=$!
 # The number comes once the server is ready; if it dies first, the pipe closes empty.
 read -r -t 60 number <"$dir/display" || number=
@@ -26,9 +26,11 @@ if [ -z "$number" ]; then
   sed 's/^/  Xvfb: /' "$dir/log" >&2
   exit 1
 fi
-# Ready is not always accepting: this stop's CI lost preview_keys to "Failed to open display :0"
-# with -displayfd's number in hand and an empty server log. Where xdotool is installed, a client
-# must connect (up to 10 s) before the command runs; one that never does is said so here.
+# -noreset: by default the server resets each time its last client leaves, and a client that
+# connects during the reset is refused (xorg/xserver issue 1102). Twice a CI run lost
+# preview_keys to it: "Failed to open display :0" with -displayfd's number in hand, a client
+# already seen to connect, and an empty server log. Where xdotool is installed, a client must
+# still connect (up to 10 s) before the command runs; one that never does is said so here.
 if command -v xdotool >/dev/null; then
   for _ in $(seq 100); do
     DISPLAY=:$number xdotool getdisplaygeometry >/dev/null 2>&1 && break

@@ -231,7 +231,7 @@ TEST(LoopSearch, StreamsFromAPointCacheAFewVerticesAtATime) {
 
 // The sample caches (samples/src/cloth_sim.cpp) through both passes and the verdict, 12 cycles
 // of each here (the samples simulate 40; loop_search_bench measures those): the loose skirts
-// close within the target (seam jumps under the mean per-frame motion and velocity
+// close within the target (seam jumps under the mean per-frame motion and velocity
 // change) and the verdict's stricter limit, without repeating exactly; the stiff one settles;
 // noise is rejected, with its figures.
 TEST(SampleCloth, LooseSkirtsCloseStiffOnesSettleNoiseNever) {
@@ -258,7 +258,7 @@ TEST(SampleCloth, LooseSkirtsCloseStiffOnesSettleNoiseNever) {
   }
   for (const char *loose : {"skirt_walk.pc2", "skirt_run.pc2"}) {
     EXPECT_TRUE(r[loose].acceptable) << loose;
-    EXPECT_LE(r[loose].velocityRatio, 1.0) << loose; // the targets
+    EXPECT_LE(r[loose].velocityRatio, 1.0) << loose; // the targets
     EXPECT_LE(r[loose].positionRatio, 1.0) << loose;
     EXPECT_LT(r[loose].bestToMedian, 0.5) << loose;
     EXPECT_GT(r[loose].positionRatio, 2 * r["skirt_stiff.pc2"].positionRatio)

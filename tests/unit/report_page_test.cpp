@@ -62,7 +62,7 @@ TEST(ReportPage, ABuildReportGivesEachCharacterItsJobsAndCharts) {
             "verdict": "a hard cut", "pass1": {"by_cycles": [{"cycles": 1, "distance": 2e-6}]},
             "candidates": [{"start": 99, "cycles": 4, "pass1_rank": 0, "pass2_edge_px": 0.58}]}}]},
       {"name": "broken", "status": "failed", "error": "broken.glb: not <glTF>", "jobs": []}]})");
-  const std::string page = reportPage({{"out/build.report.json", build}});
+  const std::string page = reportPages({{"out/build.report.json", build}}, "d").page;
   EXPECT_EQ(page.rfind("<!DOCTYPE html>", 0), 0u);
   EXPECT_NE(page.find("<h2>walker</h2>"), std::string::npos);
   EXPECT_NE(page.find("<h2>broken</h2>"), std::string::npos);
@@ -82,15 +82,38 @@ TEST(ReportPage, ATerrainBakeReportGivesItsMaps) {
     "output": "village.crowdpack", "pack_bytes": 1152704, "time_s": 0.2,
     "terrain": {"cells": [320, 320], "cell": 0.25, "walkable_cells": 94056,
       "unreachable_cells": 8344, "walkable_cells_in_shadow": 4959}})");
-  const std::string page = reportPage({{"village.json", report}});
+  const std::string page = reportPages({{"village.json", report}}, "d").page;
   EXPECT_NE(page.find("<h1>crowdbake terrain of village.glb</h1>"), std::string::npos);
   EXPECT_NE(page.find("94056 walkable cells of 0.25 model units"), std::string::npos) << page;
   EXPECT_NE(page.find("4959 in shadow, 8344 flat but unreachable"), std::string::npos);
 }
 
+TEST(ReportPage, ALargeBuildIsASummaryWithAPagePerCharacter) {
+  nlohmann::json build = {{"input", "lib.json"}, {"characters", nlohmann::json::array()}};
+  const size_t n = ReportPages::kInlineCharacters + 5;
+  for (size_t i = 0; i < n; ++i)
+    build["characters"].push_back(
+        {{"name", std::string("c").append(std::to_string(i))},
+         {"status", i == 7 ? "failed" : "ok"},
+         {"error", i == 7 ? "c7: mesh: ran 9.0 s, over --job-max-seconds 8 s: killed" : ""},
+         {"jobs", {{{"kind", "link"}, {"label", "c: link"}, {"seconds", 0.1}}}}});
+  const ReportPages pages = reportPages({{"out/build.report.json", build}}, "r.characters");
+  ASSERT_EQ(pages.characterPages.size(), n);
+  EXPECT_EQ(pages.characterPages[0].first, "c7.html"); // the failed first
+  const size_t link = pages.page.find("<a href=\"r.characters/c7.html\">c7</a>");
+  EXPECT_NE(link, std::string::npos);
+  EXPECT_LT(link, pages.page.find("r.characters/c0.html"));
+  EXPECT_NE(pages.page.find("over --job-max-seconds 8 s"), std::string::npos);
+  EXPECT_NE(pages.characterPages[3].second.find("<h2>c2</h2>"), std::string::npos);
+  EXPECT_EQ(pages.page.find("<h2>"), std::string::npos); // no character's section inline
+  while (build["characters"].size() > ReportPages::kInlineCharacters) // 20: one page, as before
+    build["characters"].erase(build["characters"].size() - 1);
+  EXPECT_TRUE(reportPages({{"b.json", build}}, "d").characterPages.empty());
+}
+
 TEST(ReportPage, WhatIsNotAReportIsAClearError) {
   try {
-    reportPage({{"a.json", nlohmann::json::parse(R"({"name": "x"})")}});
+    reportPages({{"a.json", nlohmann::json::parse(R"({"name": "x"})")}}, "d");
     FAIL() << "accepted";
   } catch (const Error &e) {
     EXPECT_NE(std::string(e.what()).find("a.json: neither a build report"), std::string::npos)
@@ -98,5 +121,5 @@ TEST(ReportPage, WhatIsNotAReportIsAClearError) {
   }
   const auto mistyped = nlohmann::json::parse(
       R"({"characters": [{"name": "a", "jobs": [{"kind": "mesh", "cached": "yes"}]}]})");
-  EXPECT_THROW(reportPage({{"b.json", mistyped}}), Error);
+  EXPECT_THROW(reportPages({{"b.json", mistyped}}, "d").page, Error);
 }

@@ -2,7 +2,10 @@
 
 #include <chrono>
 #include <filesystem>
+#include <sys/resource.h>
+#include <unistd.h>
 
+#include "crowd/bake/cache_admin.h"
 #include "crowd/bake/manifest.h"
 #include "crowd/bake/provenance.h"
 #include "crowd/formats/container.h"
@@ -71,17 +74,68 @@ void findUpToDatePacks(BuildPlan &plan) {
   }
 }
 
+namespace {
+
+// How a child process finds job `job` of the plan again (job_process.h).
+JobSpec jobSpec(const BuildOptions &o, const BuildPlan &plan, size_t job, int threads) {
+  size_t c = 0;
+  while (plan.ranges[c].second < job)
+    ++c;
+  const CharacterManifest &m = plan.library.characters[c];
+  JobSpec s;
+  s.library = plan.library.path;
+  s.entry = m.entry;
+  s.job = job - plan.ranges[c].first;
+  s.key = plan.jobs[job].key;
+  s.cache = plan.cache;
+  s.threads = threads;
+  s.files = o.files;
+  s.scene = o.scene;
+  s.limits = m.limits.over(o.jobLimits);
+  s.parent = ::getpid();
+  return s;
+}
+
+} // namespace
+
 BuildResult build(const BuildOptions &o) {
   const auto t0 = std::chrono::steady_clock::now();
   BuildPlan plan = planBuild(o);
+  const CacheLease lease(plan.cache); // before the cache is read: a gc keeps what it uses
   findUpToDatePacks(plan);
   ExecutorOptions executor = o.executor;
   executor.written.assign(plan.jobs.size(), 0);
   for (size_t c = 0; c < plan.ranges.size(); ++c)
     executor.written[plan.ranges[c].second] = plan.upToDate[c];
+  if (!o.jobExecutable.empty())
+    executor.runApart = [&](size_t i, int threads) {
+      return runJobProcess(o.jobExecutable, jobSpec(o, plan, i, threads));
+    };
+  std::vector<PackWrite> writes(plan.packs.size());
+  std::vector<size_t> linkOf(plan.jobs.size(), plan.packs.size()); // job -> its character's pack
+  for (size_t c = 0; c < plan.ranges.size(); ++c)
+    linkOf[plan.ranges[c].second] = c;
+  executor.finished = [&](size_t i, JobOutcome &out) {
+    const size_t c = linkOf[i];
+    if (c == plan.packs.size() || plan.upToDate[c])
+      return;
+    writes[c] = writePack(plan, c, out.part);
+    out.part.chunks = {}; // written: its figures stay for the report
+  };
   const auto outcomes = executeJobs(plan.jobs, ContentCache(plan.cache), executor);
-  return finishBuild(o, plan, outcomes,
-                     std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  BuildResult r =
+      finishBuild(o, plan, outcomes, writes,
+                  std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  if (!lease.problem().empty())
+    r.report["cache_lease"] = lease.problem();
+  // Peak resident memory: this process's (the plan, the parts of the packs being written, the
+  // report) and the largest job's (a child process; 0 when every job ran here).
+  rusage self{}, children{};
+  getrusage(RUSAGE_SELF, &self);
+  getrusage(RUSAGE_CHILDREN, &children);
+  r.report["peak_memory_mib"] = {{"build", self.ru_maxrss / 1024},
+                                 {"largest_job", children.ru_maxrss / 1024}};
+  return r;
 }
 
 namespace {
@@ -125,8 +179,24 @@ ordered_json sceneSavings(const BuildPlan &plan) {
 
 } // namespace
 
+PackWrite writePack(const BuildPlan &plan, size_t c, const Part &link) {
+  PackWrite w;
+  try {
+    const auto bytes = characterPackBytes(link);
+    pack::writeFileAtomic(plan.packs[c], bytes);
+    w.bytes = bytes.size();
+    ContentCache(plan.cache)
+        .recordPack(plan.jobs[plan.ranges[c].second].key, hashFile(plan.packs[c]).hash);
+    w.written = true;
+  } catch (const std::exception &e) {
+    w.error = e.what();
+  }
+  return w;
+}
+
 BuildResult finishBuild(const BuildOptions &o, const BuildPlan &plan,
-                        const std::vector<JobOutcome> &outcomes, double seconds) {
+                        const std::vector<JobOutcome> &outcomes,
+                        const std::vector<PackWrite> &writes, double seconds) {
   const Library &lib = plan.library;
   const auto &jobs = plan.jobs;
   const auto &ranges = plan.ranges;
@@ -136,6 +206,11 @@ BuildResult finishBuild(const BuildOptions &o, const BuildPlan &plan,
   r["input"] = o.input;
   r["output"] = o.output;
   r["cache"] = plan.cache;
+  // The summary first (set below): at a thousand characters the report is tens of MB.
+  for (const char *key :
+       {"jobs", "characters_failed", "failed_characters", "interrupted", "time_s"})
+    r[key] = nullptr;
+  r["failed_characters"] = ordered_json::array();
   size_t run = 0, cached = 0, failed = 0;
   for (size_t c = 0; c < lib.characters.size(); ++c) {
     CharacterBuild cb;
@@ -157,30 +232,28 @@ BuildResult finishBuild(const BuildOptions &o, const BuildPlan &plan,
         jj["error"] = out.error;
       if (!out.cacheProblem.empty())
         jj["damaged_cache_entry"] = out.cacheProblem;
+      if (!out.retried.empty())
+        jj["retried_after"] = out.retried;
+      result.interrupted = result.interrupted || out.interrupted;
       if (!out.failed)
         jj["figures"] = out.part.figures;
       cj["jobs"].push_back(jj);
     }
     cb.failed = cb.failedJobs > 0;
-    const JobOutcome &link = outcomes[ranges[c].second];
     if (!cb.failed && plan.upToDate[c]) {
       cb.pack = plan.packs[c];
       cb.bytes = fs::file_size(cb.pack);
-    } else if (!cb.failed) {
+    } else if (!cb.failed && writes[c].written) {
       cb.pack = plan.packs[c];
-      const auto bytes = characterPackBytes(link.part);
-      try {
-        pack::writeFileAtomic(cb.pack, bytes);
-        cb.bytes = bytes.size();
-        ContentCache(plan.cache).recordPack(jobs[ranges[c].second].key, hashFile(cb.pack).hash);
-      } catch (const std::exception &e) {
-        cb.failed = true;
-        cb.error = e.what();
-        cb.pack.clear();
-      }
+      cb.bytes = writes[c].bytes;
+    } else if (!cb.failed) {
+      cb.failed = true;
+      cb.error = writes[c].error.empty() ? plan.packs[c] + ": not written" : writes[c].error;
     }
     run += cb.run, cached += cb.cached, failed += cb.failedJobs;
     cj["status"] = cb.failed ? "failed" : "ok";
+    if (cb.failed)
+      r["failed_characters"].push_back(cb.name);
     if (cb.failed)
       cj["error"] = cb.error;
     cj["pack"] = cb.pack;
@@ -195,6 +268,7 @@ BuildResult finishBuild(const BuildOptions &o, const BuildPlan &plan,
   }
   r["jobs"] = {{"total", jobs.size()}, {"run", run}, {"cached", cached}, {"failed", failed}};
   r["characters_failed"] = result.failed();
+  r["interrupted"] = result.interrupted;
   r["time_s"] = seconds;
   if (!o.scene.scene.empty()) {
     r["scene"] = plan.scene;

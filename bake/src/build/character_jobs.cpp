@@ -1,5 +1,6 @@
-// The jobs of a character build: mesh (outfits, LOD, animation), impostor per (clip, outfit),
-// and the link that writes one character pack from their parts.
+// A character's mesh job (outfits, LOD, animation), its link job (one character pack from the
+// parts of all its jobs), and planCharacter, which lists them all; the impostor, cloth and
+// terrain jobs live in their bakes' folders.
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
@@ -13,69 +14,15 @@
 #include "crowd/bake/provenance.h"
 #include "crowd/formats/character_pack.h"
 #include "crowd/formats/error.h"
+#include "job_inputs.h"
 
 namespace crowd {
+
+using namespace jobs;
 
 namespace {
 
 using nlohmann::ordered_json;
-using Clock = std::chrono::steady_clock;
-
-double since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-// A job's reporter: its warnings go to the part's figures, not stderr; its steps to the context.
-Reporter jobReporter(const JobContext &context) {
-  Reporter r;
-  r.quiet = true;
-  r.onStep = context.progress;
-  return r;
-}
-
-ordered_json warnings(const Reporter &r) {
-  ordered_json list = ordered_json::array();
-  for (const auto &w : r.warnings())
-    list.push_back({{"code", w.code}, {"message", w.message}, {"count", w.count}});
-  return list;
-}
-
-// Keeps only the manifest's clips, in the manifest's order; an unknown name is an error that
-// lists the file's clips.
-void keepClips(Character &c, const std::vector<std::string> &names, const std::string &file) {
-  if (names.empty())
-    return;
-  std::vector<AnimationClip> kept;
-  for (const auto &name : names) {
-    auto it = std::find_if(c.clips.begin(), c.clips.end(), [&](auto &k) { return k.name == name; });
-    if (it == c.clips.end())
-      throw Error(file + ": " + unknownName("clip", name, c.clipNames()).what());
-    kept.push_back(*it);
-  }
-  c.clips = std::move(kept);
-}
-
-// A file of the manifest (its body or an outfit), read under the manifest's input policy.
-Character importFile(const CharacterManifest &m, const std::string &file, Reporter &reporter,
-                     const std::string &mesh = "") {
-  ImportOptions io;
-  io.input = m.input;
-  io.mesh = mesh;
-  return importGltf(file, io, reporter);
-}
-
-Character importBody(const CharacterManifest &m, Reporter &reporter) {
-  Character body = importFile(m, m.body, reporter, m.mesh);
-  keepClips(body, m.clips, m.body);
-  return body;
-}
-
-std::string outfitFile(const CharacterManifest &m, const std::string &outfit) {
-  for (const auto &[name, file] : m.outfits)
-    if (name == outfit)
-      return file;
-  throw Error("character '" + m.name + "': no outfit named '" + outfit + "'");
-}
 
 void addChunks(Part &part, const std::vector<uint8_t> &packBytes, bool withProvenance) {
   pack::Reader r(packBytes, "part");
@@ -127,40 +74,38 @@ void addLoops(std::vector<OutfitInput> &outfits, const std::vector<const Part *>
 }
 
 Part meshJob(const Job &job, const std::vector<const Part *> &cloths, const JobContext &context) {
-  const int threads = context.threads;
-  const CharacterManifest &m = *job.character;
-  const auto t0 = Clock::now();
-  Reporter reporter = jobReporter(context);
-  Character body = importBody(m, reporter);
+  JobRun run(job, context);
+  const CharacterManifest &m = run.m;
+  Character body = importBody(m, run.reporter);
   Part part;
   auto &f = part.figures;
   f["input_triangles"] = body.mesh.indices.size() / 3;
   f["joints"] = body.jointCount();
-  f["import_s"] = since(t0);
+  f["import_s"] = since(run.t0);
   AnimBakeResult anim;
   if (m.outfits.empty()) {
     std::optional<pack::Lod> lod;
     if (m.lod) {
       const auto t1 = Clock::now();
-      lod = applyLod(body, m.lodOptions, reporter);
+      lod = applyLod(body, m.lodOptions, run.reporter);
       f["lod"] = lodFigures(*lod, f["input_triangles"]);
       f["lod"]["time_s"] = since(t1);
     }
     AnimBakeOptions ao = m.anim;
-    ao.threads = threads;
-    anim = bakeAnimation(body, ao, reporter);
+    ao.threads = run.threads;
+    anim = bakeAnimation(body, ao, run.reporter);
     anim.pack.lod = std::move(lod);
   } else {
     std::vector<OutfitInput> outfits;
     for (const auto &[name, file] : m.outfits)
-      outfits.push_back({name, importFile(m, file, reporter), {}});
+      outfits.push_back({name, importFile(m, file, run.reporter), {}});
     addLoops(outfits, cloths);
     OutfitOptions oo = m.outfitOptions;
     oo.anim = m.anim;
-    oo.anim.threads = oo.visibility.threads = threads;
+    oo.anim.threads = oo.visibility.threads = run.threads;
     if (m.lod)
       oo.lod = m.lodOptions;
-    OutfitBakeResult r = bakeOutfits(body, outfits, oo, reporter);
+    OutfitBakeResult r = bakeOutfits(body, outfits, oo, run.reporter);
     f.update(outfitFigures(r, oo));
     if (r.anim.pack.lod)
       f["lod"] = lodFigures(*r.anim.pack.lod, r.taggedFaces);
@@ -172,89 +117,7 @@ Part meshJob(const Job &job, const std::vector<const Part *> &cloths, const JobC
   f["sub_meshes"] = mesh.subMeshes.size();
   f.update(animFigures(anim));
   addChunks(part, pack::packBytes(anim.pack), false);
-  f["time_s"] = since(t0);
-  f["warnings"] = warnings(reporter);
-  return part;
-}
-
-Part impostorJob(const Job &job, const std::vector<const Part *> &, const JobContext &context) {
-  const int threads = context.threads;
-  const CharacterManifest &m = *job.character;
-  const auto t0 = Clock::now();
-  Reporter reporter = jobReporter(context);
-  Character c = importBody(m, reporter);
-  uint32_t garments = 0;
-  if (!job.outfit.empty()) {
-    OutfitInput o{job.outfit, importFile(m, outfitFile(m, job.outfit), reporter), {}};
-    garments = uint32_t(o.character.mesh.parts.size());
-    c = dressCharacter(c, o, m.outfitOptions.regions, reporter);
-  }
-  ImpostorOptions opt = m.impostor;
-  opt.clip = job.clip;
-  opt.threads = threads;
-  ImpostorBakeResult r = bakeImpostor(c, opt, reporter);
-  r.impostor.outfit = job.outfit;
-  Part part;
-  part.chunks.push_back({pack::kImpostor, pack::kImpostorVersion, pack::encode(r.impostor)});
-  auto &f = part.figures;
-  f = impostorFigures(r, opt);
-  f["outfit"] = job.outfit;
-  f["body_regions"] = uint32_t(c.mesh.parts.size()) - garments;
-  f["garment_regions"] = garments;
-  if (opt.measure) {
-    reporter.step("impostor accuracy: views against the mesh drawn");
-    const auto t1 = Clock::now();
-    f["accuracy"] = impostorAccuracyFigures(measureImpostor(c, r.impostor, threads));
-    f["accuracy"]["time_s"] = since(t1);
-  }
-  f["time_s"] = since(t0);
-  f["warnings"] = warnings(reporter);
-  return part;
-}
-
-Part clothJob(const Job &job, const std::vector<const Part *> &, const JobContext &context) {
-  const int threads = context.threads;
-  const CharacterManifest &m = *job.character;
-  const ClothEntry &e = m.cloth.at(job.cloth);
-  const auto t0 = Clock::now();
-  Reporter reporter = jobReporter(context);
-  const Character body = importBody(m, reporter);
-  const Character outfit = importFile(m, outfitFile(m, e.outfit), reporter);
-  ClothBakeOptions opt = e.options;
-  opt.loop.search.threads = opt.loop.edges.threads = threads;
-  const ClothBakeResult r =
-      bakeClothLoop(body, outfit, e.outfit, e.garment, e.clip, e.cache, m.input, opt, reporter);
-  Part part;
-  part.chunks.push_back({pack::kCloth, pack::kClothVersion, pack::encode(r.chunk)});
-  part.figures = clothFigures(r);
-  part.figures["time_s"] = since(t0);
-  part.figures["warnings"] = warnings(reporter);
-  return part;
-}
-
-Part terrainJob(const Job &job, const std::vector<const Part *> &, const JobContext &context) {
-  const int threads = context.threads;
-  const CharacterManifest &m = *job.character;
-  const auto t0 = Clock::now();
-  Reporter reporter = jobReporter(context);
-  const Character environment = importFile(m, m.body, reporter, m.mesh);
-  TerrainOptions options = m.terrain.value();
-  options.threads = threads;
-  const TerrainBakeResult r = bakeTerrain(environment, options, reporter);
-  const pack::Terrain &t = r.terrain;
-  Part part;
-  part.chunks.push_back({pack::kTerrain, pack::kTerrainVersion, pack::encode(t)});
-  part.figures["input_triangles"] = t.indices.size() / 3;
-  part.figures["terrain"] = {{"cells", {t.width, t.depth}},
-                             {"cell", t.cell},
-                             {"walkable_cells", r.walkable},
-                             {"blocked_cells", r.blocked},
-                             {"unreachable_cells", r.unreachable},
-                             {"empty_cells", r.empty},
-                             {"walkable_cells_in_shadow", r.walkableInShadow},
-                             {"max_shadow_depth", r.maxShadowDepth}};
-  part.figures["time_s"] = since(t0);
-  part.figures["warnings"] = warnings(reporter);
+  run.finish(part);
   return part;
 }
 

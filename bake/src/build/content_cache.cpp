@@ -50,7 +50,9 @@ std::optional<Part> ContentCache::load(const std::string &key, std::string &prob
   if (!std::filesystem::exists(path, ec))
     return std::nullopt;
   try {
-    return partFromBytes(readFile(path), path);
+    Part part = partFromBytes(readFile(path), path);
+    touch(key);
+    return part;
   } catch (const std::exception &e) {
     problem = e.what();
     return std::nullopt;
@@ -66,11 +68,19 @@ void createParent(const std::string &folder, const std::string &path) {
 }
 } // namespace
 
-void ContentCache::store(const std::string &key, const Part &part) const {
+void ContentCache::touch(const std::string &key) const {
+  std::error_code ec;
+  std::filesystem::last_write_time(entryPath(key), std::filesystem::file_time_type::clock::now(),
+                                   ec); // a cache on a read-only share is used as it is
+}
+
+void ContentCache::store(const std::string &key, const Part &part, const std::string &kind) const {
   const std::string path = entryPath(key);
   createParent(folder_, path);
   pack::writeFileAtomic(path, partBytes(part));
-  const std::string figures = part.figures.dump();
+  nlohmann::ordered_json withKind = part.figures;
+  withKind["job_kind"] = kind;
+  const std::string figures = withKind.dump();
   pack::writeFileAtomic(path + ".figs", std::vector<uint8_t>(figures.begin(), figures.end()));
 }
 
@@ -78,8 +88,11 @@ std::optional<nlohmann::ordered_json> ContentCache::loadFigures(const std::strin
   const auto bytes = readFile(entryPath(key) + ".figs");
   if (!bytes.empty()) {
     auto j = nlohmann::ordered_json::parse(bytes.begin(), bytes.end(), nullptr, false);
-    if (j.is_object())
+    if (j.is_object() && std::filesystem::exists(entryPath(key))) {
+      j.erase("job_kind");
+      touch(key);
       return j;
+    }
   }
   std::string problem;
   if (auto part = load(key, problem))
@@ -103,6 +116,7 @@ std::optional<std::string> ContentCache::recordedPack(const std::string &key) co
   const auto bytes = readFile(entryPath(key) + ".pack");
   if (bytes.empty())
     return std::nullopt;
+  touch(key);
   return std::string(bytes.begin(), bytes.end());
 }
 
@@ -111,6 +125,18 @@ std::optional<std::string> ContentCache::recordedFailure(const std::string &key)
   if (bytes.empty())
     return std::nullopt;
   return std::string(bytes.begin(), bytes.end());
+}
+
+void ContentCache::removeTemporaries(const std::string &key, long pid) const {
+  namespace fs = std::filesystem;
+  const fs::path entry = entryPath(key);
+  const std::string mark = ".tmp-" + std::to_string(pid) + "-"; // pack::writeFileAtomic's names
+  std::error_code ec;
+  for (const auto &f : fs::directory_iterator(entry.parent_path(), ec)) {
+    const std::string name = f.path().filename().string();
+    if (name.rfind(entry.filename().string(), 0) == 0 && name.find(mark) != std::string::npos)
+      fs::remove(f.path(), ec);
+  }
 }
 
 } // namespace crowd

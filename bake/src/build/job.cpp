@@ -13,7 +13,8 @@ namespace {
 constexpr uint32_t kFigures = pack::fourcc("FIGS"); // a part's figures (JSON), never in a pack
 }
 
-// The job kinds (character_jobs.cpp). A new bake adds its function and one line here.
+// The job kinds, each a function in its bake's folder (<bake>_job.cpp; the mesh and link jobs in
+// build/character_jobs.cpp). A new bake adds its function and one line here.
 Part meshJob(const Job &, const std::vector<const Part *> &, const JobContext &);
 Part impostorJob(const Job &, const std::vector<const Part *> &, const JobContext &);
 Part clothJob(const Job &, const std::vector<const Part *> &, const JobContext &);
@@ -22,11 +23,8 @@ Part linkJob(const Job &, const std::vector<const Part *> &, const JobContext &)
 
 const std::vector<JobKind> &jobKinds() {
   static const std::vector<JobKind> kinds = {
-      {"mesh", meshJob},
-      {"impostor", impostorJob},
-      {"cloth", clothJob},
-      {"terrain", terrainJob},
-      {"link", linkJob},
+      {"mesh", meshJob},       {"impostor", impostorJob}, {"cloth", clothJob},
+      {"terrain", terrainJob}, {"link", linkJob},
   };
   return kinds;
 }

@@ -10,14 +10,14 @@
 
 #include "crowd/formats/error.h"
 #include "crowd/formats/limits.h"
-#include "crowd/runtime/json_checker.h"
+#include "crowd/support/json_checker.h"
 
 namespace crowd {
 
 namespace {
 
 using nlohmann::json;
-using runtime::JsonChecker;
+using support::JsonChecker;
 using Keys = JsonChecker::Keys;
 namespace fs = std::filesystem;
 
@@ -236,12 +236,24 @@ void parseCloth(const JsonChecker &c, const json &list, const Keys &keys, const 
   }
 }
 
+// "limits": {"seconds": 600, "memory_mib": 4096}: bounds on each of the character's jobs.
+void parseLimits(const JsonChecker &c, const json &l, const Keys &k, JobLimits &limits) {
+  if (!l.is_object())
+    c.fail(k, "expected {\"seconds\": S, \"memory_mib\": M}");
+  c.onlyKeys(l, k, {"seconds", "memory_mib"});
+  if (l.contains("seconds"))
+    limits.maxSeconds = c.number(l["seconds"], below(k, "seconds"), 0.001, JobLimits::kMostSeconds);
+  if (l.contains("memory_mib"))
+    limits.maxMemoryMiB = uint64_t(
+        c.number(l["memory_mib"], below(k, "memory_mib"), 1, double(JobLimits::kMostMemoryMiB)));
+}
+
 CharacterManifest parse(const JsonChecker &c, const json &j, const Keys &at,
                         const InputPolicy &policy) {
   auto key = [&](const std::string &k) { return below(at, k); };
   c.onlyKeys(j, at,
              {"name", "body", "outfits", "clips", "mesh", "anim", "lod", "visibility", "impostor",
-              "cloth", "comment"});
+              "cloth", "limits", "comment"});
   CharacterManifest m;
   m.source = c.path();
   if (!j.contains("name"))
@@ -285,6 +297,8 @@ CharacterManifest parse(const JsonChecker &c, const json &j, const Keys &at,
     parseImpostor(c, j["impostor"], key("impostor"), m);
   if (j.contains("cloth"))
     parseCloth(c, j["cloth"], key("cloth"), policy, m);
+  if (j.contains("limits"))
+    parseLimits(c, j["limits"], key("limits"), m.limits);
   return m;
 }
 
@@ -369,7 +383,10 @@ CharacterManifest parseManifest(const std::string &text, const std::string &path
   return parse(c, c.parse(), {}, policy);
 }
 
-Library loadLibrary(const std::string &path, const InputPolicy &policy) {
+namespace {
+
+// Every entry of the library, or only `only`'s.
+Library load(const std::string &path, const InputPolicy &policy, std::optional<size_t> only) {
   const std::string text = readInputText(path, policy);
   JsonChecker c(text, path);
   const json j = c.parse();
@@ -386,7 +403,9 @@ Library loadLibrary(const std::string &path, const InputPolicy &policy) {
   const json &list = j["characters"];
   if (!list.is_array() || list.empty())
     c.fail({"characters"}, "expected a non-empty list of manifest files or objects");
-  for (size_t i = 0; i < list.size(); ++i) {
+  if (only && *only >= list.size())
+    c.fail({"characters"}, "has no entry " + std::to_string(*only));
+  for (size_t i = only.value_or(0); i < (only ? *only + 1 : list.size()); ++i) {
     const json &entry = list[i];
     const Keys at = {"characters", std::to_string(i)};
     if (entry.is_string()) {
@@ -402,12 +421,23 @@ Library loadLibrary(const std::string &path, const InputPolicy &policy) {
     } else {
       c.fail(at, "expected a manifest file name or an inline manifest object");
     }
+    lib.characters.back().entry = i;
   }
   std::set<std::string> seen;
   for (const auto &m : lib.characters)
     if (!seen.insert(m.name).second)
       c.fail({"characters"}, "two characters are named '" + m.name + "'");
   return lib;
+}
+
+} // namespace
+
+Library loadLibrary(const std::string &path, const InputPolicy &policy) {
+  return load(path, policy, std::nullopt);
+}
+
+Library loadLibrary(const std::string &path, const InputPolicy &policy, size_t entry) {
+  return load(path, policy, entry);
 }
 
 } // namespace crowd

@@ -1,12 +1,17 @@
 #include "crowd/bake/slurm.h"
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
+#include "build_inputs_json.h"
+#include "crowd/bake/cache_admin.h"
 #include "crowd/bake/content_cache.h"
+#include "crowd/bake/executor.h"
+#include "crowd/bake/job_process.h"
 #include "crowd/bake/provenance.h"
 #include "crowd/formats/container.h"
 #include "crowd/formats/error.h"
@@ -52,11 +57,7 @@ BuildOptions buildOptions(const ordered_json &plan) {
   o.output = plan.at("output");
   o.cache = plan.at("cache");
   o.report = plan.at("report");
-  o.files.assetRoot = plan.at("asset_root");
-  o.files.maxFileBytes = plan.at("max_file_bytes");
-  o.scene.scene = plan.at("scene");
-  o.scene.screenHeight = plan.at("screen_height");
-  o.scene.switchDistance = plan.at("switch_distance");
+  readBuildInputs(plan, o.files, o.scene);
   return o;
 }
 
@@ -82,6 +83,8 @@ ordered_json readPlan(const std::string &path) {
 void SlurmOptions::validate() const {
   if (folder.empty())
     throw Error("slurm folder: empty");
+  if (maxArraySize < 0 || maxArraySize > 4000001) // Slurm's own bound
+    throw Error("max array size: " + std::to_string(maxArraySize) + " is not in 0..4000001");
   if (jobsPerTask < 1 || jobsPerTask > 10000)
     throw Error("jobs per task: " + std::to_string(jobsPerTask) + " is not in 1..10000");
   if (cpusPerTask < 1 || cpusPerTask > 1024)
@@ -91,6 +94,60 @@ void SlurmOptions::validate() const {
   for (char c : partition)
     if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-' && c != ',')
       throw Error("partition: '" + partition + "' is not a partition name");
+}
+
+namespace {
+
+// Per job of the plan: what a task needs to find it again (job_process.h).
+ordered_json jobEntries(const BuildPlan &plan, const std::vector<int> &stage, int s) {
+  ordered_json entries = ordered_json::array();
+  for (size_t c = 0; c < plan.ranges.size(); ++c)
+    for (size_t i = plan.ranges[c].first; i <= plan.ranges[c].second; ++i)
+      if (stage[i] == s)
+        entries.push_back({{"entry", plan.library.characters[c].entry},
+                           {"job", i - plan.ranges[c].first},
+                           {"key", plan.jobs[i].key}});
+  return entries;
+}
+
+// A stage's tasks' --time and --mem: its jobs' largest limits (none where one job has none),
+// the time for the jobs a task runs one after another, and a minute to plan them.
+std::string taskLimits(const BuildOptions &o, const BuildPlan &plan, const std::vector<int> &stage,
+                       int s, int jobsPerTask) {
+  JobLimits most{-1, uint64_t(-1)};
+  bool first = true;
+  for (size_t c = 0; c < plan.ranges.size(); ++c)
+    for (size_t i = plan.ranges[c].first; i <= plan.ranges[c].second; ++i) {
+      if (stage[i] != s)
+        continue;
+      const JobLimits l = plan.library.characters[c].limits.over(o.jobLimits);
+      const bool noTime = l.maxSeconds == 0 || (!first && most.maxSeconds == 0);
+      const bool noMemory = l.maxMemoryMiB == 0 || (!first && most.maxMemoryMiB == 0);
+      most.maxSeconds = noTime ? 0 : std::max(first ? 0 : most.maxSeconds, l.maxSeconds);
+      most.maxMemoryMiB = noMemory ? 0 : std::max(first ? 0 : most.maxMemoryMiB, l.maxMemoryMiB);
+      first = false;
+    }
+  std::string h;
+  if (most.maxSeconds > 0)
+    h += "#SBATCH --time=" +
+         std::to_string(int64_t(std::ceil(most.maxSeconds * jobsPerTask / 60.0)) + 1) + "\n";
+  if (most.maxMemoryMiB > 0)
+    h += "#SBATCH --mem=" + std::to_string(most.maxMemoryMiB) + "M\n";
+  return h;
+}
+
+} // namespace
+
+int clusterMaxArraySize() {
+  int size = 1001; // Slurm's default
+  if (FILE *f = ::popen("scontrol show config 2>/dev/null", "r")) {
+    char line[512];
+    while (std::fgets(line, sizeof line, f))
+      if (std::sscanf(line, " MaxArraySize = %d", &size) == 1)
+        break;
+    ::pclose(f);
+  }
+  return std::max(size, 1);
 }
 
 std::string writeSlurmScripts(const BuildOptions &build, const SlurmOptions &slurm) {
@@ -119,21 +176,12 @@ std::string writeSlurmScripts(const BuildOptions &build, const SlurmOptions &slu
   p["output"] = o.output;
   p["cache"] = absolute(plan.cache);
   p["report"] = o.report;
-  p["asset_root"] = o.files.assetRoot;
-  p["max_file_bytes"] = o.files.maxFileBytes;
-  p["scene"] = o.scene.scene;
-  p["screen_height"] = o.scene.screenHeight;
-  p["switch_distance"] = o.scene.switchDistance;
+  writeBuildInputs(p, o.files, o.scene);
   p["jobs_per_task"] = slurm.jobsPerTask;
   p["cpus_per_task"] = slurm.cpusPerTask;
   p["stages"] = ordered_json::array();
-  for (int s = 0; s < stageCount; ++s) {
-    ordered_json keys = ordered_json::array();
-    for (size_t i = 0; i < plan.jobs.size(); ++i)
-      if (stage[i] == s)
-        keys.push_back(plan.jobs[i].key);
-    p["stages"].push_back(keys);
-  }
+  for (int s = 0; s < stageCount; ++s)
+    p["stages"].push_back(jobEntries(plan, stage, s));
   const std::string planPath = folder + "/plan.json";
   writeText(planPath, p.dump(1) + "\n");
 
@@ -146,6 +194,8 @@ std::string writeSlurmScripts(const BuildOptions &build, const SlurmOptions &slu
     return h;
   };
   const std::string exe = quoted(slurm.crowdbake), planArg = quoted(planPath);
+  const size_t arraySize =
+      size_t(slurm.maxArraySize > 0 ? slurm.maxArraySize : clusterMaxArraySize());
   std::ostringstream summary, submit;
   submit << "#!/bin/bash\n# Submits the build's job arrays in order (afterok), then the collect "
             "job.\n# WAIT=1: wait for the collect job and exit with its status.\nset -euo "
@@ -153,16 +203,31 @@ std::string writeSlurmScripts(const BuildOptions &build, const SlurmOptions &slu
   for (int s = 0; s < stageCount; ++s) {
     const size_t n = p["stages"][s].size();
     const size_t tasks = (n + size_t(slurm.jobsPerTask) - 1) / size_t(slurm.jobsPerTask);
-    const std::string name = "stage" + std::to_string(s);
-    std::string script = header(name, name + "-%a.log");
-    script += "#SBATCH --array=0-" + std::to_string(tasks - 1) + "\n";
-    script += "exec " + exe + " build-task " + planArg + " " + std::to_string(s) +
-              " \"$SLURM_ARRAY_TASK_ID\"\n";
-    writeText(folder + "/" + name + ".sbatch", script);
-    submit << "id=$(sbatch --parsable \"${dep[@]}\" " << name << ".sbatch)\n"
-           << "echo \"crowdbake: " << name << ": job array ${id%%;*} (" << tasks << " tasks)\" "
-           << ">&2\ndep=(--dependency=afterok:${id%%;*} --kill-on-invalid-dep=yes)\n";
-    summary << name << ".sbatch: " << n << " jobs in " << tasks << " array tasks\n";
+    // A stage of more tasks than the cluster's MaxArraySize is several arrays, each of task
+    // ids 0..MaxArraySize-1 offset to the stage's.
+    const size_t arrays = (tasks + arraySize - 1) / arraySize;
+    const std::string limits = taskLimits(o, plan, stage, s, slurm.jobsPerTask);
+    submit << "ids=()\n";
+    for (size_t a = 0; a < arrays; ++a) {
+      const size_t offset = a * arraySize, count = std::min(arraySize, tasks - offset);
+      std::string name = "stage" + std::to_string(s);
+      if (a > 0) // (appended in two steps: GCC 12 warns, falsely, of "." + to_string here)
+        name.append(".").append(std::to_string(a));
+      std::string script = header(name, name + "-%a.log") + limits;
+      script += "#SBATCH --array=0-" + std::to_string(count - 1) + "\n";
+      script += "exec " + exe + " build-task " + planArg + " " + std::to_string(s) + " $((" +
+                std::to_string(offset) + " + SLURM_ARRAY_TASK_ID))\n";
+      writeText(folder + "/" + name + ".sbatch", script);
+      submit << "id=$(sbatch --parsable \"${dep[@]}\" " << name
+             << ".sbatch)\nids+=(\"${id%%;*}\")\n"
+             << "echo \"crowdbake: " << name << ": job array ${id%%;*} (" << count
+             << (count == 1 ? " task)\" " : " tasks)\" ") << ">&2\n";
+      summary << name << ".sbatch: "
+              << (a + 1 < arrays ? count * size_t(slurm.jobsPerTask)
+                                 : n - offset * size_t(slurm.jobsPerTask))
+              << " jobs in " << count << (count == 1 ? " array task\n" : " array tasks\n");
+    }
+    submit << "dep=(--dependency=afterok:$(IFS=:; echo \"${ids[*]}\") --kill-on-invalid-dep=yes)\n";
   }
   std::string collect = header("collect", "collect.log");
   collect += "exec " + exe + " build-task " + planArg + " collect\n";
@@ -180,28 +245,27 @@ void runSlurmTask(const std::string &planPath, int stage, int task) {
   const ordered_json p = readPlan(planPath);
   if (stage < 0 || size_t(stage) >= p["stages"].size())
     throw Error(planPath + ": no stage " + std::to_string(stage));
-  const auto &keys = p["stages"][size_t(stage)];
+  const auto &entries = p["stages"][size_t(stage)];
   const size_t per = p.at("jobs_per_task"), first = size_t(std::max(task, 0)) * per;
-  if (task < 0 || first >= keys.size())
+  if (task < 0 || first >= entries.size())
     throw Error(planPath + ": stage " + std::to_string(stage) + " has no task " +
                 std::to_string(task));
-  const BuildPlan plan = planBuild(buildOptions(p));
-  const auto stageOf = stages(plan.jobs);
-  std::vector<size_t> mine; // this stage's jobs, in plan order
-  for (size_t i = 0; i < plan.jobs.size(); ++i)
-    if (stageOf[i] == stage)
-      mine.push_back(i);
-  if (mine.size() != keys.size())
-    throw Error(p.at("input").get<std::string>() +
-                ": the library changed since the Slurm scripts were written: write them again");
-  const ContentCache cache(plan.cache);
-  const int threads = p.at("cpus_per_task");
-  const size_t last = std::min(keys.size(), first + per);
+  const BuildOptions o = buildOptions(p);
+  const ContentCache cache(o.cache);
+  const CacheLease lease(o.cache);
+  const size_t last = std::min(entries.size(), first + per);
   for (size_t k = first; k < last; ++k) {
-    const Job &job = plan.jobs[mine[k]];
-    if (job.key != keys[k])
-      throw Error(job.label() + ": its inputs changed since the Slurm scripts were written: "
-                                "write them again");
+    JobSpec spec;
+    spec.library = o.input;
+    spec.entry = entries[k].at("entry");
+    spec.job = entries[k].at("job");
+    spec.key = entries[k].at("key");
+    spec.cache = o.cache;
+    spec.threads = p.at("cpus_per_task");
+    spec.files = o.files;
+    spec.scene = o.scene;
+    const std::vector<Job> jobs = planJobsOf(spec); // one character, not the whole library
+    const Job &job = jobs[spec.job];
     std::string problem;
     if (cache.load(job.key, problem)) {
       std::printf("crowdbake: %s: cached\n", job.label().c_str());
@@ -209,24 +273,14 @@ void runSlurmTask(const std::string &planPath, int stage, int task) {
     }
     const auto t0 = std::chrono::steady_clock::now();
     std::string error;
-    std::vector<Part> deps;
-    for (size_t d : job.deps) {
-      if (auto part = cache.load(plan.jobs[d].key, problem)) {
-        deps.push_back(std::move(*part));
-        continue;
+    for (size_t d : job.deps)
+      if (cache.recordedFailure(jobs[d].key) && !fs::exists(cache.entryPath(jobs[d].key))) {
+        error = dependencyFailed(jobs[d]);
+        break;
       }
-      if (!cache.recordedFailure(plan.jobs[d].key))
-        throw Error(job.label() + ": the part of " + plan.jobs[d].label() +
-                    " is not in the cache " + plan.cache + (problem.empty() ? "" : ": " + problem));
-      error = "not run: " + plan.jobs[d].label() + " failed";
-      break;
-    }
     if (error.empty()) {
       try {
-        std::vector<const Part *> depParts;
-        for (const auto &d : deps)
-          depParts.push_back(&d);
-        cache.store(job.key, runJob(job, depParts, {threads, {}}));
+        bakeIntoCache(jobs, spec.job, cache, spec.threads);
       } catch (const std::bad_alloc &) {
         error = "out of memory";
       } catch (const std::exception &e) {

@@ -41,7 +41,8 @@ void InputArgs::add(CLI::App &app) {
       ->capture_default_str()
       ->group(group);
   app.add_option("--max-seconds", limits.maxSeconds,
-                 "stop with an error after this many seconds; either limit writes nothing")
+                 "stop with an error after this many seconds (0: no limit); a bake stopped by "
+                 "either limit writes nothing")
       ->capture_default_str()
       ->group(group);
 }

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <string>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -12,6 +13,7 @@
 #include "args.h"
 #include "commands.h"
 #include "crowd/bake/build.h"
+#include "crowd/bake/job_process.h"
 #include "crowd/bake/resource_guard.h"
 #include "crowd/bake/slurm.h"
 #include "crowd/formats/error.h"
@@ -20,7 +22,8 @@ namespace crowd::cli {
 
 namespace {
 
-const char *const kDescription = R"(Builds characters into character packs: one pack per character
+const char *const kBuildDescription =
+    R"(Builds characters into character packs: one pack per character
 holding everything the player draws (animation, skin weights, mesh with continuous LOD on every
 sub-mesh, outfits and their visibility, impostors for each listed (clip, outfit) pair).
 
@@ -35,10 +38,15 @@ INPUT is a character manifest, e.g.
 library: {"characters": ["a.json", "b.json", {...inline manifest...}]}.
 
 Every bake is a job keyed by its input bytes, settings and the baker version; a job whose key is
-in the cache is not run again. A failing character fails alone: the others are written, the exit
-code is 1 and the build report names it.)";
+in the cache is not run again. Each job runs in a process of its own, bounded by --job-max-seconds
+and --job-max-memory (a manifest's "limits": {"seconds": S, "memory_mib": M} sets them for its
+character). A failing character fails alone, whether its job failed, ran past a limit, crashed
+or was killed (a job killed from outside runs once more): the others are written, the exit code
+is 1 and the build report names it. Ctrl-C (or SIGTERM) stops the build: what finished stays in
+the cache, no file is left half-written, and the next build goes on from there (exit code 130).
+The build as a whole has no time limit unless --max-seconds gives one.)";
 
-const char *const kExample = R"(
+const char *const kBuildExample = R"(
 On a Slurm cluster (--slurm), the same jobs run as job arrays sharing the cache folder, which
 must be on a file system every node sees, like crowdbake itself and the inputs; a last collect
 job writes the packs and the report. --emit-slurm DIR only writes the scripts (DIR/submit.sh
@@ -55,6 +63,13 @@ examples:
   crowdbake build library.json -o packs/ --jobs 8 --cache /shared/crowdbake-cache
   crowdbake build library.json -o /shared/packs --slurm --partition bake --cpus-per-task 8
   crowdbake build library.json -o packs/ --scene market.json --screen 1080
+)";
+
+const char *const kBuildJobHelp = R"(usage: crowdbake build-job SPEC
+
+Run by 'crowdbake build' in a child process per job: SPEC (JSON, written by the build) names the
+library, the character's entry, the job, its key, the cache and the job's limits. The job's part
+goes into the cache; errors are one line on stderr.
 )";
 
 const char *const kBuildTaskHelp = R"(usage: crowdbake build-task PLAN STAGE TASK
@@ -123,6 +138,33 @@ void printSummary(const nlohmann::ordered_json &r, const std::string &reportPath
                reportPath.empty() ? "" : "; report ", reportPath.c_str());
 }
 
+// Runs submit.sh and waits for the collect job. The script's messages (an array's id,
+// sbatch's errors) pass to stderr unless quiet; reading them to their end also waits for the
+// script's tee into logs/submit.log, which may still be writing when the script has exited.
+struct Submitted {
+  int status = -1;
+  std::string lastMessage;
+};
+Submitted submitAndWait(const std::filesystem::path &script, bool quiet) {
+  const std::string command = "WAIT=1 '" + script.string() + "' 2>&1 >/dev/null";
+  Submitted result;
+  FILE *messages = popen(command.c_str(), "r");
+  if (!messages)
+    return result;
+  char buffer[4096];
+  while (std::fgets(buffer, sizeof buffer, messages)) {
+    if (!quiet)
+      std::fputs(buffer, stderr);
+    std::string line(buffer);
+    while (!line.empty() && (line.back() == '\n' || line.back() == '\r'))
+      line.pop_back();
+    if (!line.empty())
+      result.lastMessage = line;
+  }
+  result.status = pclose(messages);
+  return result;
+}
+
 // Writes the Slurm scripts and, with `submit`, runs them and waits for the collect job.
 // The guard bounds the planning here, not the wait for the cluster.
 int slurmBuild(const BuildOptions &o, const SlurmOptions &slurm, const ResourceLimits &limits,
@@ -139,17 +181,12 @@ int slurmBuild(const BuildOptions &o, const SlurmOptions &slurm, const ResourceL
     return 0;
   fs::remove(o.report);
   const fs::path folder = fs::absolute(slurm.folder);
-  const std::string command =
-      "WAIT=1 '" + (folder / "submit.sh").string() + "' >/dev/null" + (quiet ? " 2>/dev/null" : "");
-  const int status = std::system(command.c_str());
+  const Submitted run = submitAndWait(folder / "submit.sh", quiet);
   std::ifstream f(o.report);
   if (!f) {
-    if (status == -1 || !WIFEXITED(status) || WEXITSTATUS(status) == 127)
+    if (run.status == -1 || !WIFEXITED(run.status) || WEXITSTATUS(run.status) == 127)
       throw Error("cannot run sbatch (Debian: slurm-client): " + (folder / "submit.sh").string());
-    std::ifstream log(folder / "logs" / "submit.log");
-    std::string line, last;
-    while (std::getline(log, line))
-      last = line.empty() ? last : line;
+    const std::string &last = run.lastMessage;
     throw Error("the Slurm build wrote no report: " + (last.empty() ? "see" : last + "; see") +
                 " " + (folder / "logs").string());
   }
@@ -166,8 +203,8 @@ int slurmBuild(const BuildOptions &o, const SlurmOptions &slurm, const ResourceL
 } // namespace
 
 int cmdBuild(int argc, char **argv) {
-  CLI::App app(kDescription, "crowdbake build");
-  app.footer(kExample);
+  CLI::App app(kBuildDescription, "crowdbake build");
+  app.footer(kBuildExample);
   BuildOptions o;
   bool quiet = false;
   app.add_option("INPUT", o.input, "character manifest or library (JSON)")->required();
@@ -196,6 +233,9 @@ int cmdBuild(int argc, char **argv) {
       ->capture_default_str();
   app.add_option("--cpus-per-task", slurm.cpusPerTask, "Slurm CPUs per task: a job's threads")
       ->capture_default_str();
+  app.add_option("--max-array-size", slurm.maxArraySize,
+                 "tasks per Slurm job array; a stage of more is several arrays (default: the "
+                 "cluster's MaxArraySize, from scontrol show config, else 1001)");
   auto *scene = app.add_option("--scene", o.scene.scene,
                                "build only what this crowdplay scene draws (see below)")
                     ->group("Scene builds");
@@ -209,11 +249,22 @@ int cmdBuild(int argc, char **argv) {
                  "so that one covers one pixel there (default: where the manifest's texels do)")
       ->needs(scene)
       ->group("Scene builds");
+  app.add_option("--job-max-seconds", o.jobLimits.maxSeconds,
+                 "kill a job past this many seconds; it fails alone (0: no limit)")
+      ->capture_default_str()
+      ->group("Per-job limits");
+  app.add_option("--job-max-memory", o.jobLimits.maxMemoryMiB,
+                 "stop a job past this resident memory, in MiB; it fails alone (0: no limit)")
+      ->capture_default_str()
+      ->group("Per-job limits");
   InputArgs files;
+  // The build as a whole runs as long as its jobs need: each has limits of its own.
+  files.limits.maxSeconds = 0;
   files.add(app);
   if (!parseArgs(app, argc, argv))
     return 0;
   files.finish();
+  validated(o.jobLimits);
   validated(o.scene);
   o.files = files.policy;
   o.executor.progress = quiet ? "none" : isatty(2) ? "bar" : "lines";
@@ -236,12 +287,34 @@ int cmdBuild(int argc, char **argv) {
   }
   if (onSlurm)
     return slurmBuild(o, slurm, files.limits, useSlurm, quiet);
-  ResourceGuard guard(files.limits, "crowdbake build " + o.input);
+  ResourceGuard guard(files.limits, "crowdbake build " + o.input,
+                      "the packs written before it kept, finished jobs in the cache");
+  o.jobExecutable = fs::read_symlink("/proc/self/exe").string();
+  catchInterrupts();
   BuildResult r = build(o);
   printSummary(r.report, o.report, quiet); // first: a report not written must not hide a failure
   if (!o.report.empty())
     writeJson(o.report, r.report);
+  if (r.interrupted) {
+    std::fprintf(stderr,
+                 "crowdbake: interrupted: %zu of %zu jobs are in the cache; build again "
+                 "to go on from them\n",
+                 r.report["jobs"]["total"].get<size_t>() - r.report["jobs"]["failed"].get<size_t>(),
+                 r.report["jobs"]["total"].get<size_t>());
+    return 130;
+  }
   return r.failed() ? 1 : 0;
+}
+
+int cmdBuildJob(int argc, char **argv) {
+  if (argc == 3 && (std::string(argv[2]) == "--help" || std::string(argv[2]) == "-h")) {
+    std::cout << kBuildJobHelp;
+    return 0;
+  }
+  if (argc != 3)
+    throw UsageError("crowdbake build-job SPEC (run by crowdbake build; see --help)");
+  runJobSpec(JobSpec::parse(argv[2]));
+  return 0;
 }
 
 int cmdBuildTask(int argc, char **argv) {

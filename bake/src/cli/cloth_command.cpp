@@ -9,7 +9,8 @@ namespace crowd::cli {
 
 namespace {
 
-const char *const kDescription = R"(A loose garment pre-simulated over a body clip repeated many
+const char *const kClothDescription =
+    R"(A loose garment pre-simulated over a body clip repeated many
 times does not settle into an exact period; this bake finds the best loop in the cache. The
 cache (PC2 or MDD: the garment's vertices, in the outfit glTF's order, every frame) is checked
 against the garment (vertex count, then frame 0 against the garment at the clip's start) and read
@@ -27,7 +28,7 @@ manifest: "cloth": [{"outfit", "garment", "clip", "cache"}].)";
 } // namespace
 
 int cmdCloth(int argc, char **argv) {
-  CLI::App app(kDescription, "crowdbake cloth");
+  CLI::App app(kClothDescription, "crowdbake cloth");
   example(app, "crowdbake cloth skirt_walk.pc2 --body humanoid.glb --outfit outfit_dress.glb "
                "--garment dress --clip walk --fps 30 -o dress_walk.crowdpack --report r.json");
   BakeArgs b;

@@ -13,6 +13,7 @@ int cmdImpostor(int argc, char **argv);
 int cmdOutfits(int argc, char **argv);
 int cmdBuild(int argc, char **argv);
 int cmdBuildTask(int argc, char **argv); // a Slurm array task or collect job of a build
+int cmdBuildJob(int argc, char **argv);  // one job of a local build, in a child process
 int cmdInspect(int argc, char **argv);
 int cmdVerify(int argc, char **argv);
 int cmdExport(int argc, char **argv);
@@ -21,5 +22,6 @@ int cmdCloth(int argc, char **argv);
 int cmdTerrain(int argc, char **argv);
 int cmdDiff(int argc, char **argv); // exits with the verdict (0..3), 4 when not compared
 int cmdReport(int argc, char **argv);
+int cmdCache(int argc, char **argv); // stats and gc of a build cache
 
 } // namespace crowd::cli

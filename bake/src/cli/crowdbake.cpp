@@ -43,6 +43,8 @@ commands:
             1 warn, 2 fail, 3 different contents, 4 unreadable)
   report    build and bake reports as one HTML page: time, bytes and error per character and
             bake, with charts of error against bytes, triangles and memory
+  cache     a build cache: what it holds (stats), trimmed to a size (gc), safe while builds
+            use it
 
 Run 'crowdbake <command> --help' for a command's options; 'crowdbake --version' names the
 version, the toolchain it was built with and the pack and chunk versions it reads and writes.
@@ -67,6 +69,7 @@ int main(int argc, char **argv) {
   static constexpr Command kCommands[] = {
       {"build", cmdBuild, true},
       {"build-task", cmdBuildTask, true},
+      {"build-job", cmdBuildJob, true},
       {"samples", cmdSamples, false},
       {"anim", cmdAnim, true},
       {"lod", cmdLod, true},
@@ -80,6 +83,7 @@ int main(int argc, char **argv) {
       {"terrain", cmdTerrain, true},
       {"diff", cmdDiff, false},
       {"report", cmdReport, false},
+      {"cache", cmdCache, false},
   };
   const std::string_view command = argc > 1 ? argv[1] : "";
   const Command *const it = std::find_if(std::begin(kCommands), std::end(kCommands),

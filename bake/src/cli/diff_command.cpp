@@ -7,7 +7,7 @@
 #include "crowd/bake/input_files.h"
 #include "crowd/bake/pack_diff.h"
 #include "crowd/formats/error.h"
-#include "crowd/runtime/json_checker.h"
+#include "crowd/support/json_checker.h"
 
 namespace crowd::cli {
 
@@ -74,7 +74,7 @@ int cmdDiff(int argc, char **argv) {
     if (!tolerancesFile.empty()) {
       const std::string text = readInputText(tolerancesFile, InputPolicy{});
       tolerances =
-          tolerancesFromJson(runtime::JsonChecker(text, tolerancesFile).parse(), tolerancesFile);
+          tolerancesFromJson(support::JsonChecker(text, tolerancesFile).parse(), tolerancesFile);
     }
     const PackDiff d = diffPacks(pack::Reader::open(golden), pack::Reader::open(fresh), tolerances);
     print(d, verbose);

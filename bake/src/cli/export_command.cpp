@@ -9,7 +9,7 @@
 #include "crowd/formats/character_pack.h"
 #include "crowd/formats/error.h"
 #include "crowd/formats/registry.h"
-#include "crowd/runtime/images.h"
+#include "crowd/support/images.h"
 
 namespace crowd::cli {
 

@@ -9,7 +9,8 @@ namespace crowd::cli {
 
 namespace {
 
-const char *const kDescription = R"(The "tagged" method of clothed crowds: the body template keeps
+const char *const kOutfitsDescription =
+    R"(The "tagged" method of clothed crowds: the body template keeps
 its sub-meshes (one per material); each outfit's garments, skinned to the same skeleton (joints
 matched by name), are added. For each outfit and body sub-mesh the bake decides, over every
 frame of every clip, whether the sub-mesh is visible, hidden (never drawn with that outfit) or
@@ -21,7 +22,7 @@ crowdplay draws the pack with an outfit per character (scene file: "outfit").)";
 } // namespace
 
 int cmdOutfits(int argc, char **argv) {
-  CLI::App app(kDescription, "crowdbake outfits");
+  CLI::App app(kOutfitsDescription, "crowdbake outfits");
   example(app, "crowdbake outfits humanoid.glb --outfit outfit_dress.glb --outfit "
                "outfit_jumper_skirt.glb -o clothed.crowdpack --check 4 --report clothed.json");
   BakeArgs b;

@@ -6,7 +6,7 @@
 #include "crowd/bake/report_page.h"
 #include "crowd/formats/container.h"
 #include "crowd/formats/error.h"
-#include "crowd/runtime/json_checker.h"
+#include "crowd/support/json_checker.h"
 
 namespace crowd::cli {
 
@@ -19,7 +19,10 @@ page a person reads: per build and character, every job's time, size and accurac
 charts: the animation's error against bytes for every frame rate and precision tried (with the
 error budget), LOD error against triangles, impostor accuracy against memory, the cloth loop's
 pass-1 seam search and each candidate's pass-1 and pass-2 scores. One file, SVG inline, no
-scripts, no network: open it in any browser or attach it to a CI run.)";
+scripts, no network: open it in any browser or attach it to a CI run. A build of more than 20
+characters gets a summary table on the page, the failed first, each name linking to its own
+page in the folder beside it (OUTPUT's name with .characters), so that a farm's report of a
+thousand characters opens at once.)";
 
 ReportSource readReport(const std::string &input) {
   std::filesystem::path path = input;
@@ -29,7 +32,7 @@ ReportSource readReport(const std::string &input) {
     throw Error(path.string() + ": cannot open" +
                 (path.filename() == "build.report.json" ? " (not a build's output folder?)" : ""));
   const std::string name = path.string(), text = readInputText(name, InputPolicy{});
-  return {name, runtime::JsonChecker(text, name).parse()};
+  return {name, support::JsonChecker(text, name).parse()};
 }
 
 } // namespace
@@ -48,8 +51,25 @@ int cmdReport(int argc, char **argv) {
   std::vector<ReportSource> sources;
   for (const auto &input : inputs)
     sources.push_back(readReport(input));
-  const std::string page = reportPage(sources);
-  pack::writeFileAtomic(output, {reinterpret_cast<const uint8_t *>(page.data()), page.size()});
+  namespace fs = std::filesystem;
+  // Beside the page: OUTPUT's name with ".characters" for the pages of a large build's characters.
+  const fs::path details = fs::path(output).stem().string() + ".characters";
+  const ReportPages pages = reportPages(sources, details.string());
+  auto write = [](const fs::path &path, const std::string &html) {
+    pack::writeFileAtomic(path.string(),
+                          {reinterpret_cast<const uint8_t *>(html.data()), html.size()});
+  };
+  if (!pages.characterPages.empty()) {
+    const fs::path folder = fs::path(output).parent_path() / details;
+    std::error_code ec;
+    fs::create_directories(folder, ec);
+    if (ec)
+      throw Error(folder.string() +
+                  ": cannot create the characters' pages folder: " + ec.message());
+    for (const auto &[file, html] : pages.characterPages)
+      write(folder / file, html);
+  }
+  write(output, pages.page); // last: its links lead to pages already written
   return 0;
 }
 

@@ -9,7 +9,8 @@ namespace crowd::cli {
 
 namespace {
 
-const char *const kDescription = R"(Rasterizes the environment's meshes (every mesh of the glTF,
+const char *const kTerrainDescription =
+    R"(Rasterizes the environment's meshes (every mesh of the glTF,
 placed by its nodes) from straight above into a grid of --cell sized cells, as Tecchia, Loscos &
 Chrysanthou do: the height map holds each cell's top surface; the walkable map marks
 the cells no steeper than --max-slope that agents reach from the largest such area by steps of
@@ -31,7 +32,7 @@ glm::dvec3 parseLight(const std::string &text) {
 } // namespace
 
 int cmdTerrain(int argc, char **argv) {
-  CLI::App app(kDescription, "crowdbake terrain");
+  CLI::App app(kTerrainDescription, "crowdbake terrain");
   example(app, "crowdbake terrain village.glb -o village.crowdpack --cell 0.25 --light 0.4,1,0.3 "
                "--report village.json");
   BakeArgs b;

@@ -11,10 +11,10 @@
 #include "crowd/bake/provenance.h"
 #include "crowd/formats/error.h"
 #include "crowd/formats/joint_tracks.h"
-#include "crowd/runtime/images.h"
 #include "crowd/runtime/pack_joints.h"
 #include "crowd/runtime/pose.h"
 #include "crowd/runtime/region_colour.h"
+#include "crowd/support/images.h"
 
 namespace crowd {
 

@@ -22,7 +22,7 @@ struct BaseColourUv {
     if (!identity)
       for (int c = 0; c < 3; ++c)
         for (int r = 0; r < 2; ++r)
-          k += "," + std::to_string(transform[c][r]);
+          k.append(",").append(std::to_string(transform[c][r])); // as vertexKeyOf's key
     return k;
   }
 };

@@ -1,9 +1,10 @@
-#include "importer.h"
+#include "gltf_accessors.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 
+#include "crowd/formats/error.h"
 #include "crowd/formats/limits.h"
 
 namespace crowd::gltf {
@@ -80,8 +81,10 @@ int componentSize(int componentType) {
 
 } // namespace
 
-const uint8_t *Importer::viewRange(int view, size_t offset, size_t count, size_t stride,
-                                   size_t elemSize, const std::string &what) const {
+void Accessors::fail(const std::string &what) const { throw Error(path_ + ": " + what); }
+
+const uint8_t *Accessors::viewRange(int view, size_t offset, size_t count, size_t stride,
+                                    size_t elemSize, const std::string &what) const {
   if (view < 0 || size_t(view) >= model_.bufferViews.size())
     fail(what + ": bufferView " + std::to_string(view) + " does not exist");
   const auto &bv = model_.bufferViews[size_t(view)];
@@ -101,10 +104,10 @@ const uint8_t *Importer::viewRange(int view, size_t offset, size_t count, size_t
   return buf.data() + bv.byteOffset + offset;
 }
 
-std::shared_ptr<const std::vector<double>>
-Importer::readAccessor(int index, const std::string &what, bool finite) {
-  auto cached = accessorCache_.find({index, finite});
-  if (cached != accessorCache_.end())
+std::shared_ptr<const std::vector<double>> Accessors::read(int index, const std::string &what,
+                                                           bool finite) {
+  auto cached = cache_.find({index, finite});
+  if (cached != cache_.end())
     return cached->second;
   std::string ctx = what + ", accessor " + std::to_string(index);
   stage_ = "reading " + ctx;
@@ -163,16 +166,16 @@ Importer::readAccessor(int index, const std::string &what, bool finite) {
     for (size_t i = 0; i < out.size(); ++i)
       if (!std::isfinite(out[i]))
         fail(ctx + ": element " + std::to_string(i / size_t(nc)) + " is NaN or infinite");
-  accessorCache_[{index, finite}] = shared;
+  cache_[{index, finite}] = shared;
   return shared;
 }
 
-size_t Importer::accessorCount(int index) const {
+size_t Accessors::count(int index) const {
   if (index < 0 || size_t(index) >= model_.accessors.size())
     fail("accessor " + std::to_string(index) + ": does not exist");
   return model_.accessors[size_t(index)].count;
 }
-int Importer::accessorType(int index, const std::string &what) const {
+int Accessors::type(int index, const std::string &what) const {
   if (index < 0 || size_t(index) >= model_.accessors.size())
     fail(what + ", accessor " + std::to_string(index) + ": does not exist");
   return model_.accessors[size_t(index)].type;

@@ -1,17 +1,16 @@
-#include "importer.h"
+#include "gltf_animations.h"
 
 #include <algorithm>
 #include <cmath>
 
+#include "importer.h"
+
 namespace crowd::gltf {
 
-// The channel's sampler: its interpolation, key times (increasing; two at one time read as a
-// step) and values, rotations normalized.
-void Importer::readKeys(const tinygltf::Animation &anim, const tinygltf::AnimationChannel &ch,
-                        const std::string &ctx, Channel &out) {
-  if (ch.sampler < 0 || size_t(ch.sampler) >= anim.samplers.size())
-    fail(ctx + ": sampler " + std::to_string(ch.sampler) + " does not exist");
-  const auto &s = anim.samplers[size_t(ch.sampler)];
+void readSamplerKeys(const tinygltf::AnimationSampler &s, Accessors &accessors,
+                     const std::string &file, const std::string &ctx, Reporter &reporter,
+                     Channel &out) {
+  const auto fail = [&](const std::string &what) { throw Error(file + ": " + what); };
   if (s.interpolation == "STEP")
     out.interpolation = Interpolation::Step;
   else if (s.interpolation == "CUBICSPLINE")
@@ -20,7 +19,7 @@ void Importer::readKeys(const tinygltf::Animation &anim, const tinygltf::Animati
     out.interpolation = Interpolation::Linear;
   else
     fail(ctx + ": unknown interpolation '" + s.interpolation + "'");
-  out.times = *readAccessor(s.input, ctx + " input");
+  out.times = *accessors.read(s.input, ctx + " input");
   if (out.times.empty())
     fail(ctx + ": sampler has no keyframes");
   // Two keys at one time are read as a step (the later holds from that time on), with a
@@ -32,12 +31,12 @@ void Importer::readKeys(const tinygltf::Animation &anim, const tinygltf::Animati
     else if (!(out.times[k] > out.times[k - 1]))
       fail(ctx + " input: key times decrease at key " + std::to_string(k));
   if (steps)
-    reporter_.warn("keys_at_one_time",
-                   ctx + ": " + std::to_string(steps) +
-                       " pairs of keys share a time: read as steps (the later key holds "
-                       "from that time)",
-                   steps);
-  out.values = *readAccessor(s.output, ctx + " output");
+    reporter.warn("keys_at_one_time",
+                  ctx + ": " + std::to_string(steps) +
+                      " pairs of keys share a time: read as steps (the later key holds "
+                      "from that time)",
+                  steps);
+  out.values = *accessors.read(s.output, ctx + " output");
   if (out.path == ChannelPath::Rotation)
     out.components = 4;
   const size_t comps = out.components;
@@ -103,7 +102,9 @@ void Importer::readAnimations() {
         fail(ctx + ": unknown target path '" + ch.target_path + "'");
       if (out_.nodes[size_t(out.node)].hasMatrix && out.path != ChannelPath::Weights)
         fail(ctx + ": animates node " + std::to_string(out.node) + " which has a matrix");
-      readKeys(anim, ch, ctx, out);
+      if (ch.sampler < 0 || size_t(ch.sampler) >= anim.samplers.size())
+        fail(ctx + ": sampler " + std::to_string(ch.sampler) + " does not exist");
+      readSamplerKeys(anim.samplers[size_t(ch.sampler)], accessors_, path_, ctx, reporter_, out);
       clip.start = first ? out.times.front() : std::min(clip.start, out.times.front());
       clip.end = first ? out.times.back() : std::max(clip.end, out.times.back());
       first = false;

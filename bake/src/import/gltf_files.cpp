@@ -5,7 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "crowd/bake/import.h"
-#include "crowd/runtime/json_checker.h"
+#include "crowd/support/json_checker.h"
 #include "gltf_schema.h"
 
 namespace crowd {
@@ -41,7 +41,7 @@ std::vector<std::string> gltfFiles(const std::string &path, const InputPolicy &p
       std::memcpy(&length, bytes.data() + 12, 4);
       json = json.substr(20, length);
     }
-    runtime::checkJsonDepth(json, path);
+    support::checkJsonDepth(json, path);
     const auto j = nlohmann::json::parse(json);
     for (const char *array : {"buffers", "images"}) {
       if (!j.contains(array) || !j[array].is_array())

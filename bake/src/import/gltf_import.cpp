@@ -5,7 +5,7 @@
 #include <filesystem>
 
 #include "crowd/bake/input_files.h"
-#include "crowd/runtime/json_checker.h"
+#include "crowd/support/json_checker.h"
 #include "gltf_schema.h"
 #include "meshopt_views.h"
 
@@ -116,7 +116,7 @@ void Importer::load(const InputPolicy &policy) {
       std::memcpy(&length, bytes.data() + 12, 4);
     json = json.substr(std::min<size_t>(20, json.size()), length);
   }
-  runtime::checkJsonDepth(json, path_);
+  support::checkJsonDepth(json, path_);
   if (binary && bytes.size() >= 8 && bytes[4] != 2)
     fail("GLB container version " + std::to_string(bytes[4]) + " is not 2");
   stage_ = "decoding compressed buffer views";

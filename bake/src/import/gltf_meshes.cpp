@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "base_colour_uv.h"
 #include "crowd/formats/limits.h"
@@ -15,6 +16,19 @@ namespace {
 int attributeOf(const tinygltf::Primitive &prim, const std::string &name) {
   auto it = prim.attributes.find(name);
   return it == prim.attributes.end() ? -1 : it->second;
+}
+
+// An index read from a file (vertex or joint) as a message shows it: any double, even one past
+// every integer type (a float accessor may hold 1e24 or NaN), printed without a cast.
+std::string indexText(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.10g", v);
+  return text;
+}
+
+// Whether v names one of count items: a whole number in [0, count).
+bool indexesInto(double v, size_t count) {
+  return v >= 0 && v < double(count) && v == std::floor(v);
 }
 
 } // namespace
@@ -45,7 +59,7 @@ void Importer::readMeshes() {
 
 void Importer::checkLikePosition(int acc, const std::string &ctx, const std::string &name, int type,
                                  size_t count) const {
-  if (accessorType(acc, ctx + " " + name) != type || accessorCount(acc) != count)
+  if (accessors_.type(acc, ctx + " " + name) != type || accessors_.count(acc) != count)
     fail(ctx + " " + name + ": type or count differs from POSITION");
 }
 
@@ -63,9 +77,9 @@ void Importer::readPrimitive(const MeshNode &mn, size_t pi, bool mirrored, MeshS
   const int posAcc = attributeOf(prim, "POSITION");
   if (posAcc < 0)
     fail(ctx + ": no POSITION attribute");
-  if (accessorType(posAcc, ctx + " POSITION") != TINYGLTF_TYPE_VEC3)
+  if (accessors_.type(posAcc, ctx + " POSITION") != TINYGLTF_TYPE_VEC3)
     fail(ctx + " POSITION: must be VEC3");
-  const size_t vc = accessorCount(posAcc);
+  const size_t vc = accessors_.count(posAcc);
   // Primitives repeating another's vertices share them; one repeating another's vertices,
   // indices and material too is dropped (some exporters write hundreds).
   const std::string vertexKey = vertexKeyOf(prim, mn);
@@ -78,12 +92,12 @@ void Importer::readPrimitive(const MeshNode &mn, size_t pi, bool mirrored, MeshS
   }
   const auto [known, fresh] =
       state.vertexBases.try_emplace(vertexKey, uint32_t(out_.mesh.positions.size()));
-  const auto posData = readAccessor(posAcc, ctx + " POSITION");
+  const auto posData = accessors_.read(posAcc, ctx + " POSITION");
   const std::vector<double> &pos = *posData;
   std::vector<double> nrm, uv;
   if (int a = attributeOf(prim, "NORMAL"); a >= 0) {
     checkLikePosition(a, ctx, "NORMAL", TINYGLTF_TYPE_VEC3, vc);
-    nrm = *readAccessor(a, ctx + " NORMAL");
+    nrm = *accessors_.read(a, ctx + " NORMAL");
   } else {
     state.missingNormals += fresh;
   }
@@ -92,7 +106,7 @@ void Importer::readPrimitive(const MeshNode &mn, size_t pi, bool mirrored, MeshS
   const std::string uvName = "TEXCOORD_" + std::to_string(uvMap.set);
   if (int a = attributeOf(prim, uvName); a >= 0) {
     checkLikePosition(a, ctx, uvName, TINYGLTF_TYPE_VEC2, vc);
-    uv = *readAccessor(a, ctx + " " + uvName);
+    uv = *accessors_.read(a, ctx + " " + uvName);
     for (size_t k = 0; !uvMap.identity && k + 1 < uv.size(); k += 2) {
       const glm::dvec3 t = uvMap.transform * glm::dvec3(uv[k], uv[k + 1], 1);
       if (!std::isfinite(t.x) || !std::isfinite(t.y))
@@ -131,12 +145,12 @@ std::vector<uint32_t> Importer::readIndices(const tinygltf::Primitive &prim, con
                                             size_t vc) {
   std::vector<uint32_t> idx;
   if (prim.indices >= 0) {
-    const auto rawData = readAccessor(prim.indices, ctx + " indices");
+    const auto rawData = accessors_.read(prim.indices, ctx + " indices");
     const std::vector<double> &raw = *rawData;
     for (size_t k = 0; k < raw.size(); ++k) {
-      if (raw[k] < 0 || raw[k] >= double(vc))
-        fail(ctx + " indices: index " + std::to_string(k) + " = " +
-             std::to_string(uint64_t(raw[k])) + " >= vertex count " + std::to_string(vc));
+      if (!indexesInto(raw[k], vc))
+        fail(ctx + " indices: index " + std::to_string(k) + " = " + indexText(raw[k]) +
+             " names no vertex of " + std::to_string(vc));
       idx.push_back(uint32_t(raw[k]));
     }
   } else {
@@ -166,8 +180,8 @@ Importer::Influences Importer::readInfluences(const tinygltf::Primitive &prim, c
       fail(ctx + ": JOINTS_" + n + " without WEIGHTS_" + n);
     checkLikePosition(ja, ctx, "JOINTS", TINYGLTF_TYPE_VEC4, vc);
     checkLikePosition(wa, ctx, "WEIGHTS", TINYGLTF_TYPE_VEC4, vc);
-    const auto jData = readAccessor(ja, ctx + " JOINTS_" + n);
-    const auto wData = readAccessor(wa, ctx + " WEIGHTS_" + n);
+    const auto jData = accessors_.read(ja, ctx + " JOINTS_" + n);
+    const auto wData = accessors_.read(wa, ctx + " WEIGHTS_" + n);
     const std::vector<double> &jv = *jData, &wv = *wData;
     for (size_t v = 0; v < vc; ++v)
       for (int k = 0; k < 4; ++k) {
@@ -177,9 +191,9 @@ Importer::Influences Importer::readInfluences(const tinygltf::Primitive &prim, c
                std::to_string(w));
         if (w == 0)
           continue;
-        if (j < 0 || j >= double(jointCount))
+        if (!indexesInto(j, jointCount))
           fail(ctx + " JOINTS_" + n + ": vertex " + std::to_string(v) + " uses joint " +
-               std::to_string(int64_t(j)) + " but the skin has " + std::to_string(jointCount));
+               indexText(j) + " but the skin has " + std::to_string(jointCount));
         infl[v].push_back({w, int(entries[size_t(j)])});
       }
   }
@@ -288,7 +302,9 @@ void Importer::warnMeshRepairs(const MeshState &state) {
 // maps their UVs (base_colour_uv.h), and its joint (a rigid part) or its skin (one mesh bound by
 // two skins is two sets of vertices).
 std::string Importer::vertexKeyOf(const tinygltf::Primitive &prim, const MeshNode &mn) const {
-  std::string key = mn.rigid >= 0 ? std::to_string(mn.rigidJoint) : "s" + std::to_string(mn.skin);
+  // Appended, not "s" + to_string(...): GCC 12 warns of an overlap there (-Wrestrict, wrongly).
+  std::string key = mn.rigid >= 0 ? "" : "s";
+  key += std::to_string(mn.rigid >= 0 ? int(mn.rigidJoint) : mn.skin);
   for (const auto &[name, accessor] : prim.attributes)
     key += ";" + name + "=" + std::to_string(accessor);
   return key + ";uv=" + baseColourUv(model_, prim.material).key();
@@ -305,7 +321,7 @@ void Importer::checkMeshSize() const {
       if (pos == prim.attributes.end() || !drawsTriangles(prim.mode))
         continue; // the reading loop names it or skips it
       const std::string key = vertexKeyOf(prim, mn);
-      const uint64_t vc = accessorCount(pos->second);
+      const uint64_t vc = accessors_.count(pos->second);
       if (!primitives
                .insert(key + "|" + std::to_string(prim.indices) + "|" +
                        std::to_string(prim.material))
@@ -313,7 +329,8 @@ void Importer::checkMeshSize() const {
         continue;
       if (vertexSets.insert(key).second)
         vertices += vc;
-      triangles += triangleCount(prim.mode, prim.indices >= 0 ? accessorCount(prim.indices) : vc);
+      triangles +=
+          triangleCount(prim.mode, prim.indices >= 0 ? accessors_.count(prim.indices) : vc);
     }
   if (vertices > limits::kVertices)
     fail("the meshes hold " + std::to_string(vertices) + " vertices, over the limit of " +

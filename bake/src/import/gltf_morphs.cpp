@@ -54,9 +54,9 @@ void Importer::readMorphTargets(const MeshNode &mn, const tinygltf::Mesh &gm,
       if (!position && attribute != "NORMAL")
         continue; // tangents and the like do not reach the player
       const std::string actx = ctx + ", morph target " + std::to_string(t) + " " + attribute;
-      if (accessorType(accessor, actx) != TINYGLTF_TYPE_VEC3 || accessorCount(accessor) != vc)
+      if (accessors_.type(accessor, actx) != TINYGLTF_TYPE_VEC3 || accessors_.count(accessor) != vc)
         fail(actx + ": type or count differs from POSITION");
-      const auto data = readAccessor(accessor, actx);
+      const auto data = accessors_.read(accessor, actx);
       auto &offsets = position ? target.positions : target.normals;
       for (size_t v = 0; v < vc; ++v)
         offsets[base + v] = glm::vec3((*data)[v * 3], (*data)[v * 3 + 1], (*data)[v * 3 + 2]);

@@ -168,10 +168,10 @@ std::set<int> Importer::mergeSkinJoints() {
     }
     std::shared_ptr<const std::vector<double>> ibm;
     if (skin.inverseBindMatrices >= 0) {
-      if (accessorType(skin.inverseBindMatrices, ctx) != TINYGLTF_TYPE_MAT4 ||
-          accessorCount(skin.inverseBindMatrices) < skin.joints.size())
+      if (accessors_.type(skin.inverseBindMatrices, ctx) != TINYGLTF_TYPE_MAT4 ||
+          accessors_.count(skin.inverseBindMatrices) < skin.joints.size())
         fail(ctx + ": inverseBindMatrices must be MAT4 with one per joint");
-      ibm = readAccessor(skin.inverseBindMatrices, ctx + " inverseBindMatrices");
+      ibm = accessors_.read(skin.inverseBindMatrices, ctx + " inverseBindMatrices");
     }
     auto &entries = skinEntries_[s];
     for (size_t j = 0; j < skin.joints.size(); ++j) {

@@ -3,7 +3,7 @@
 #include <algorithm>
 
 #include "crowd/formats/limits.h"
-#include "crowd/runtime/images.h"
+#include "crowd/support/images.h"
 
 namespace crowd::gltf {
 

@@ -1,8 +1,9 @@
 // importGltf's stages over one file, each in its own file: load (gltf_import.cpp: the file, its
-// compressed views, tinygltf's parse), accessors (gltf_accessors.cpp), the node hierarchy and
-// the choice of skins and mesh nodes (gltf_nodes.cpp), meshes (gltf_meshes.cpp) and their morph
-// targets (gltf_morphs.cpp), animations (gltf_animations.cpp) and the diffuse texture
-// (gltf_textures.cpp). Every error names the file and what in it is wrong.
+// compressed views, tinygltf's parse), accessors (gltf_accessors.h, a class of its own), the node
+// hierarchy and the choice of skins and mesh nodes (gltf_nodes.cpp), meshes (gltf_meshes.cpp) and
+// their morph targets (gltf_morphs.cpp), animations (gltf_animations.cpp, a sampler's keys in
+// gltf_animations.h) and the diffuse texture (gltf_textures.cpp). Every error names the file and
+// what in it is wrong.
 #pragma once
 #include <map>
 #include <memory>
@@ -14,6 +15,7 @@
 
 #include "crowd/bake/import.h"
 #include "crowd/formats/error.h"
+#include "gltf_accessors.h"
 #include "unique_names.h"
 
 namespace crowd::gltf {
@@ -67,22 +69,6 @@ private:
   // gltf_import.cpp
   void load(const InputPolicy &policy);
 
-  // gltf_accessors.cpp
-  // Bytes of `count` elements of `elemSize` at `offset` with `stride` inside buffer view `view`.
-  const uint8_t *viewRange(int view, size_t offset, size_t count, size_t stride, size_t elemSize,
-                           const std::string &what) const;
-  // Every element of accessor `index` as doubles (count * components), normalised per spec.
-  // The count is checked against the limits and the buffer view before anything is allocated;
-  // an accessor shared by several primitives is read once.
-  std::shared_ptr<const std::vector<double>> readAccessor(int index, const std::string &what,
-                                                          bool finite = true);
-  // An accessor's declared count (not yet checked against its buffer view), and its type.
-  size_t accessorCount(int index) const;
-  int accessorType(int index, const std::string &what) const;
-  // That accessor `acc` (attribute `name` of `ctx`) is of `type` with `count` elements.
-  void checkLikePosition(int acc, const std::string &ctx, const std::string &name, int type,
-                         size_t count) const;
-
   // gltf_nodes.cpp
   void buildHierarchy();
   // Whether the node's rest transform, with its ancestors', mirrors (a negative determinant).
@@ -95,6 +81,9 @@ private:
   void orderJoints();
 
   // gltf_meshes.cpp
+  // That accessor `acc` (attribute `name` of `ctx`) is of `type` with `count` elements.
+  void checkLikePosition(int acc, const std::string &ctx, const std::string &name, int type,
+                         size_t count) const;
   void readMeshes();
   void readPrimitive(const MeshNode &mn, size_t pi, bool mirrored, MeshState &state);
   std::vector<uint32_t> readIndices(const tinygltf::Primitive &prim, const std::string &ctx,
@@ -124,14 +113,12 @@ private:
 
   // gltf_animations.cpp
   void readAnimations();
-  void readKeys(const tinygltf::Animation &anim, const tinygltf::AnimationChannel &ch,
-                const std::string &ctx, Channel &out);
 
   std::string path_;
   std::string stage_; // what the import is doing, for an out-of-memory error
   Reporter &reporter_;
-  std::map<std::pair<int, bool>, std::shared_ptr<const std::vector<double>>> accessorCache_;
   tinygltf::Model model_;
+  Accessors accessors_{model_, path_, stage_};
   Character out_;
   std::vector<int> skins_;                         // the skins baked
   std::map<int, std::vector<size_t>> skinEntries_; // per skin, its joints' entries in skinJoints_

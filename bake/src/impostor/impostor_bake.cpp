@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <numeric>
 
 #include "crowd/bake/evaluate.h"
@@ -12,11 +13,14 @@
 #include "crowd/formats/limits.h"
 #include "crowd/runtime/impostor_runtime.h"
 #include "crowd/runtime/pose.h"
+#include "impostor_pose.h"
 
 namespace crowd {
-namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using impostor::pose;
+using impostor::Posed;
+
+namespace {
 
 struct Crop {
   uint32_t x0 = 0, y0 = 0, width = 0, height = 0;
@@ -25,37 +29,6 @@ struct Crop {
   std::vector<float> uv;       // u, v wrapped into 0..1: 2 per texel; empty without UVs
   std::vector<uint8_t> region; // region id + 1 (0: empty)
 };
-
-struct Posed {
-  std::vector<glm::vec3> positions, normals;
-};
-
-Posed pose(const Character &c, const AnimationClip *clip, double t) {
-  auto joints = jointMatrices(c, clip, t);
-  const auto morphs = morphWeights(c, clip, t);
-  Posed p;
-  for (const auto &q : skinPositions(c, joints, morphs))
-    p.positions.push_back(glm::vec3(q));
-  for (size_t v = 0; v < c.mesh.vertexCount(); ++v) {
-    glm::dvec3 bind(c.mesh.normals[v]), n(0);
-    for (size_t k = 0; k < morphs.size(); ++k)
-      bind += morphs[k] * glm::dvec3(c.mesh.morphs[k].normals[v]);
-    for (int k = 0; k < 4; ++k)
-      n += double(c.mesh.weights[v][k]) *
-           glm::dvec3(joints[c.mesh.joints[v][size_t(k)]] * glm::dvec4(bind, 0));
-    p.normals.push_back(glm::vec3(glm::length(n) > 0 ? glm::normalize(n) : n));
-  }
-  // A flat-shaded vertex (its normal stored as zero by the LOD bake's weld) takes its posed
-  // faces' normal, area-weighted, as the CPU mirror gives it.
-  std::vector<uint8_t> flat(p.normals.size(), 0);
-  for (size_t v = 0; v < flat.size(); ++v)
-    flat[v] = c.mesh.normals[v] == glm::vec3(0.0f);
-  runtime::faceNormals(p.positions, c.mesh.indices, flat, p.normals);
-  for (size_t v = 0; v < flat.size(); ++v)
-    if (flat[v] && glm::length(p.normals[v]) > 0)
-      p.normals[v] = glm::normalize(p.normals[v]);
-  return p;
-}
 
 // The best plane of one rendered view (pack::ImpostorView's): z = offset + slopeX x + slopeY y
 // in the view's frame, through the depths of the silhouette's texels (covered, with an empty
@@ -459,7 +432,8 @@ ImpostorBakeResult bakeImpostor(const Character &c, const ImpostorOptions &optio
   std::vector<Crop> crops(size_t(o.frames) * views);
   parallelFor(crops.size(), o.threads, [&](size_t i) {
     size_t f = i / views, e = (i % views) / o.azimuths, a = i % o.azimuths;
-    double az = 2 * kPi * double(a) / o.azimuths, el = 0.5 * kPi * (double(e) + 0.5) / o.elevations;
+    double az = 2 * std::numbers::pi * double(a) / o.azimuths,
+           el = 0.5 * std::numbers::pi * (double(e) + 0.5) / o.elevations;
     crops[i] = renderView(c, posed[f], region, centre, radius, az, el, n, hasUvs);
   });
   ImpostorBakeResult r;
@@ -489,157 +463,6 @@ ImpostorBakeResult bakeImpostor(const Character &c, const ImpostorOptions &optio
   r.naiveBytesPerFrame = views * o.texels * o.texels * (hasUvs ? 3 : 2);
   r.impostor = std::move(m);
   return r;
-}
-
-ImpostorAccuracy measureImpostor(const Character &c, const pack::Impostor &m, int threads) {
-  const AnimationClip *clip = nullptr;
-  for (const auto &cl : c.clips)
-    if (cl.name == m.clip)
-      clip = &cl;
-  Posed posed = pose(c, clip, m.startTime);
-  const glm::dvec3 centre(m.sphere[0], m.sphere[1], m.sphere[2]);
-  const double radius = m.sphere[3];
-  const int n = int(m.texels);
-  auto sampledAz = [&](uint32_t a) { return 2 * kPi * a / m.azimuths; };
-  auto sampledEl = [&](double e) { return 0.5 * kPi * (e + 0.5) / m.elevations; };
-
-  struct Result {
-    double iou = 1, angleSum = 0, angleMax = 0, uvSum = 0, uvMax = 0;
-    size_t angles = 0;
-  };
-  // The frames drawn, decoded as the GPU samples them: frame 0, and the one its mirrored views
-  // come from.
-  std::vector<pack::ImpostorTexels> layers(m.frames);
-  layers[0] = pack::decodeTexels(m, 0);
-  if (m.mirrored)
-    layers[m.frames / 2] = pack::decodeTexels(m, m.frames / 2);
-  // A grey per pixel, lit from a fixed object-space light (0 where empty, 0.2 to 1 covered), of
-  // the geometry and of the impostor: what the popping measure compares between frames.
-  const glm::dvec3 light = glm::normalize(glm::dvec3(0.3, 0.9, 0.3));
-  auto grey = [&](glm::dvec3 normal) {
-    return float(0.2 + 0.8 * std::max(0.0, glm::dot(normal, light)));
-  };
-  // One camera direction: the reference (the skinned mesh) against the impostor as the player
-  // draws it (runtime::sampleImpostor: the three stored views around the direction, blended).
-  auto look = [&](double az, double el, Result &r, std::vector<float> *geometryGrey,
-                  std::vector<float> *impostorGrey) {
-    const runtime::ImpostorFrame cam = runtime::impostorViewFrame(az, el);
-    auto camera = raster::orthographic(centre + cam.dir * (2 * radius), centre, {0, 1, 0}, radius,
-                                       radius, 0.5 * radius, 3.5 * radius);
-    raster::Image reference =
-        raster::rasterize(posed.positions, c.mesh.indices, camera, n, n, {true, 1});
-    const runtime::ImpostorChoice choice =
-        runtime::chooseImpostorViews(m, cam.dir, 0.0, false); // frame 0
-    size_t both = 0, either = 0;
-    if (geometryGrey)
-      geometryGrey->assign(size_t(n) * size_t(n), 0.0f), impostorGrey->assign(size_t(n) * n, 0.0f);
-    for (int y = 0; y < n; ++y)
-      for (int x = 0; x < n; ++x) {
-        const glm::dvec3 p = centre + cam.right * (((x + 0.5) / n * 2 - 1) * radius) +
-                             cam.up * ((1 - (y + 0.5) / n * 2) * radius);
-        const runtime::ImpostorSample drawn =
-            runtime::sampleImpostor(m, layers, choice, p, -cam.dir);
-        const size_t ti = reference.index(x, y);
-        const bool real = reference.triangle[ti] >= 0;
-        both += real && drawn.covered;
-        either += real || drawn.covered;
-        if (geometryGrey && drawn.covered)
-          (*impostorGrey)[ti] = grey(drawn.normal);
-        if (!real)
-          continue;
-        const glm::dvec3 actual = glm::normalize(
-            glm::dvec3(raster::interpolate(reference, ti, posed.normals, c.mesh.indices)));
-        if (geometryGrey)
-          (*geometryGrey)[ti] = grey(actual);
-        if (!drawn.covered)
-          continue;
-        const double angle =
-            glm::degrees(std::acos(std::clamp(glm::dot(drawn.normal, actual), -1.0, 1.0)));
-        r.angleSum += angle;
-        r.angleMax = std::max(r.angleMax, angle);
-        ++r.angles;
-        if (!layers[0].uv.empty()) { // both wrapped into [0, 1): compare around the circle
-          const glm::vec2 trueUv = raster::interpolate(reference, ti, c.mesh.uvs, c.mesh.indices);
-          double d2 = 0;
-          for (int k = 0; k < 2; ++k) {
-            double d = std::abs(drawn.uv[k] - (trueUv[k] - std::floor(trueUv[k])));
-            d = std::min(d, 1.0 - d);
-            d2 += d * d;
-          }
-          r.uvSum += std::sqrt(d2);
-          r.uvMax = std::max(r.uvMax, std::sqrt(d2));
-        }
-      }
-    r.iou = either ? double(both) / double(either) : 1.0;
-  };
-  // Directions: at every sampled view, then halfway to the next azimuth and elevation.
-  const size_t views = size_t(m.azimuths) * m.elevations;
-  std::vector<Result> results(2 * views);
-  parallelFor(results.size(), threads, [&](size_t i) {
-    bool between = i >= views;
-    size_t k = i % views, e = k / m.azimuths, a = k % m.azimuths;
-    double half = between ? 0.5 : 0.0;
-    // Halfway up too, except above the top row: there the views stop (and looking straight
-    // down leaves the camera's "up" undefined).
-    look(sampledAz(uint32_t(a)) + half * 2 * kPi / m.azimuths,
-         sampledEl(double(e) + (e + 1 < m.elevations ? half : 0.0)), results[i], nullptr, nullptr);
-  });
-  // Popping: a slow orbit around the walker at the lowest row's elevation, kOrbitSteps a view
-  // apart; the mean per-pixel change of the grey between consecutive steps, for the geometry and
-  // for the impostor. The geometry changes a little every step; a nearest-view impostor would stand
-  // still, then jump where the nearest view changes (7.9 times the geometry's largest step on the
-  // sample walk at 32x8); the blend moves the weight over instead.
-  const size_t steps = size_t(m.azimuths) * kOrbitSteps;
-  std::vector<std::vector<float>> geometry(steps), impostor(steps);
-  parallelFor(steps, threads, [&](size_t s) {
-    Result unused;
-    look(2 * kPi * double(s) / double(steps), sampledEl(0), unused, &geometry[s], &impostor[s]);
-  });
-  ImpostorAccuracy::Popping pop;
-  pop.steps = uint32_t(steps);
-  pop.elevationDeg = glm::degrees(sampledEl(0));
-  for (size_t s = 0; s < steps; ++s) {
-    const size_t prev = (s + steps - 1) % steps;
-    double g = 0, im = 0;
-    for (size_t k = 0; k < geometry[s].size(); ++k) {
-      g += std::abs(geometry[s][k] - geometry[prev][k]);
-      im += std::abs(impostor[s][k] - impostor[prev][k]);
-    }
-    g *= 255.0 / double(geometry[s].size()), im *= 255.0 / double(geometry[s].size());
-    pop.geometryMean += g / double(steps), pop.impostorMean += im / double(steps);
-    pop.geometryMax = std::max(pop.geometryMax, g), pop.impostorMax = std::max(pop.impostorMax, im);
-  }
-
-  ImpostorAccuracy acc;
-  for (int part = 0; part < 2; ++part) {
-    ImpostorAccuracy::Figures &f = part ? acc.betweenViews : acc.atViews;
-    double angleSum = 0, uvSum = 0;
-    size_t angles = 0;
-    f.iouMeanByElevation.assign(m.elevations, 0.0);
-    for (size_t k = 0; k < views; ++k) {
-      const Result &r = results[size_t(part) * views + k];
-      f.iouMeanByElevation[k / m.azimuths] += r.iou / double(m.azimuths);
-      uvSum += r.uvSum;
-      f.uvMax = std::max(f.uvMax, r.uvMax);
-      f.iouMean += r.iou / double(views);
-      f.iouMin = std::min(f.iouMin, r.iou);
-      f.normalMaxDeg = std::max(f.normalMaxDeg, r.angleMax);
-      angleSum += r.angleSum;
-      angles += r.angles;
-      if (r.iou < acc.worstIou) {
-        acc.worstIou = r.iou;
-        acc.worstAzimuthDeg =
-            glm::degrees(sampledAz(uint32_t(k % m.azimuths))) + (part ? 180.0 / m.azimuths : 0);
-        size_t e = k / m.azimuths;
-        acc.worstElevationDeg =
-            glm::degrees(sampledEl(double(e) + (part && e + 1 < m.elevations ? 0.5 : 0)));
-      }
-    }
-    f.normalMeanDeg = angles ? angleSum / double(angles) : 0;
-    f.uvMean = angles ? uvSum / double(angles) : 0;
-  }
-  acc.popping = pop;
-  return acc;
 }
 
 } // namespace crowd

@@ -51,15 +51,15 @@ uint32_t findRoot(std::vector<uint32_t> &parent, uint32_t x) {
   return x;
 }
 
-} // namespace
-
-FanMesh buildFanMesh(const std::vector<glm::vec3> &positions, const std::vector<uint32_t> &indices,
-                     const std::vector<uint32_t> &group) {
-  FanMesh m;
-  // Weld by position within a group, numbered in input order: an open-addressed table of
-  // welded ids, keyed by their first input vertex's key.
-  std::vector<uint32_t> welded(positions.size());
-  std::vector<glm::dvec3> weldedPos;
+// Every input vertex's welded id, by position within its group, numbered in input order: an
+// open-addressed table of welded ids, keyed by their first input vertex's key.
+struct Welded {
+  std::vector<uint32_t> id;         // per input vertex
+  std::vector<glm::dvec3> position; // per welded id
+};
+Welded weldVertices(const std::vector<glm::vec3> &positions, const std::vector<uint32_t> &group) {
+  Welded w;
+  w.id.resize(positions.size());
   std::vector<WeldKey> weldedKey;
   size_t slots = 16;
   while (slots < 2 * positions.size())
@@ -72,21 +72,30 @@ FanMesh buildFanMesh(const std::vector<glm::vec3> &positions, const std::vector<
     while (table[slot] != UINT32_MAX && !(weldedKey[table[slot]] == key))
       slot = (slot + 1) & (slots - 1);
     if (table[slot] == UINT32_MAX) {
-      table[slot] = uint32_t(weldedPos.size());
-      weldedPos.push_back(glm::dvec3(p));
+      table[slot] = uint32_t(w.position.size());
+      w.position.push_back(glm::dvec3(p));
       weldedKey.push_back(key);
     }
-    welded[v] = table[slot];
+    w.id[v] = table[slot];
   }
+  return w;
+}
 
-  // Triangles with an area, the first of each set of welded vertices kept.
+// The triangles with an area, the first of each set over the same welded vertices kept: their
+// input triangles into `m` (with the counts of those dropped), their welded corners returned.
+std::vector<std::array<uint32_t, 3>> keepTriangles(const std::vector<uint32_t> &indices,
+                                                   const Welded &welded, FanMesh &m) {
   const uint32_t T = uint32_t(indices.size() / 3);
+  auto corners = [&](uint32_t t) {
+    return std::array<uint32_t, 3>{welded.id[indices[3 * t]], welded.id[indices[3 * t + 1]],
+                                   welded.id[indices[3 * t + 2]]};
+  };
   std::vector<std::pair<std::array<uint32_t, 3>, uint32_t>> keyed; // sorted welded ids, triangle
   keyed.reserve(T);
   for (uint32_t t = 0; t < T; ++t) {
-    std::array<uint32_t, 3> w = {welded[indices[3 * t]], welded[indices[3 * t + 1]],
-                                 welded[indices[3 * t + 2]]};
-    const glm::dvec3 a = weldedPos[w[0]], b = weldedPos[w[1]], c = weldedPos[w[2]];
+    std::array<uint32_t, 3> w = corners(t);
+    const glm::dvec3 a = welded.position[w[0]], b = welded.position[w[1]],
+                     c = welded.position[w[2]];
     if (w[0] == w[1] || w[1] == w[2] || w[0] == w[2] ||
         glm::length(glm::cross(b - a, c - a)) == 0) {
       ++m.degenerate;
@@ -95,7 +104,7 @@ FanMesh buildFanMesh(const std::vector<glm::vec3> &positions, const std::vector<
     std::sort(w.begin(), w.end());
     keyed.push_back({w, t});
   }
-  sortGrouped(keyed, weldedPos.size(), [](const auto &k) { return k.first[0]; });
+  sortGrouped(keyed, welded.position.size(), [](const auto &k) { return k.first[0]; });
   std::vector<uint8_t> keep(T, 0);
   for (size_t k = 0; k < keyed.size(); ++k) {
     if (k > 0 && keyed[k].first == keyed[k - 1].first)
@@ -107,12 +116,20 @@ FanMesh buildFanMesh(const std::vector<glm::vec3> &positions, const std::vector<
   for (uint32_t t = 0; t < T; ++t)
     if (keep[t]) {
       m.inputTriangle.push_back(t);
-      weldedFace.push_back(
-          {welded[indices[3 * t]], welded[indices[3 * t + 1]], welded[indices[3 * t + 2]]});
+      weldedFace.push_back(corners(t));
     }
-  const uint32_t F = uint32_t(weldedFace.size());
+  return weldedFace;
+}
 
-  // Pair each edge's two sides: exactly two faces, wound opposite ways. Others stay open.
+// Corner c of face f is 3f + c.
+uint32_t nextCorner(uint32_t corner) { return corner - corner % 3 + (corner % 3 + 1) % 3; }
+
+// Each edge's two sides paired: exactly two faces, wound opposite ways, join their corners at
+// each end into one fan (a union-find over corners, returned as parents). Other edges stay open;
+// those with more than two sides are counted as cut.
+std::vector<uint32_t> pairEdges(const std::vector<std::array<uint32_t, 3>> &weldedFace,
+                                size_t weldedCount, FanMesh &m) {
+  const uint32_t F = uint32_t(weldedFace.size());
   struct EdgeEntry {
     uint32_t lo, hi, corner; // corner f*3+e: the edge from corner e to corner e+1 of face f
     bool operator<(const EdgeEntry &o) const {
@@ -126,7 +143,7 @@ FanMesh buildFanMesh(const std::vector<glm::vec3> &positions, const std::vector<
       uint32_t a = weldedFace[f][e], b = weldedFace[f][(e + 1) % 3];
       edges.push_back({std::min(a, b), std::max(a, b), 3 * f + e});
     }
-  sortGrouped(edges, weldedPos.size(), [](const EdgeEntry &e) { return e.lo; });
+  sortGrouped(edges, weldedCount, [](const EdgeEntry &e) { return e.lo; });
   std::vector<uint32_t> parent(size_t(F) * 3);
   std::iota(parent.begin(), parent.end(), 0u);
   auto unite = [&](uint32_t x, uint32_t y) {
@@ -134,31 +151,37 @@ FanMesh buildFanMesh(const std::vector<glm::vec3> &positions, const std::vector<
     if (x != y)
       parent[std::max(x, y)] = std::min(x, y);
   };
-  auto next = [](uint32_t corner) { return corner - corner % 3 + (corner % 3 + 1) % 3; };
   auto from = [&](uint32_t corner) { return weldedFace[corner / 3][corner % 3]; };
   for (size_t i = 0; i < edges.size();) {
     size_t j = i;
     while (j < edges.size() && edges[j].lo == edges[i].lo && edges[j].hi == edges[i].hi)
       ++j;
-    if (j - i == 2 && from(edges[i].corner) == from(next(edges[i + 1].corner))) {
+    if (j - i == 2 && from(edges[i].corner) == from(nextCorner(edges[i + 1].corner))) {
       // Side one runs A -> B (corners c, next(c)); side two B -> A (corners d, next(d)).
       const uint32_t c = edges[i].corner, d = edges[i + 1].corner;
-      unite(c, next(d));
-      unite(next(c), d);
+      unite(c, nextCorner(d));
+      unite(nextCorner(c), d);
     } else if (j - i > 1) {
       ++m.cutEdges;
     }
     i = j;
   }
+  return parent;
+}
 
-  // One topological vertex per fan: the corners joined across paired edges.
-  std::vector<uint32_t> fanOf(size_t(F) * 3, UINT32_MAX), fansAt(weldedPos.size(), 0);
+// One topological vertex per fan (the corners joined across paired edges), numbered as their
+// first corner comes: m.vertex, m.position and m.inputOf, and the counts of split vertices.
+void numberFans(const std::vector<std::array<uint32_t, 3>> &weldedFace, const Welded &welded,
+                const std::vector<uint32_t> &indices, std::vector<uint32_t> &parent, FanMesh &m) {
+  const uint32_t F = uint32_t(weldedFace.size());
+  auto from = [&](uint32_t corner) { return weldedFace[corner / 3][corner % 3]; };
+  std::vector<uint32_t> fanOf(size_t(F) * 3, UINT32_MAX), fansAt(welded.position.size(), 0);
   m.vertex.resize(F);
   for (uint32_t c = 0; c < 3 * F; ++c) {
     const uint32_t root = findRoot(parent, c);
     if (fanOf[root] == UINT32_MAX) {
       fanOf[root] = uint32_t(m.position.size());
-      m.position.push_back(weldedPos[from(c)]);
+      m.position.push_back(welded.position[from(c)]);
       m.inputOf.push_back(indices[3 * m.inputTriangle[c / 3] + c % 3]);
       if (++fansAt[from(c)] == 2)
         ++m.splitVertices;
@@ -167,11 +190,14 @@ FanMesh buildFanMesh(const std::vector<glm::vec3> &positions, const std::vector<
   }
   for (uint32_t n : fansAt)
     m.extraFans += n > 1 ? n - 1 : 0;
+}
 
-  // Render vertices: the input vertices, copied where a second fan uses one.
-  m.source.resize(positions.size());
+// Render vertices: the input vertices, copied where a second fan uses one (m.source, m.render).
+void numberRenderVertices(size_t inputVertices, const std::vector<uint32_t> &indices, FanMesh &m) {
+  const uint32_t F = uint32_t(m.vertex.size());
+  m.source.resize(inputVertices);
   std::iota(m.source.begin(), m.source.end(), 0u);
-  std::vector<uint32_t> claimedBy(positions.size(), UINT32_MAX);
+  std::vector<uint32_t> claimedBy(inputVertices, UINT32_MAX);
   std::map<std::pair<uint32_t, uint32_t>, uint32_t> copyOf; // (input vertex, fan) -> copy
   m.render.resize(F);
   for (uint32_t c = 0; c < 3 * F; ++c) {
@@ -187,6 +213,18 @@ FanMesh buildFanMesh(const std::vector<glm::vec3> &positions, const std::vector<
     }
     m.render[c / 3][c % 3] = r;
   }
+}
+
+} // namespace
+
+FanMesh buildFanMesh(const std::vector<glm::vec3> &positions, const std::vector<uint32_t> &indices,
+                     const std::vector<uint32_t> &group) {
+  FanMesh m;
+  const Welded welded = weldVertices(positions, group);
+  const auto weldedFace = keepTriangles(indices, welded, m);
+  std::vector<uint32_t> parent = pairEdges(weldedFace, welded.position.size(), m);
+  numberFans(weldedFace, welded, indices, parent, m);
+  numberRenderVertices(positions.size(), indices, m);
   return m;
 }
 

@@ -49,11 +49,116 @@ std::string describe(const OutfitPose &pose) {
   return clip + at;
 }
 
+// The check's cameras around the sphere at `centre` with `radius`, each with its description
+// for the error that names it: the impostor camera set, then player-like views (eye height and
+// 4 m away, 8 directions).
+struct Cameras {
+  std::vector<raster::Camera> cameras;
+  std::vector<std::string> views;
+};
+Cameras checkCameras(const HoleCheckOptions &o, const glm::dvec3 &centre, double radius) {
+  Cameras c;
+  for (uint32_t e = 0; e < o.elevations; ++e)
+    for (uint32_t a = 0; a < o.azimuths; ++a) {
+      double az = 2 * M_PI * a / o.azimuths, el = 0.5 * M_PI * (e + 0.5) / o.elevations;
+      glm::dvec3 dir(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
+      c.cameras.push_back(raster::orthographic(centre + dir * (2 * radius), centre, {0, 1, 0},
+                                               radius, radius, 0.5 * radius, 3.5 * radius));
+      c.views.push_back("orthographic view azimuth " + degrees(az) + " deg, elevation " +
+                        degrees(el) + " deg");
+    }
+  for (double height : {1.7, 4.0})
+    for (int a = 0; a < 8; ++a) {
+      double az = 2 * M_PI * (a + 0.5) / 8;
+      glm::dvec3 eye(centre.x + 4 * std::sin(az), height, centre.z + 4 * std::cos(az));
+      c.cameras.push_back(
+          raster::perspective(eye, centre, {0, 1, 0}, glm::radians(50.0), 1.0, 0.1, 100.0));
+      char eyeAt[64];
+      std::snprintf(eyeAt, sizeof eyeAt, "eye at %.1f m height, 4 m away", height);
+      c.views.push_back("perspective view azimuth " + degrees(az) + " deg, " + eyeAt);
+    }
+  return c;
+}
+
+// Outfit `oi`'s naive render (the whole body under its garments) against its tagged one (the
+// body faces the bake kept) in every frame it wears and every camera, pixel by pixel.
+HoleCheck::PerOutfit checkOutfit(const OutfitBakeResult &b, size_t oi,
+                                 const std::vector<OutfitPose> &frames,
+                                 const std::vector<std::vector<glm::vec3>> &posed,
+                                 const Cameras &cams, const HoleCheckOptions &o) {
+  const auto &mesh = b.anim.pack.mesh;
+  const auto &outfit = b.anim.pack.outfits->outfits[oi];
+  const auto &cameras = cams.cameras;
+  const int n = int(o.texels);
+  HoleCheck::PerOutfit r;
+  r.name = outfit.name;
+  std::vector<uint32_t> drawn, naive;
+  for (uint32_t t = 0; t < b.bodyTriangles; ++t)
+    naive.push_back(t);
+  for (uint32_t s : outfit.subMeshes) {
+    const auto &sub = mesh.subMeshes[s];
+    for (uint32_t t = sub.firstIndex / 3; t < (sub.firstIndex + sub.indexCount) / 3; ++t) {
+      drawn.push_back(t);
+      if (b.sourceTriangle[t] >= b.bodyTriangles)
+        naive.push_back(t);
+    }
+  }
+  const DrawList full = drawList(b, naive), tagged = drawList(b, drawn);
+  std::vector<uint8_t> kept(b.bodyTriangles, 0);
+  for (uint32_t id : tagged.ids)
+    if (id < b.bodyTriangles)
+      kept[id] = 1;
+  std::vector<uint8_t> everSeen(b.bodyTriangles, 0);
+  for (size_t f = 0; f < posed.size(); ++f) {
+    if (frames[f].loop && frames[f].loop->outfit != oi)
+      continue; // another outfit's garment moved: nothing this outfit wears
+    const auto &p = posed[f];
+    ++r.images;
+    std::vector<uint64_t> differing(cameras.size(), 0);
+    std::vector<std::vector<uint32_t>> seenIds(cameras.size()), leakedIds(cameras.size());
+    parallelFor(cameras.size(), o.threads, [&](size_t j) {
+      const auto a = raster::rasterize(p, full.indices, cameras[j], n, n, {false, 1});
+      const auto c = raster::rasterize(p, tagged.indices, cameras[j], n, n, {false, 1});
+      for (size_t i = 0; i < a.triangle.size(); ++i) {
+        const int64_t x = a.triangle[i] < 0 ? -1 : int64_t(full.ids[size_t(a.triangle[i])]);
+        const int64_t y = c.triangle[i] < 0 ? -1 : int64_t(tagged.ids[size_t(c.triangle[i])]);
+        differing[j] += x != y;
+        if (x >= 0 && x < b.bodyTriangles) {
+          seenIds[j].push_back(uint32_t(x));
+          if (x != y && !kept[size_t(x)])
+            leakedIds[j].push_back(uint32_t(x));
+        }
+      }
+    });
+    for (size_t j = 0; j < cameras.size(); ++j) {
+      r.differingPixels += differing[j];
+      for (uint32_t id : seenIds[j])
+        everSeen[id] = 1;
+      if (differing[j] > r.worstPixels) { // the first of equals: independent of threads
+        r.worstPixels = differing[j];
+        r.worstFrame = describe(frames[f]);
+        r.worstView = cams.views[j];
+        auto &ids = leakedIds[j];
+        std::sort(ids.begin(), ids.end());
+        ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+        r.worstLeaked = ids;
+      }
+    }
+  }
+  r.images *= cameras.size();
+  for (uint32_t t = 0; t < b.bodyTriangles; ++t) {
+    r.removed += !kept[t];
+    r.neverSeen += !everSeen[t];
+    r.removedUnseen += !kept[t] && !everSeen[t];
+    if (!kept[t] && everSeen[t])
+      r.leaked.push_back(t);
+  }
+  return r;
+}
+
 } // namespace
 
 HoleCheck checkHoles(const OutfitBakeResult &b, const HoleCheckOptions &o) {
-  const auto &mesh = b.anim.pack.mesh;
-  const auto &table = *b.anim.pack.outfits;
   HoleCheck check;
   const auto frames = outfitPoses(b.merged, kFps, o.frameStep, b.loops, o.loopFrames);
   check.frames = uint32_t(frames.size());
@@ -75,98 +180,10 @@ HoleCheck checkHoles(const OutfitBakeResult &b, const HoleCheckOptions &o) {
   for (const auto &p : posed)
     for (const auto &q : p)
       radius = std::max(radius, glm::length(glm::dvec3(q) - centre));
-  // The impostor camera set, then player-like views: eye height and 4 m away, 8 directions.
-  std::vector<raster::Camera> cameras;
-  std::vector<std::string> views; // each camera in words, for the error that names it
-  for (uint32_t e = 0; e < o.elevations; ++e)
-    for (uint32_t a = 0; a < o.azimuths; ++a) {
-      double az = 2 * M_PI * a / o.azimuths, el = 0.5 * M_PI * (e + 0.5) / o.elevations;
-      glm::dvec3 dir(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
-      cameras.push_back(raster::orthographic(centre + dir * (2 * radius), centre, {0, 1, 0}, radius,
-                                             radius, 0.5 * radius, 3.5 * radius));
-      views.push_back("orthographic view azimuth " + degrees(az) + " deg, elevation " +
-                      degrees(el) + " deg");
-    }
-  for (double height : {1.7, 4.0})
-    for (int a = 0; a < 8; ++a) {
-      double az = 2 * M_PI * (a + 0.5) / 8;
-      glm::dvec3 eye(centre.x + 4 * std::sin(az), height, centre.z + 4 * std::cos(az));
-      cameras.push_back(
-          raster::perspective(eye, centre, {0, 1, 0}, glm::radians(50.0), 1.0, 0.1, 100.0));
-      char eyeAt[64];
-      std::snprintf(eyeAt, sizeof eyeAt, "eye at %.1f m height, 4 m away", height);
-      views.push_back("perspective view azimuth " + degrees(az) + " deg, " + eyeAt);
-    }
-
-  check.views = uint32_t(cameras.size());
-  const int n = int(o.texels);
-  for (size_t oi = 0; oi < table.outfits.size(); ++oi) {
-    const auto &outfit = table.outfits[oi];
-    HoleCheck::PerOutfit r;
-    r.name = outfit.name;
-    std::vector<uint32_t> drawn, naive;
-    for (uint32_t t = 0; t < b.bodyTriangles; ++t)
-      naive.push_back(t);
-    for (uint32_t s : outfit.subMeshes) {
-      const auto &sub = mesh.subMeshes[s];
-      for (uint32_t t = sub.firstIndex / 3; t < (sub.firstIndex + sub.indexCount) / 3; ++t) {
-        drawn.push_back(t);
-        if (b.sourceTriangle[t] >= b.bodyTriangles)
-          naive.push_back(t);
-      }
-    }
-    const DrawList full = drawList(b, naive), tagged = drawList(b, drawn);
-    std::vector<uint8_t> kept(b.bodyTriangles, 0);
-    for (uint32_t id : tagged.ids)
-      if (id < b.bodyTriangles)
-        kept[id] = 1;
-    std::vector<uint8_t> everSeen(b.bodyTriangles, 0);
-    for (size_t f = 0; f < posed.size(); ++f) {
-      if (frames[f].loop && frames[f].loop->outfit != oi)
-        continue; // another outfit's garment moved: nothing this outfit wears
-      const auto &p = posed[f];
-      ++r.images;
-      std::vector<uint64_t> differing(cameras.size(), 0);
-      std::vector<std::vector<uint32_t>> seenIds(cameras.size()), leakedIds(cameras.size());
-      parallelFor(cameras.size(), o.threads, [&](size_t j) {
-        const auto a = raster::rasterize(p, full.indices, cameras[j], n, n, {false, 1});
-        const auto c = raster::rasterize(p, tagged.indices, cameras[j], n, n, {false, 1});
-        for (size_t i = 0; i < a.triangle.size(); ++i) {
-          const int64_t x = a.triangle[i] < 0 ? -1 : int64_t(full.ids[size_t(a.triangle[i])]);
-          const int64_t y = c.triangle[i] < 0 ? -1 : int64_t(tagged.ids[size_t(c.triangle[i])]);
-          differing[j] += x != y;
-          if (x >= 0 && x < b.bodyTriangles) {
-            seenIds[j].push_back(uint32_t(x));
-            if (x != y && !kept[size_t(x)])
-              leakedIds[j].push_back(uint32_t(x));
-          }
-        }
-      });
-      for (size_t j = 0; j < cameras.size(); ++j) {
-        r.differingPixels += differing[j];
-        for (uint32_t id : seenIds[j])
-          everSeen[id] = 1;
-        if (differing[j] > r.worstPixels) { // the first of equals: independent of threads
-          r.worstPixels = differing[j];
-          r.worstFrame = describe(frames[f]);
-          r.worstView = views[j];
-          auto &ids = leakedIds[j];
-          std::sort(ids.begin(), ids.end());
-          ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
-          r.worstLeaked = ids;
-        }
-      }
-    }
-    r.images *= cameras.size();
-    for (uint32_t t = 0; t < b.bodyTriangles; ++t) {
-      r.removed += !kept[t];
-      r.neverSeen += !everSeen[t];
-      r.removedUnseen += !kept[t] && !everSeen[t];
-      if (!kept[t] && everSeen[t])
-        r.leaked.push_back(t);
-    }
-    check.outfits.push_back(r);
-  }
+  const Cameras cameras = checkCameras(o, centre, radius);
+  check.views = uint32_t(cameras.cameras.size());
+  for (size_t oi = 0; oi < b.anim.pack.outfits->outfits.size(); ++oi)
+    check.outfits.push_back(checkOutfit(b, oi, frames, posed, cameras, o));
   return check;
 }
 

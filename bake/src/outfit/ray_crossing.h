@@ -14,8 +14,8 @@ namespace crowd::outfit {
 // (barycentric margin 1e-7) and well ahead of the origin, kNo well outside it or well behind the
 // origin, kUnsure near an edge, near the origin or nearly parallel to the plane: the caller asks
 // CGAL then, so the answers here are the ones CGAL's test gives (the sample outfits' packs are
-// byte-identical). About 2 of 5 rays the blocker cache tries miss: answering those here, not in
-// CGAL, and each triangle's edges kept (Edges), the sample dress's visibility 6.7 -> 6.1 s.
+// byte-identical). About 2 of 5 rays the blocker cache tries miss: they are answered here, not
+// in CGAL, with each triangle's edges kept (Edges).
 enum class Crossing { kNo, kYes, kUnsure };
 // A triangle as crossing() reads it: a corner, the edges from it, their squared lengths, and
 // its parallel guard (below).

@@ -220,7 +220,50 @@ std::string jobsSection(const std::vector<JobView> &jobs) {
   return out + impostorChart(impostors);
 }
 
-std::string buildSection(const ReportSource &src) {
+// One character's section: its status, its jobs' table and charts.
+std::string characterSection(const json &c) {
+  std::string out = "<section><h2>" + escapeXml(text(c, "name")) + "</h2>\n<p>" +
+                    escapeXml(text(c, "status")) + ", pack " + escapeXml(text(c, "pack")) + ", " +
+                    bytesText(number(c, "pack_bytes")) + ", baked in " +
+                    num(number(c, "bake_s"), "%.2f") + " s</p>\n";
+  if (!text(c, "error").empty())
+    out += "<p class=\"error\">" + escapeXml(text(c, "error")) + "</p>\n";
+  std::vector<JobView> views;
+  for (const auto &j : c.value("jobs", json::array()))
+    views.push_back({text(j, "kind"), text(j, "label"), number(j, "seconds"),
+                     j.value("cached", false), j.value("failed", false), text(j, "error"),
+                     j.value("figures", json::object())});
+  return out + jobsSection(views) + "</section>\n";
+}
+
+std::string page(const std::string &title, const std::string &body);
+
+// A large build: a row per character, the failed first, linking to its page in `details`.
+std::string characterTable(const json &characters, const std::string &details,
+                           const std::string &prefix, ReportPages &pages) {
+  std::vector<const json *> order;
+  for (const auto &c : characters)
+    order.push_back(&c);
+  std::stable_partition(order.begin(), order.end(),
+                        [](const json *c) { return text(*c, "status") != "ok"; });
+  std::string out = "<table>" + row({"character", "status", "jobs run", "cached", "failed",
+                                     "bake seconds", "pack", "error"},
+                                    "th");
+  for (const json *c : order) {
+    const std::string name = text(*c, "name"), file = prefix + name + ".html";
+    pages.characterPages.emplace_back(file,
+                                      page("crowdbake report: " + name, characterSection(*c)));
+    out += row({"<a href=\"" + escapeXml(details + "/" + file) + "\">" + escapeXml(name) + "</a>",
+                escapeXml(text(*c, "status")), num(number(*c, "jobs_run"), "%.0f"),
+                num(number(*c, "jobs_cached"), "%.0f"), num(number(*c, "jobs_failed"), "%.0f"),
+                num(number(*c, "bake_s"), "%.2f"), bytesText(number(*c, "pack_bytes")),
+                "<span class=\"error\">" + escapeXml(text(*c, "error")) + "</span>"});
+  }
+  return out + "</table>\n";
+}
+
+std::string buildSection(const ReportSource &src, const std::string &details,
+                         const std::string &prefix, ReportPages &pages) {
   const json &r = src.json;
   const json &jobs = r.value("jobs", json::object());
   std::string out =
@@ -229,20 +272,14 @@ std::string buildSection(const ReportSource &src) {
       num(number(jobs, "run"), "%.0f") + " run, " + num(number(jobs, "cached"), "%.0f") +
       " cached, " + num(number(jobs, "failed"), "%.0f") + " failed), " +
       escapeXml(text(r, "baker_version")) + "</p>\n";
-  for (const auto &c : r["characters"]) {
-    out += "<section><h2>" + escapeXml(text(c, "name")) + "</h2>\n<p>" +
-           escapeXml(text(c, "status")) + ", pack " + escapeXml(text(c, "pack")) + ", " +
-           bytesText(number(c, "pack_bytes")) + ", baked in " + num(number(c, "bake_s"), "%.2f") +
-           " s</p>\n";
-    if (!text(c, "error").empty())
-      out += "<p class=\"error\">" + escapeXml(text(c, "error")) + "</p>\n";
-    std::vector<JobView> views;
-    for (const auto &j : c.value("jobs", json::array()))
-      views.push_back({text(j, "kind"), text(j, "label"), number(j, "seconds"),
-                       j.value("cached", false), j.value("failed", false), text(j, "error"),
-                       j.value("figures", json::object())});
-    out += jobsSection(views) + "</section>\n";
-  }
+  const json &characters = r["characters"];
+  if (characters.size() > ReportPages::kInlineCharacters)
+    return out + "<p>" + num(double(characters.size()), "%.0f") + " characters, " +
+           num(number(r, "characters_failed"), "%.0f") +
+           " failed; each name opens its jobs and charts.</p>\n" +
+           characterTable(characters, details, prefix, pages);
+  for (const auto &c : characters)
+    out += characterSection(c);
   return out;
 }
 
@@ -272,15 +309,25 @@ section { border-top: 1px solid #ddd; margin-top: 1.5em; }
 </style>
 )";
 
+std::string page(const std::string &title, const std::string &body) {
+  return "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<title>" +
+         escapeXml(title) + "</title>\n" + std::string(kStyle) + "</head><body>\n" + body +
+         "</body></html>\n";
+}
+
 } // namespace
 
-std::string reportPage(const std::vector<ReportSource> &sources) {
+ReportPages reportPages(const std::vector<ReportSource> &sources, const std::string &details) {
+  ReportPages pages;
   std::string body;
-  for (const auto &src : sources) {
+  for (size_t i = 0; i < sources.size(); ++i) {
+    const ReportSource &src = sources[i];
     const json &r = src.json;
+    // Two builds of characters of the same name: each source's pages apart.
+    const std::string prefix = sources.size() > 1 ? std::to_string(i + 1) + "-" : "";
     try {
       if (r.is_object() && r.contains("characters") && r["characters"].is_array())
-        body += buildSection(src);
+        body += buildSection(src, details, prefix, pages);
       else if (r.is_object() && r.contains("command") && r["command"].is_string())
         body += bakeSection(src);
       else
@@ -290,9 +337,8 @@ std::string reportPage(const std::vector<ReportSource> &sources) {
       throw Error(src.path + ": not a report crowdbake wrote (" + e.what() + ")");
     }
   }
-  return "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<title>crowdbake "
-         "report</title>\n" +
-         std::string(kStyle) + "</head><body>\n" + body + "</body></html>\n";
+  pages.page = page("crowdbake report", body);
+  return pages;
 }
 
 } // namespace crowd

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 #include <string>
 
 #include "crowd/bake/evaluate.h"
@@ -28,8 +29,6 @@ void TerrainOptions::validate() const {
 }
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // The environment's mesh in world space, its normals turned with it (rigid parts ride their
 // nodes; a skinned environment is taken in its rest pose).
@@ -82,7 +81,7 @@ void rasterizeFromAbove(pack::Terrain &t, double lowest, double highest, const T
                            {0, 0, -1}, halfX, halfZ, 0.5, highest - lowest + 1.5);
   const raster::Image image = raster::rasterize(positions, t.indices, camera, int(t.width),
                                                 int(t.depth), {false, o.threads});
-  const double cosMax = std::cos(o.maxSlopeDeg * kPi / 180);
+  const double cosMax = std::cos(o.maxSlopeDeg * std::numbers::pi / 180);
   t.heights.assign(t.cells(), float(lowest));
   t.ground.assign(t.cells(), uint8_t(pack::Ground::None));
   standable.assign(t.cells(), 0);

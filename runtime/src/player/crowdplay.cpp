@@ -29,9 +29,9 @@
 #include "crowd/runtime/character_types.h"
 #include "crowd/runtime/crowd_renderer.h"
 #include "crowd/runtime/headless_gl.h"
-#include "crowd/runtime/images.h"
 #include "crowd/runtime/preview_scene.h"
 #include "crowd/runtime/scene.h"
+#include "crowd/support/images.h"
 
 namespace {
 

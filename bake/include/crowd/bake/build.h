@@ -22,6 +22,10 @@ struct BuildOptions {
   ExecutorOptions executor;
   InputPolicy files;       // where manifests' and glTFs' files may resolve, and their size bound
   SceneBuildOptions scene; // --scene: only what one scene draws
+  // Runs each job in a child process of this executable (crowdbake build: job_process.h), under
+  // its character's limits over `jobLimits`; "": every job in this process, unbounded.
+  std::string jobExecutable;
+  JobLimits jobLimits; // --job-max-seconds, --job-max-memory
 };
 
 struct CharacterBuild {
@@ -36,6 +40,7 @@ struct CharacterBuild {
 struct BuildResult {
   std::vector<CharacterBuild> characters;
   nlohmann::ordered_json report;
+  bool interrupted = false; // SIGINT or SIGTERM stopped it: what finished is in the cache
   size_t failed() const;
 };
 
@@ -60,7 +65,16 @@ struct BuildPlan {
 BuildPlan planBuild(const BuildOptions &options);
 // Marks the characters whose pack file has the hash the cache recorded for their link's key.
 void findUpToDatePacks(BuildPlan &plan);
+// A character's pack, written as soon as its link job ends (so that a build holds the parts of
+// the packs being written, not of every pack): its bytes, or why it could not be written.
+struct PackWrite {
+  bool written = false;
+  uint64_t bytes = 0;
+  std::string error;
+};
+PackWrite writePack(const BuildPlan &plan, size_t character, const Part &link);
 BuildResult finishBuild(const BuildOptions &options, const BuildPlan &plan,
-                        const std::vector<JobOutcome> &outcomes, double seconds);
+                        const std::vector<JobOutcome> &outcomes,
+                        const std::vector<PackWrite> &writes, double seconds);
 
 } // namespace crowd

@@ -1,7 +1,7 @@
 // The cloth-loop choice: pass 1 (loop_search.h) keeps the candidates, pass 2 (edge_match.h)
 // measures each seam's edge distance, and the smallest sum over the views wins. Then the
-// verdict. A hard cut is acceptable when the seam jumps at most `maxJumpRatio` (1, the issue's
-// target) of the mean per-frame vertex motion, and its velocity at most as much of the mean
+// verdict. A hard cut is acceptable when the seam jumps at most `maxJumpRatio` (1 by default)
+// of the mean per-frame vertex motion, and its velocity at most as much of the mean
 // per-frame velocity change, and either
 //   - the seam is clearly better than a typical one: its pass-1 distance at most
 //     `maxToMedian` of the median seam's. A cache of independent random frames passes the

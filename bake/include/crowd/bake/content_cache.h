@@ -23,12 +23,15 @@ class ContentCache {
 public:
   explicit ContentCache(std::string folder) : folder_(std::move(folder)) {}
   const std::string &folder() const { return folder_; }
+  // An entry's last use is its part file's modification time: load, loadFigures and
+  // recordedPack set it to now, so that `crowdbake cache gc` removes the least recently used.
   // The part stored under `key`, or nothing. A damaged entry is reported in `problem` (and
   // left to be overwritten by the rebuilt part).
   std::optional<Part> load(const std::string &key, std::string &problem) const;
-  // Writes the part and, beside it, its figures alone (KEY.part.figs, JSON), so that a warm
-  // build reports every job's figures without loading parts no pack needs.
-  void store(const std::string &key, const Part &part) const;
+  // Writes the part and, beside it, its figures alone (KEY.part.figs, JSON, with the job's kind
+  // for `crowdbake cache stats`), so that a warm build reports every job's figures without
+  // loading parts no pack needs.
+  void store(const std::string &key, const Part &part, const std::string &kind) const;
   // The figures stored with `key` (from the part itself where an older cache has no figures
   // file), or nothing.
   std::optional<nlohmann::ordered_json> loadFigures(const std::string &key) const;
@@ -41,8 +44,11 @@ public:
   // build whose output file still has it neither loads that part nor writes the pack again.
   void recordPack(const std::string &key, const std::string &hash) const;
   std::optional<std::string> recordedPack(const std::string &key) const;
+  // Removes the temporary files that process `pid`, ended mid-write, left beside `key`'s entry.
+  void removeTemporaries(const std::string &key, long pid) const;
 
 private:
+  void touch(const std::string &key) const;
   std::string folder_;
 };
 

@@ -14,6 +14,7 @@
 #include "crowd/bake/anim_bake.h"
 #include "crowd/bake/cloth_bake.h"
 #include "crowd/bake/impostor_bake.h"
+#include "crowd/bake/job_limits.h"
 #include "crowd/bake/lod_bake.h"
 #include "crowd/bake/outfit_bake.h"
 #include "crowd/bake/terrain_bake.h"
@@ -31,6 +32,7 @@ struct ClothEntry {
 struct CharacterManifest {
   std::string name;   // names the output pack (NAME.crowdpack in a library build)
   std::string source; // the file it came from (a library for inline manifests)
+  size_t entry = 0;   // its place in the library's "characters" (0 for a character manifest)
   std::string body;   // glTF path, resolved against the manifest's folder
   std::vector<std::pair<std::string, std::string>> outfits; // name, glTF path (manifest order)
   std::vector<std::string> clips;                           // clips to keep; empty: every clip
@@ -49,6 +51,8 @@ struct CharacterManifest {
   // Set for an environment (crowdbake terrain): `body` is the environment's glTF and its one
   // job is the terrain bake.
   std::optional<TerrainOptions> terrain;
+  // "limits": this character's jobs' bounds, over the build's --job-max-* (never in a key).
+  JobLimits limits;
   // Settings in a fixed order, for provenance and cache keys (no paths: they move).
   nlohmann::ordered_json canonical() const;
 };
@@ -61,6 +65,8 @@ struct Library {
 
 // A character manifest ({"name", "body", ...}) or a library ({"characters": [...]}).
 Library loadLibrary(const std::string &path, const InputPolicy &policy = {});
+// Only the character of entry `entry` (a build's job process: one character, not a library).
+Library loadLibrary(const std::string &path, const InputPolicy &policy, size_t entry);
 // One manifest from its text (tests); `path` names it in errors and anchors relative paths.
 CharacterManifest parseManifest(const std::string &text, const std::string &path,
                                 const InputPolicy &policy = {});

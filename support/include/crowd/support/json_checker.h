@@ -11,7 +11,7 @@
 
 #include "crowd/formats/limits.h"
 
-namespace crowd::runtime {
+namespace crowd::support {
 
 class JsonChecker {
 public:
@@ -34,10 +34,9 @@ private:
 
 // Throws naming `path`, line and column where JSON text nests deeper than `limit` arrays and
 // objects. Run before any parser sees untrusted JSON: parsers and the trees they build recurse.
-void checkJsonDepth(std::string_view text, const std::string &path,
-                    int limit = limits::kJsonDepth);
+void checkJsonDepth(std::string_view text, const std::string &path, int limit = limits::kJsonDepth);
 
 // Line and column (1-based) of byte `offset` in `text`, as "LINE:COLUMN".
 std::string lineColumn(const std::string &text, size_t offset);
 
-} // namespace crowd::runtime
+} // namespace crowd::support

@@ -1,4 +1,4 @@
-#include "crowd/runtime/json_checker.h"
+#include "crowd/support/json_checker.h"
 
 #include <algorithm>
 #include <cctype>
@@ -6,7 +6,7 @@
 
 #include "crowd/formats/error.h"
 
-namespace crowd::runtime {
+namespace crowd::support {
 
 using nlohmann::json;
 
@@ -147,4 +147,4 @@ bool JsonChecker::boolean(const json &j, const Keys &keys) const {
   return j.get<bool>();
 }
 
-} // namespace crowd::runtime
+} // namespace crowd::support

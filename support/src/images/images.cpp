@@ -1,4 +1,4 @@
-#include "crowd/runtime/images.h"
+#include "crowd/support/images.h"
 
 #include <dlfcn.h>
 
