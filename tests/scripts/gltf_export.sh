@@ -53,7 +53,8 @@ for e in "${exports[@]}"; do
     "$report" . $args || status=1
 done
 if command -v blender >/dev/null; then
-  blender -b --python "$root/tests/scripts/blender_import.py" -- *.glb >blender.log 2>&1 ||
+  blender -b --python-exit-code 1 --python "$root/tests/scripts/blender_import.py" -- *.glb \
+    >blender.log 2>&1 ||
     { tail -20 blender.log; fail "Blender's import failed"; }
   for e in "${exports[@]}"; do
     read -r pack glb _ <<<"$e"
