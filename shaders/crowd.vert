@@ -187,7 +187,7 @@ ClipTime clipTime(float clipIndex, float offset, float speed) {
   vec4 clip = clips[int(clipIndex)]; // fps, frames, first, loop
   float last = clip.y - 1.0;
   float f = (u_time * speed + offset) * clip.x;
-  if (clip.w > 0.5 && last > 0)
+  if (clip.w > 0.5 && last > 0 && (f < 0.0 || f > last)) // past the end: frameAt's rule
     f = f - last * floor(f / last);
   f = clamp(f, 0.0, last);
   int frame = int(floor(f));

@@ -132,7 +132,9 @@ ClipTime clipTimeAt(const pack::Clip &clip, float seconds) {
 void frameAt(const pack::Clip &clip, float seconds, uint32_t &frame, float &alpha) {
   float last = float(clip.frameCount - 1);
   float f = seconds * clip.fps;
-  if (clip.loop && last > 0)
+  // A loop wraps past its end, not at it: clip time `last` / fps is the source's last key, which
+  // the closing frame holds (the first frame is only within the loop test's tolerance of it).
+  if (clip.loop && last > 0 && (f < 0 || f > last))
     f = f - last * std::floor(f / last);
   f = std::clamp(f, 0.0f, last);
   frame = uint32_t(std::floor(f));

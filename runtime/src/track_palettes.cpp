@@ -22,9 +22,10 @@ const pack::JointTracks &tracksOf(const pack::AnimationPack &p) {
   return *p.tracks;
 }
 
-// Seconds into a clip of `duration`: wrapped where it loops, else clamped.
+// Seconds into a clip of `duration`: wrapped past its ends where it loops (frameAt's rule: the
+// end itself is the last sample), else clamped.
 float clipSeconds(float t, float duration, bool loop) {
-  if (loop && duration > 0)
+  if (loop && duration > 0 && (t < 0 || t > duration))
     t = t - duration * std::floor(t / duration);
   return std::clamp(t, 0.0f, duration);
 }

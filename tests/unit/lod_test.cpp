@@ -133,6 +133,14 @@ uint32_t cornerAt(const LodResult &r, uint32_t t, uint32_t c, uint32_t v) {
 // so the floor baked again must lose nothing. A bake that retried too few edges in its later
 // passes (it skips those whose refusal stands, lod/refusals.h: here, one that did not count a
 // collapse's ring as changed) stopped CesiumMan at 292 triangles, 248 of them baked again.
+// That holds where the mesh needed no non-manifold repair. Where the bake cut edges of three or
+// more faces open and split the fans at a vertex (a repair decided once, on the full detail), the
+// floor given anew is another mesh: some faces that made an edge non-manifold have collapsed
+// away, so the new bake welds there what the first kept apart, and may go on. Measured: Stag
+// (5 edges cut, 7 vertices split) 3660 then 3658, KayKitRigMedium (44, 42) 2144 then 2132, the
+// sample humanoid (332, 353) no further; a check of every edge both ways at the first bake's
+// stop found no legal collapse on any of them. There the test allows 1% of the floor (the worst,
+// 0.56%, doubled, rounded up to a whole percent).
 TEST(Lod, WhereTheBakeStopsNoCollapseIsLeft) {
   LodOptions o;
   o.floorFraction = 0;
@@ -153,8 +161,12 @@ TEST(Lod, WhereTheBakeStopsNoCollapseIsLeft) {
     for (uint32_t t = 0; t < r.triangleCount[v]; ++t)
       for (uint32_t c = 0; c < 3; ++c)
         idx.push_back(cornerAt(r, t, c, v));
+    const bool repaired = codes(rep).count("non_manifold") != 0;
     const LodResult again = bakeLod(p, idx, o, rep);
-    EXPECT_EQ(again.triangleCount[again.floorVertices], r.triangleCount[v]);
+    if (!repaired)
+      EXPECT_EQ(again.triangleCount[again.floorVertices], r.triangleCount[v]);
+    else
+      EXPECT_GE(double(again.triangleCount[again.floorVertices]), 0.99 * r.triangleCount[v]);
   }
 }
 

@@ -14,7 +14,7 @@ namespace crowd {
 
 double sourceSeconds(const AnimationClip &source, const pack::Clip &baked, double seconds) {
   const double duration = source.end - source.start;
-  if (baked.loop && duration > 0)
+  if (baked.loop && duration > 0 && (seconds < 0 || seconds > duration)) // frameAt's rule
     seconds -= duration * std::floor(seconds / duration);
   return source.start + std::clamp(seconds, 0.0, std::max(duration, 0.0));
 }

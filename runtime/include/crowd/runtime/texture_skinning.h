@@ -44,7 +44,8 @@ std::vector<JointRows> sampleJoints(const pack::AnimationTexture &texture, const
 JointRows blendJoints(const JointRows &from, const JointRows &to, float weight);
 
 // Frame index and blend factor for a time in seconds since the clip started: looping clips
-// wrap over frameCount - 1 intervals (the closing frame equals the first), others clamp.
+// wrap over frameCount - 1 intervals past either end (the closing frame equals the first within
+// the loop test's tolerance; at the end itself it is the closing frame), others clamp.
 void frameAt(const pack::Clip &clip, float seconds, uint32_t &frame, float &alpha);
 
 // A time in a clip: its frame and blend factor (frameAt).
