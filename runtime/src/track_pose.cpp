@@ -32,14 +32,10 @@ glm::quat slerpShorter(glm::quat a, glm::quat b, float s) {
   return a * (std::sin((1 - s) * theta) / sn) + b * (std::sin(s * theta) / sn);
 }
 
-namespace {
-
-glm::quat rotationOf(const std::array<float, 3> &xyz) {
+glm::quat trackRotation(const std::array<float, 3> &xyz) {
   const float w2 = 1.0f - xyz[0] * xyz[0] - xyz[1] * xyz[1] - xyz[2] * xyz[2];
   return glm::normalize(glm::quat(std::sqrt(std::max(w2, 0.0f)), xyz[0], xyz[1], xyz[2]));
 }
-
-} // namespace
 
 LocalPose decodeLocalPose(const pack::TrackSkeleton &s, const pack::TrackClip &clip,
                           float seconds) {
@@ -63,13 +59,14 @@ LocalPose decodeLocalPose(const pack::TrackSkeleton &s, const pack::TrackClip &c
       glm::quat q;
       if (track.kind == pack::TrackKind::Constant) {
         v = {track.min[0], track.min[1], track.min[2]};
-        q = rotationOf(track.min);
+        q = trackRotation(track.min);
       } else {
         const auto a = pack::trackSample(clip, track, span.first);
         const bool hold = track.step || span.first == span.second;
         const auto b = hold ? a : pack::trackSample(clip, track, span.second);
         if (rotation)
-          q = hold ? rotationOf(a) : slerpShorter(rotationOf(a), rotationOf(b), span.alpha);
+          q = hold ? trackRotation(a)
+                   : slerpShorter(trackRotation(a), trackRotation(b), span.alpha);
         else
           v = glm::mix(glm::vec3(a[0], a[1], a[2]), glm::vec3(b[0], b[1], b[2]),
                        hold ? 0.0f : span.alpha);

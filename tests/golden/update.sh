@@ -14,8 +14,12 @@ trap 'rm -rf "$work"' EXIT
 "$root/tests/scripts/golden.sh" "$bin" "$root/tests/golden" "$work/packs" --update
 echo "== small_scene.png: the render against its golden, then written over it"
 mkdir -p "$work/render" && cd "$work/render"
-# The test fails by design once it has written the golden: its output is the comparison.
-CROWD_UPDATE_GOLDEN=1 "$root/tests/scripts/xvfb.sh" "$bin/crowd_render_tests" \
+# The test copies its render to CROWD_UPDATE_GOLDEN and fails by design (its output is the
+# comparison): the golden is written only where the render came out.
+fresh=$work/render/small_scene.png
+CROWD_UPDATE_GOLDEN=$fresh "$root/tests/scripts/xvfb.sh" "$bin/crowd_render_tests" \
   --gtest_filter=Player.SmallSceneMatchesItsGoldenScreenshot 2>&1 |
-  grep -E "against the golden|refreshed|Failure|error" || true
+  grep -E "against the golden|copied to|Failure|error" || true
+[ -s "$fresh" ] || { echo "update.sh: the render did not run; small_scene.png is unchanged" >&2; exit 1; }
+cp "$fresh" "$root/tests/golden/small_scene.png"
 echo "goldens refreshed; review: git -C $root diff --stat tests/golden"

@@ -49,15 +49,22 @@ rc=0; "$bin/crowdbake" build library.json -o out1 --jobs 1 -q || rc=$?
 grep -q '"characters_failed": 1' out1/build.report.json || fail "report does not count the failure"
 grep -q '"error": "broken: mesh: .*broken.glb' out1/build.report.json || fail "report does not name the error"
 echo "ok: the broken character failed alone"
+# A build of the library (its broken character included): exit 1, the failure alone, else the
+# test fails with the code.
+build1() {
+  local rc=0
+  "$bin/crowdbake" build "$@" || rc=$?
+  [ $rc = 1 ] || fail "crowdbake build $* exited $rc, expected 1 (the broken character alone)"
+}
 "$bin/crowdbake" verify out1/walker.crowdpack
 "$bin/crowdbake" verify out1/runner.crowdpack
 
 # Same bytes at 2 workers (own cache), and a warm build runs nothing.
-"$bin/crowdbake" build library.json -o out2 --jobs 2 -q || true
+build1 library.json -o out2 --jobs 2 -q
 cmp out1/walker.crowdpack out2/walker.crowdpack
 cmp out1/runner.crowdpack out2/runner.crowdpack
 echo "ok: byte-identical at --jobs 1 and --jobs 2"
-"$bin/crowdbake" build library.json -o out1 --jobs 2 -q || true
+build1 library.json -o out1 --jobs 2 -q
 grep -q '"run": 0' out1/build.report.json || fail "warm build ran jobs"
 echo "ok: warm build: every good job cached"
 # A pack that still has the hash recorded for its link is neither loaded nor written again; an
@@ -74,14 +81,14 @@ mesh = [j for j in jobs if j['kind'] == 'mesh']
 assert mesh and all(j['figures'].get('clips') for j in mesh), 'mesh figures without clips'
 PY
 printf 'X' | dd of=out1/runner.crowdpack bs=1 seek=5000 conv=notrunc status=none
-"$bin/crowdbake" build library.json -o out1 --jobs 2 -q || true
+build1 library.json -o out1 --jobs 2 -q
 cmp out1/runner.crowdpack out2/runner.crowdpack || fail "an altered pack was not written again"
 [ "$(grep -c '"pack_up_to_date": true' out1/build.report.json)" = 1 ] || fail "up-to-date count"
 echo "ok: warm packs left alone, an altered one written again"
 
 # A changed setting reruns only that character's jobs.
 sed 's/"floor": 0.1/"floor": 0.2/' library.json > library2.json
-"$bin/crowdbake" build library2.json -o out1 --cache out1/.cache -q || true
+build1 library2.json -o out1 --cache out1/.cache -q
 grep -q '"run": 2' out1/build.report.json || fail "changing one setting should run 2 jobs (mesh, link)"
 cmp out1/walker.crowdpack out2/walker.crowdpack
 echo "ok: a changed setting reran runner's mesh and link only"
@@ -92,7 +99,7 @@ for entry in $(find out2/.cache -name '*.part'); do
 done
 head -c 200 "$entry" > "$entry.cut" && mv "$entry.cut" "$entry" # and one truncated
 rm out2/*.crowdpack # packs still up to date would need no part
-"$bin/crowdbake" build library.json -o out2 2>log.txt || true
+build1 library.json -o out2 2>log.txt
 grep -q "damaged cache entry rebuilt" log.txt || fail "damaged entry not reported"
 cmp out2/walker.crowdpack out1/walker.crowdpack
 echo "ok: damaged cache entry rebuilt"
@@ -128,7 +135,10 @@ echo "ok: a .gltf's external buffer is hashed into provenance and the cache key"
 # Two builds sharing one cache at once: both complete with identical packs.
 "$bin/crowdbake" build library.json -o out3 --cache shared -q & a=$!
 "$bin/crowdbake" build library.json -o out4 --cache shared -q & b=$!
-wait $a || true; wait $b || true
+rc_a=0 rc_b=0
+wait $a || rc_a=$?
+wait $b || rc_b=$?
+[ $rc_a = 1 ] && [ $rc_b = 1 ] || fail "two builds on one cache exited $rc_a and $rc_b, expected 1 each"
 cmp out3/walker.crowdpack out4/walker.crowdpack
 cmp out3/runner.crowdpack out4/runner.crowdpack
 cmp out3/runner.crowdpack out2/runner.crowdpack

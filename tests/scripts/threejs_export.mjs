@@ -3,9 +3,12 @@
 // times with the same outfit and LOD cut; vertex i of the export is pose's vertex i.
 //
 // node threejs_export.mjs CROWDBAKE THREE_DIR PACK GLB REPORT WORK [POSE_ARGS...]
-// Prints a line per clip; exits 1 where three.js's pose is farther from crowdbake pose than the
-// pack's own max_error_any_time_mm (the report's; 0.01 mm at least: float rounding) or the file
-// holds other clips than the pack.
+// Prints a line per clip; exits 1 where three.js's pose is farther from crowdbake pose than its
+// bound, or the file holds other clips than the pack. The bound: for joint tracks (exported as
+// their own keys, which three.js interpolates as the palette pass does) 0.0032 mm, twice the
+// 0.0016 mm docs/commands.md states (float rounding); for an animation texture (its frames'
+// local transforms, which three.js slerps where the player blends dual quaternions) the pack's
+// own max_error_any_time_mm (the report's; 0.01 mm at least).
 import { execFileSync } from 'node:child_process';
 import fs from 'node:fs';
 import path from 'node:path';
@@ -19,6 +22,7 @@ const { GLTFLoader } = await import(
 
 const kTimes = 6;
 const kFloorMm = 0.01;
+const kTracksMm = 0.0032;
 const json = modelJson(glb);
 const gltf = await new Promise((resolve, reject) =>
   new GLTFLoader().parse(JSON.stringify(json), '', resolve, reject));
@@ -67,12 +71,14 @@ for (const [c, clip] of report.clips.entries()) {
     });
     fs.unlinkSync(file);
   });
-  const bound = Math.max(kFloorMm, clip.max_error_any_time_mm);
+  const tracks = report.store === 'tracks';
+  const bound = tracks ? kTracksMm : Math.max(kFloorMm, clip.max_error_any_time_mm);
   const miss = max > bound;
   failed ||= miss;
   console.log(`${miss ? 'FAIL' : 'ok'}: ${path.basename(glb)} '${clip.name}': three.js vs pose at ` +
               `${kTimes} random times: max ${max.toPrecision(3)} mm, mean ` +
-              `${(sum / count).toPrecision(3)} mm (bound: the pack's any-time error, ` +
+              `${(sum / count).toPrecision(3)} mm (bound: ` +
+              `${tracks ? 'float rounding of the tracks\' keys' : 'the pack\'s any-time error'}, ` +
               `${bound.toPrecision(3)} mm)`);
 }
 process.exit(failed ? 1 : 0);

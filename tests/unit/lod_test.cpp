@@ -87,7 +87,7 @@ TEST(Lod, TheHumanoidWalksCleanlyToTheFloor) {
   size_t floor = walk(r, m.positions, o.maxNormalDeviationDeg);
   std::printf("humanoid: %zu triangles -> %zu at %u vertices\n", m.indices.size() / 3, floor,
               r.floorVertices);
-  EXPECT_LE(floor, m.indices.size() / 3 / 10) << "stuck far above the 2% floor";
+  EXPECT_LE(floor, m.indices.size() / 3 / 25) << "stuck above twice the 2% floor"; // 132 of 6612
   // No new vertices: every LOD vertex is an input vertex (copied where a non-manifold face was
   // split off), and every input vertex is there.
   std::set<uint32_t> distinct(r.order.begin(), r.order.end());

@@ -416,7 +416,8 @@ TEST(TrackCompression, MoreKeysThanTracksHoldIsAClearError) {
 
 // Blender's export of clips kept as keyed (tests/data/keyed/keys.glb): STEP keys, LINEAR keys at
 // uneven subframe times 40-70 degrees apart, CUBICSPLINE. Tracks meet 1 mm on all three; the
-// texture's figures are printed beside them (it misses the first two by tens to hundreds of mm).
+// texture at its budget's rates misses STEP and the uneven LINEAR keys (444 and 69.5 mm measured,
+// docs/tests.md: held within 2x) and meets the CUBICSPLINE clip (0.79 mm).
 TEST(TrackCompression, BlenderKeyedClipsMeetTheBudget) {
   Reporter r;
   r.quiet = true;
@@ -434,6 +435,13 @@ TEST(TrackCompression, BlenderKeyedClipsMeetTheBudget) {
                 texture.accuracy[texture.baked].clips[k].maxAnyTime() * texture.mmPerUnit);
     EXPECT_TRUE(cc.figures.met) << c.clips[k].name << ": " << cc.figures.maxAnyTimeMm();
     EXPECT_LE(errorOverClip(c, cc, k, 2001), 1.0) << c.clips[k].name;
+    const double textureMm =
+        texture.accuracy[texture.baked].clips[k].maxAnyTime() * texture.mmPerUnit;
+    const std::map<std::string, double> measured = {
+        {"steps", 444.3}, {"turns", 69.47}, {"swing", 0.792}};
+    const double figure = measured.at(c.clips[k].name);
+    EXPECT_GE(textureMm, figure / 2) << c.clips[k].name;
+    EXPECT_LE(textureMm, figure < 1 ? 1.0 : 2 * figure) << c.clips[k].name;
   }
   EXPECT_EQ(seen.size(), 3u); // STEP, LINEAR and CUBICSPLINE, as Blender wrote them
 }

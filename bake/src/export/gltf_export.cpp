@@ -14,6 +14,7 @@
 #include "crowd/runtime/pack_joints.h"
 #include "crowd/runtime/pose.h"
 #include "crowd/runtime/region_colour.h"
+#include "crowd/runtime/track_pose.h"
 #include "crowd/support/images.h"
 
 namespace crowd {
@@ -224,9 +225,7 @@ void trackAnimation(Glb &glb, const pack::AnimationPack &p, std::vector<int> &jo
       std::vector<float> values;
       auto append = [&](const std::array<float, 3> &v) {
         if (rotation)
-          appendRotation(values, glm::quat(std::sqrt(std::max(0.0f, 1 - v[0] * v[0] - v[1] * v[1] -
-                                                                        v[2] * v[2])),
-                                           v[0], v[1], v[2]));
+          appendRotation(values, runtime::trackRotation(v)); // unit, as the player decodes it
         else
           values.insert(values.end(), v.begin(), v.end());
       };

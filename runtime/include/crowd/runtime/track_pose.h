@@ -2,6 +2,7 @@
 // decodes them: a clip time's two samples, each track interpolated as glTF interpolates it
 // (slerp, lerp, or held), composed local to global along the hierarchy, times the inverse binds.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -23,6 +24,10 @@ SampleSpan sampleSpan(const pack::TrackClip &clip, float seconds);
 // Spherical interpolation along the shorter arc; a normalized lerp where the two are within
 // about 2 degrees, where float slerp loses more than it keeps.
 glm::quat slerpShorter(glm::quat a, glm::quat b, float s);
+
+// A stored rotation (x, y, z; w >= 0 rebuilt) as the palette pass decodes it: unit length, also
+// where quantization put x, y, z past the unit sphere.
+glm::quat trackRotation(const std::array<float, 3> &xyz);
 
 // Every node's local transform at a time.
 struct LocalPose {
