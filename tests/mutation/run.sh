@@ -2,8 +2,12 @@
 # The mutation check (not in CI): each mutation of tests/mutation/mutations.txt changes
 # one line that carries a central decision, rebuilds BUILD (default build/, configured), runs the
 # tests that should catch it and restores the line; a table of caught and surviving mutations
-# goes to stdout and to OUT (default docs/mutation.md). A mutation whose line is no longer in its
-# file is listed as stale, not skipped silently. ONLY=N runs mutation N alone.
+# goes to stdout and to OUT (default docs/mutation.md). First every selected test runs on the
+# unmodified tree: where one fails there, nothing is mutated (exit 2). A mutation is caught only
+# where a test fails on an assertion (ctest's "Failed", or a crash or a non-zero exit): one that
+# fails to build is invalid, one whose tests only time out is a timeout, a line no longer in its
+# file (or no test matching) is stale; none of those counts as caught, and any of them fails the
+# run (exit 1) naming it, as a survivor does. ONLY=N[,M...] runs those mutations alone.
 #   tests/mutation/run.sh [BUILD] [OUT]
 set -euo pipefail
 cd "$(dirname "$0")/../.."
@@ -31,11 +35,31 @@ def blocks(path):
     if block:
         yield block
 
+def ctest(regex):
+    """(the tests that failed other than by a timeout, each with ctest's word for how: Failed,
+    SEGFAULT, ...; those timed out; how many ran)"""
+    run = subprocess.run(['ctest', '--test-dir', build, '-R', regex, '-j2', '--timeout', '600'],
+                         capture_output=True, text=True)
+    ended = re.findall(r'^\s*\d+ - (\S+) \((\w[^)]*)\)', run.stdout, re.M)
+    failed = [f'{t} ({why})' for t, why in ended if why not in ('Skipped', 'Timeout', 'Not Run')]
+    timeouts = [t for t, why in ended if why == 'Timeout']
+    ran = re.findall(r'^\s*\d+/\d+ Test +#', run.stdout, re.M)
+    if run.returncode != 0 and not failed and not timeouts:
+        failed = ['ctest exited ' + str(run.returncode)]
+    return failed, timeouts, len(ran)
+
 mutations = list(blocks('tests/mutation/mutations.txt'))
+chosen = [(n, m) for n, m in enumerate(mutations, 1) if not only or str(n) in only.split(',')]
+# The baseline: the unmodified tree builds and every selected test passes.
+if subprocess.run(['cmake', '--build', build], capture_output=True).returncode != 0:
+    sys.exit('mutation: the unmodified tree does not build')
+failed, timeouts, _ = ctest('|'.join(m['tests'] for _, m in chosen))
+if failed or timeouts:
+    sys.exit('mutation: on the unmodified tree these fail: ' + ', '.join(failed + timeouts) +
+             '; nothing was mutated')
+print('baseline: every selected test passes on the unmodified tree', flush=True)
 rows = []
-for n, m in enumerate(mutations, 1):
-    if only and str(n) not in only.split(','):
-        continue
+for n, m in chosen:
     path = m['file']
     original = open(path).read()
     lines = original.split('\n')
@@ -50,18 +74,17 @@ for n, m in enumerate(mutations, 1):
         open(path, 'w').write('\n'.join(lines))
         built = subprocess.run(['cmake', '--build', build], capture_output=True, text=True)
         if built.returncode != 0:
-            verdict, detail = 'caught', 'the build fails'
+            verdict, detail = 'invalid', 'the mutated tree does not build'
         else:
-            run = subprocess.run(['ctest', '--test-dir', build, '-R', m['tests'], '-j2',
-                                  '--timeout', '600'], capture_output=True, text=True)
-            failed = re.findall(r'^\s*\d+ - (\S+) \((?!Skipped)', run.stdout, re.M)
-            ran = re.findall(r'^\s*\d+/\d+ Test +#', run.stdout, re.M)
+            failed, timeouts, ran = ctest(m['tests'])
             if not ran:
                 verdict, detail = 'stale', 'no test matches ' + m['tests']
-            elif run.returncode != 0:
-                verdict, detail = 'caught', ', '.join(failed[:4]) or 'ctest failed'
+            elif failed:
+                verdict, detail = 'caught', ', '.join(failed[:4])
+            elif timeouts:
+                verdict, detail = 'timeout', 'only timed out: ' + ', '.join(timeouts[:4])
             else:
-                verdict, detail = 'SURVIVED', f'{len(ran)} tests passed'
+                verdict, detail = 'SURVIVED', f'{ran} tests passed'
     finally:
         open(path, 'w').write(original)
     rows.append((n, m, verdict, detail, time.time() - start))

@@ -95,6 +95,33 @@ TEST(Container, EveryBitFlipIsCaught) {
   EXPECT_GT(caught, flips / 2);
 }
 
+// A chunk table entry (its checksums made good) whose offset points past the end of the file, at
+// any size: named as outside the file, never read (an unsigned `size - offset` would wrap there).
+TEST(Container, AChunkPastTheEndOfTheFileIsNamed) {
+  const auto bytes = packBytes(tinyPack());
+  for (uint64_t past : {uint64_t(kAlignment), uint64_t(4096), uint64_t(1) << 40}) {
+    for (uint64_t size : {uint64_t(0), uint64_t(16)}) {
+      std::vector<uint8_t> bad = bytes;
+      const uint64_t offset = bytes.size() + past;
+      std::memcpy(&bad[kHeaderSize + 8], &offset, 8); // the first entry: type, version, offset
+      std::memcpy(&bad[kHeaderSize + 16], &size, 8);
+      const uint32_t empty = crc32({});
+      std::memcpy(&bad[kHeaderSize + 24], &empty, 4);
+      Reader good(bytes, "ok");
+      const uint32_t table = crc32(std::span<const uint8_t>(bad).subspan(
+          kHeaderSize, good.chunks().size() * kTableEntrySize));
+      std::memcpy(&bad[24], &table, 4); // the header's table checksum
+      try {
+        Reader r(bad, "past");
+        FAIL() << "offset " << offset << " size " << size << " was read";
+      } catch (const crowd::Error &e) {
+        EXPECT_NE(std::string(e.what()).find("lies outside the file"), std::string::npos)
+            << e.what();
+      }
+    }
+  }
+}
+
 TEST(Container, CrossChunkChecksNameTheField) {
   auto p = tinyPack();
   p.skin.texels[0] = 5; // joint 5 of 2
