@@ -64,9 +64,14 @@ vec3 trackSample(uint track, uint base, uint index) {
   return v;
 }
 
-vec4 rotationOf(vec3 xyz) {
-  float w2 = 1.0 - xyz.x * xyz.x - xyz.y * xyz.y - xyz.z * xyz.z;
-  return normalize(vec4(xyz, sqrt(max(w2, 0.0)))); // x, y, z, w
+// Three of x, y, z, w stored, `dropped` (0 w, 1 x, 2 y, 3 z) rebuilt >= 0 (trackRotation).
+vec4 rotationOf(vec3 s, uint dropped) {
+  float rest = sqrt(max(1.0 - s.x * s.x - s.y * s.y - s.z * s.z, 0.0));
+  vec4 q = dropped == 0u   ? vec4(s, rest)
+           : dropped == 1u ? vec4(rest, s)
+           : dropped == 2u ? vec4(s.x, rest, s.y, s.z)
+                           : vec4(s.x, s.y, rest, s.z);
+  return normalize(q); // x, y, z, w
 }
 
 vec4 slerpShorter(vec4 a, vec4 b, float s) {
@@ -103,13 +108,15 @@ Trs localOf(uint clip, Span span, uint node) {
     vec4 q;
     if (kind == 1u) {
       v = vec3(word(tracks[t + 2u]), word(tracks[t + 3u]), word(tracks[t + 4u]));
-      q = rotationOf(v);
+      q = rotationOf(v, 0u);
     } else {
       vec3 a = trackSample(track, base, span.first);
       bool hold = ((tracks[t] >> 8) & 0xffu) != 0u || span.first == span.second;
       vec3 b = hold ? a : trackSample(track, base, span.second);
+      uint dropped = tracks[t] >> 24;
       if (p == 0u)
-        q = hold ? rotationOf(a) : slerpShorter(rotationOf(a), rotationOf(b), span.alpha);
+        q = hold ? rotationOf(a, dropped)
+                 : slerpShorter(rotationOf(a, dropped), rotationOf(b, dropped), span.alpha);
       else
         v = mix(a, b, hold ? 0.0 : span.alpha);
     }

@@ -141,7 +141,7 @@ AnimationPack loadAnimationPack(const Reader &reader) {
                   std::to_string(p.animation.frameCount) + ")");
   }
   if (tracks) {
-    p.tracks = decodeJointTracks(reader.payload(*tracks), ctx(kJointTracks));
+    p.tracks = decodeJointTracks(reader.payload(*tracks), ctx(kJointTracks), tracks->version);
     if (p.tracks->skeleton.jointNodes.size() != p.skeleton.jointCount())
       throw Error(ctx(kJointTracks) +
                   ", field 'joint count': " + std::to_string(p.tracks->skeleton.jointNodes.size()) +
@@ -183,7 +183,7 @@ std::vector<uint8_t> packBytes(const AnimationPack &p) {
   if (p.looks)
     w.add(kLooks, kChunkVersion, encode(*p.looks));
   if (p.tracks)
-    w.add(kJointTracks, kChunkVersion, encode(*p.tracks));
+    w.add(kJointTracks, kJointTracksVersion, encode(*p.tracks));
   return w.bytes();
 }
 

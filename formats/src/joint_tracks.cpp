@@ -78,7 +78,7 @@ void putClip(ByteWriter &w, const TrackClip &clip) {
         w.put<float>(v);
     if (t.kind != TrackKind::Animated)
       continue;
-    w.put<uint8_t>(uint8_t(t.bits | (t.step ? 0x80 : 0)));
+    w.put<uint8_t>(uint8_t(t.bits | t.dropped << 5 | (t.step ? 0x80 : 0)));
     for (float v : t.min)
       w.put<float>(v);
     for (float v : t.extent)
@@ -143,7 +143,7 @@ TrackSkeleton getSkeleton(ByteReader &r) {
   return s;
 }
 
-TrackClip getClip(ByteReader &r, size_t nodes) {
+TrackClip getClip(ByteReader &r, size_t nodes, uint32_t version) {
   TrackClip clip;
   clip.name = r.getString("clip name");
   const std::string where = "clip '" + clip.name + "': ";
@@ -191,7 +191,12 @@ TrackClip getClip(ByteReader &r, size_t nodes) {
       continue;
     const uint8_t b = r.get<uint8_t>("bits");
     track.step = b & 0x80;
-    track.bits = b & 0x7f;
+    track.bits = b & 0x1f;
+    track.dropped = (b >> 5) & 3;
+    if (track.dropped && (version < 2 || t % kTracksPerNode != 0))
+      r.fail("bits", where + "track " + std::to_string(t) + " drops component " +
+                         std::to_string(track.dropped) +
+                         (version < 2 ? " (version 1 drops w)" : " (not a rotation)"));
     if (track.bits == 0 || track.bits > kMaxTrackBits)
       r.fail("bits", where + "track " + std::to_string(t) + " has " + std::to_string(track.bits) +
                          " bits (1.." + std::to_string(kMaxTrackBits) + ")");
@@ -226,7 +231,8 @@ std::vector<uint8_t> encode(const JointTracks &tracks) {
   return w.take();
 }
 
-JointTracks decodeJointTracks(std::span<const uint8_t> bytes, const std::string &context) {
+JointTracks decodeJointTracks(std::span<const uint8_t> bytes, const std::string &context,
+                              uint32_t version) {
   ByteReader r(bytes, context);
   JointTracks out;
   out.skeleton = getSkeleton(r);
@@ -235,7 +241,7 @@ JointTracks decodeJointTracks(std::span<const uint8_t> bytes, const std::string 
     r.fail("clip count",
            std::to_string(clips) + " clips in " + std::to_string(bytes.size()) + " bytes");
   for (uint32_t c = 0; c < clips; ++c)
-    out.clips.push_back(getClip(r, out.skeleton.nodeCount()));
+    out.clips.push_back(getClip(r, out.skeleton.nodeCount(), version));
   r.expectEnd();
   return out;
 }

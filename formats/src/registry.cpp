@@ -187,8 +187,9 @@ Description describeLooks(std::span<const uint8_t> b, uint32_t, const std::strin
   return d;
 }
 
-Description describeJointTracks(std::span<const uint8_t> b, uint32_t, const std::string &ctx) {
-  const JointTracks t = decodeJointTracks(b, ctx);
+Description describeJointTracks(std::span<const uint8_t> b, uint32_t version,
+                                const std::string &ctx) {
+  const JointTracks t = decodeJointTracks(b, ctx, version);
   Description d;
   d.add("nodes", number(double(t.skeleton.nodeCount())))
       .add("joints", number(double(t.skeleton.jointNodes.size())))
@@ -381,7 +382,7 @@ std::vector<ChunkCodec> &codecTable() {
       {kSourceMap, "vertex sources", 1, kChunkVersion, describeSourceMap},
       {kMorphs, "morph targets", 1, kChunkVersion, describeMorphs},
       {kLooks, "sub-mesh looks", 1, kChunkVersion, describeLooks},
-      {kJointTracks, "joint tracks", 1, kChunkVersion, describeJointTracks},
+      {kJointTracks, "joint tracks", 1, kJointTracksVersion, describeJointTracks},
       {kImpostor, "impostor", 1, kImpostorVersion, describeImpostor, imagesImpostor},
       {kCloth, "cloth loop", 1, kClothVersion, describeCloth},
       {kTerrain, "terrain", 1, kTerrainVersion, describeTerrain, imagesTerrain},

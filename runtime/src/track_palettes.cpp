@@ -67,7 +67,7 @@ TrackWords trackWords(const pack::AnimationPack &p) {
                     " bits, more than the palette pass addresses (" +
                     std::to_string(kMaxClipStreamBits) + "); bake it shorter or split it");
       w.tracks.push_back(uint32_t(track.kind) | uint32_t(track.step) << 8 |
-                         uint32_t(track.bits) << 16);
+                         uint32_t(track.bits) << 16 | uint32_t(track.dropped) << 24);
       w.tracks.push_back(uint32_t(track.firstBit));
       for (float f : track.min)
         w.tracks.push_back(bitsOf(f));

@@ -32,9 +32,14 @@ glm::quat slerpShorter(glm::quat a, glm::quat b, float s) {
   return a * (std::sin((1 - s) * theta) / sn) + b * (std::sin(s * theta) / sn);
 }
 
-glm::quat trackRotation(const std::array<float, 3> &xyz) {
-  const float w2 = 1.0f - xyz[0] * xyz[0] - xyz[1] * xyz[1] - xyz[2] * xyz[2];
-  return glm::normalize(glm::quat(std::sqrt(std::max(w2, 0.0f)), xyz[0], xyz[1], xyz[2]));
+glm::quat trackRotation(const std::array<float, 3> &stored, uint32_t dropped) {
+  const float rest = std::sqrt(
+      std::max(1.0f - stored[0] * stored[0] - stored[1] * stored[1] - stored[2] * stored[2], 0.0f));
+  float xyzw[4];
+  const uint32_t missing = dropped == 0 ? 3u : dropped - 1u; // its index in x, y, z, w
+  for (uint32_t i = 0, k = 0; i < 4; ++i)
+    xyzw[i] = i == missing ? rest : stored[k++];
+  return glm::normalize(glm::quat(xyzw[3], xyzw[0], xyzw[1], xyzw[2]));
 }
 
 LocalPose decodeLocalPose(const pack::TrackSkeleton &s, const pack::TrackClip &clip,
@@ -65,8 +70,9 @@ LocalPose decodeLocalPose(const pack::TrackSkeleton &s, const pack::TrackClip &c
         const bool hold = track.step || span.first == span.second;
         const auto b = hold ? a : pack::trackSample(clip, track, span.second);
         if (rotation)
-          q = hold ? trackRotation(a)
-                   : slerpShorter(trackRotation(a), trackRotation(b), span.alpha);
+          q = hold ? trackRotation(a, track.dropped)
+                   : slerpShorter(trackRotation(a, track.dropped), trackRotation(b, track.dropped),
+                                  span.alpha);
         else
           v = glm::mix(glm::vec3(a[0], a[1], a[2]), glm::vec3(b[0], b[1], b[2]),
                        hold ? 0.0f : span.alpha);

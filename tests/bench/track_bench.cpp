@@ -2,7 +2,10 @@
 // given (default: ../shared/assets/gltf and tests/data's Blender, gltfpack and keyed exports), the
 // bytes and the largest vertex error at any time measured (mm at 1.8 m) of both, the time each bake
 // took, the CPU time of one pose decoded from each (every joint's matrix at a time), and ACL
-// 2.1's bytes where ../shared/anchors/acl_animation_bytes.csv has the clip.
+// 2.1's bytes and compression time (`acl_compress_ms`, one compress_track_list call measured on
+// this machine class) where ../shared/anchors/acl_animation_bytes.csv has the clip; per model,
+// the tracks' compression time against the sum of ACL's, and the default bake's time (every
+// store searched as `crowdbake anim` does) against it.
 //   track_bench [--budget MM] [--csv OUT.csv] [--anchors CSV] [MODEL.glb ...]
 #include <chrono>
 #include <cstdio>
@@ -28,9 +31,14 @@ double secondsSince(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-// ACL's fewest bytes measured within 1 mm, by "model/clip".
-std::map<std::string, long> aclBytes(const std::string &path) {
-  std::map<std::string, long> out;
+struct AclRow {
+  long bytes = 0;
+  double ms = 0; // acl_compress_ms
+};
+
+// ACL's fewest bytes measured within 1 mm and the time that compression took, by "model/clip".
+std::map<std::string, AclRow> aclRows(const std::string &path) {
+  std::map<std::string, AclRow> out;
   std::ifstream in(path);
   std::string line;
   std::getline(in, line); // header
@@ -49,8 +57,8 @@ std::map<std::string, long> aclBytes(const std::string &path) {
         cell += ch;
     }
     f.push_back(cell);
-    if (f.size() > 7)
-      out[f[0] + "/" + f[1]] = std::stol(f[7]);
+    if (f.size() > 13)
+      out[f[0] + "/" + f[1]] = {std::stol(f[7]), std::stod(f[13])};
   }
   return out;
 }
@@ -82,12 +90,13 @@ int main(int argc, char **argv) {
           if (e.path().extension() == ".glb" || e.path().extension() == ".gltf")
             models.push_back(e.path().string());
   std::sort(models.begin(), models.end());
-  const auto acl = aclBytes(anchors);
+  const auto acl = aclRows(anchors);
 
   std::ostringstream csv;
   csv << "model,clip,joints,keys,samples,default,constant,animated,mean_bits,tracks_bytes,"
          "tracks_max_mm,tracks_at_samples_mm,tracks_mids_mm,tracks_random_mm,tracks_s,"
-         "tracks_pose_us,texture_bytes,texture_max_mm,texture_s,texture_pose_us,acl_bytes\n";
+         "tracks_pose_us,texture_bytes,texture_max_mm,texture_s,texture_pose_us,acl_bytes,"
+         "acl_compress_ms\n";
   std::printf("%-28s %-14s %5s %5s %9s %8s %9s %8s %8s %6s %6s %7s %7s\n", "model", "clip", "keys",
               "samp", "tracks B", "err mm", "texture B", "err mm", "ACL B", "x ACL", "x tex",
               "pose us", "tex us");
@@ -120,6 +129,15 @@ int main(int argc, char **argv) {
         if (o.precision == baseline.budget.precision && o.fps == cb.fps)
           textureAll += o.bytes;
 
+    // The default bake (store auto: the texture searched, the tracks compressed, one kept).
+    crowd::AnimBakeOptions defaults;
+    defaults.errorBudgetMm = budget;
+    t0 = Clock::now();
+    crowd::bakeAnimation(c, defaults, reporter);
+    const double defaultTime = secondsSince(t0);
+    double modelTracksSeconds = 0, modelAclMs = 0;
+    long modelTracks = 0, modelAcl = 0;
+
     crowd::TrackCompressionOptions to;
     to.errorBudgetMm = budget;
     to.mmPerUnit = crowd::millimetresPerUnit(c);
@@ -130,6 +148,7 @@ int main(int argc, char **argv) {
       const crowd::CompressedClip cc = crowd::compressClip(c, rig, clip, k, to);
       const double trackTime = secondsSince(t0);
       tracksSeconds += trackTime;
+      modelTracksSeconds += trackTime;
       const auto &f = cc.figures;
       uint64_t textureBytes = 0;
       double textureError = 0;
@@ -164,7 +183,11 @@ int main(int argc, char **argv) {
       auto a = acl.find(model + "/" + clipName);
       if (a == acl.end())
         a = acl.find(model + "/clip" + std::to_string(k));
-      const long aclB = a == acl.end() ? 0 : a->second;
+      const long aclB = a == acl.end() ? 0 : a->second.bytes;
+      const double aclMs = a == acl.end() ? 0 : a->second.ms;
+      modelTracks += long(f.bytes);
+      modelAcl += aclB;
+      modelAclMs += aclMs;
       totalTracks += long(f.bytes);
       totalTexture += long(textureBytes);
       if (aclB) {
@@ -186,10 +209,18 @@ int main(int argc, char **argv) {
           << f.meanBits << ',' << f.bytes << ',' << f.maxAnyTimeMm() << ',' << f.maxAtSamplesMm
           << ',' << f.maxAtMidsMm << ',' << f.maxAtRandomMm << ',' << trackTime << ','
           << tracksPoseUs << ',' << textureBytes << ',' << textureError << ','
-          << textureTime / double(c.clips.size()) << ',' << texturePoseUs << ',' << aclB << '\n';
+          << textureTime / double(c.clips.size()) << ',' << texturePoseUs << ',' << aclB << ','
+          << aclMs << '\n';
     }
     std::printf("%-28s skeleton %llu bytes (shared by its clips), texture bake %.2f s\n", "",
                 (unsigned long long)crowd::pack::skeletonBytes(rig.skeleton), textureTime);
+    if (modelAcl > 0)
+      std::printf("%-28s against ACL: clips %ld bytes vs %ld (%.3fx); tracks compressed in "
+                  "%.1f ms vs %.1f ms (%.0fx); the default bake %.2f s (%.0fx)\n",
+                  "", modelTracks, modelAcl, double(modelTracks) / double(modelAcl),
+                  modelTracksSeconds * 1e3, modelAclMs,
+                  modelTracksSeconds * 1e3 / std::max(modelAclMs, 1e-3), defaultTime,
+                  defaultTime * 1e3 / std::max(modelAclMs, 1e-3));
   }
   std::printf("\nclips ACL measured: tracks %ld bytes, ACL %ld (%.3fx), texture %ld (%.1fx ACL)\n",
               tracksWithAcl, totalAcl, totalAcl ? double(tracksWithAcl) / double(totalAcl) : 0.0,

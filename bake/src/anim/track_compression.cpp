@@ -24,6 +24,11 @@ constexpr double kSampleShare = 0.9;
 constexpr double kConstantShare = 0.25;
 // Bisections of one span between keys where a CUBICSPLINE channel curves.
 constexpr int kMaxSplits = 10;
+// Bits ahead a raise looks (raiseFor).
+constexpr uint32_t kRaiseLookahead = 3;
+// Where no raise lowers a joint's error, its chain's coarsest track still rises to this many
+// bits (two tracks' errors can cancel at few bits); past it the joint is at its floor.
+constexpr uint32_t kFloorBits = 16;
 // Rounds of tightening the joints' tolerance where the vertex measure misses the budget.
 constexpr int kTighteningRounds = 8;
 // Key times within this share of a step of a uniform grid are stored as the grid.
@@ -37,9 +42,29 @@ glm::dmat4 trsMatrix(const glm::dquat &r, const glm::dvec3 &t, const glm::dvec3 
   return m;
 }
 
-glm::dquat rotationOf(const std::array<float, 3> &xyz) {
-  const double x = xyz[0], y = xyz[1], z = xyz[2];
-  return glm::normalize(glm::dquat(std::sqrt(std::max(0.0, 1.0 - x * x - y * y - z * z)), x, y, z));
+// Quaternion components in the order x, y, z, w; `dropped` (0 w, 1 x, 2 y, 3 z) as an index.
+size_t droppedIndex(uint32_t dropped) { return dropped == 0 ? 3 : dropped - 1; }
+
+glm::dquat rotationOf(const std::array<float, 3> &stored, uint32_t dropped) {
+  const double a = stored[0], b = stored[1], c = stored[2];
+  double xyzw[4];
+  const size_t missing = droppedIndex(dropped);
+  for (size_t i = 0, k = 0; i < 4; ++i)
+    xyzw[i] =
+        i == missing ? std::sqrt(std::max(0.0, 1.0 - a * a - b * b - c * c)) : double(stored[k++]);
+  return glm::normalize(glm::dquat(xyzw[3], xyzw[0], xyzw[1], xyzw[2]));
+}
+
+// The three components of q kept where `dropped` is rebuilt, q's sign chosen so that it is >= 0.
+std::array<double, 3> storedRotation(glm::dquat q, uint32_t dropped) {
+  const double xyzw[4] = {q.x, q.y, q.z, q.w};
+  const size_t missing = droppedIndex(dropped);
+  const double sign = xyzw[missing] < 0 ? -1.0 : 1.0;
+  std::array<double, 3> out{};
+  for (size_t i = 0, k = 0; i < 4; ++i)
+    if (i != missing)
+      out[k++] = sign * xyzw[i];
+  return out;
 }
 
 // The range a float min and extent cover: min rounded down, extent up, so both ends are inside.
@@ -109,12 +134,11 @@ public:
       poses[s] = exactPose(sampleAt_[s], fromLeft_[s]);
       exactGlobals_[s] = globals(poses[s]);
     });
+    rotations_.assign(nodes_, std::vector<glm::dquat>(n));
     for (size_t s = 0; s < n; ++s)
       for (size_t k = 0; k < nodes_; ++k) {
-        glm::dquat q = poses[s][k].r;
-        if (q.w < 0)
-          q = -q;
-        exact_[k * 3 + 0][s] = {q.x, q.y, q.z};
+        rotations_[k][s] = poses[s][k].r;
+        exact_[k * 3 + 0][s] = storedRotation(poses[s][k].r, 0);
         exact_[k * 3 + 1][s] = {poses[s][k].t.x, poses[s][k].t.y, poses[s][k].t.z};
         exact_[k * 3 + 2][s] = {poses[s][k].s.x, poses[s][k].s.y, poses[s][k].s.z};
       }
@@ -141,11 +165,10 @@ public:
       std::array<double, 3> mid;
       for (int c = 0; c < 3; ++c)
         mid[size_t(c)] = double(track.min[size_t(c)]) + 0.5 * double(track.extent[size_t(c)]);
-      if (t % 3 == 0) { // a rotation: the middle of the box, back on the sphere
-        const double len2 = mid[0] * mid[0] + mid[1] * mid[1] + mid[2] * mid[2];
-        if (len2 > 1)
-          for (double &v : mid)
-            v /= std::sqrt(len2);
+      if (t % 3 == 0) { // a rotation: the middle of the box, back on the sphere, w dropped
+        const std::array<float, 3> m = {float(mid[0]), float(mid[1]), float(mid[2])};
+        mid = storedRotation(rotationOf(m, track.dropped), 0);
+        track.dropped = 0;
       }
       track.kind = pack::TrackKind::Constant;
       track.bits = 0;
@@ -172,16 +195,19 @@ public:
     for (size_t k = 0; k < nodes_; ++k)
       updateLocal(k);
     updateGlobals(kEveryNode);
+    // Joints no raise lowers (the floor of float and of w rebuilt near 0): the vertex measure
+    // judges them; more bits up their chain would buy nothing.
+    std::vector<uint8_t> floored(jointError_.size(), 0);
     for (;;) {
       size_t worst = SIZE_MAX;
       double worstError = limit;
       for (size_t j = 0; j < jointError_.size(); ++j)
-        if (jointError_[j] > worstError)
+        if (!floored[j] && jointError_[j] > worstError)
           worst = j, worstError = jointError_[j];
       if (worst == SIZE_MAX)
         return;
-      if (!raiseFor(worst))
-        return; // every track on its chain is at full precision
+      if (!raiseFor(worst, limit))
+        floored[worst] = 1;
     }
   }
 
@@ -434,10 +460,36 @@ private:
       return;
     }
     track.kind = pack::TrackKind::Animated;
+    if (t % 3 == 0)
+      dropFarthestFromZero(t, lo, hi);
     for (int c = 0; c < 3; ++c)
       floatRange(lo[size_t(c)], hi[size_t(c)], track.min[size_t(c)], track.extent[size_t(c)]);
     setBits(t, pack::kMaxTrackBits);
     track.bits = 0; // lossless until allotBits sets it
+  }
+
+  // An animated rotation's dropped component: the one whose smallest magnitude over the clip is
+  // largest (w, as the reader assumes, where none is farther), and its stored values and range.
+  void dropFarthestFromZero(size_t t, std::array<double, 3> &lo, std::array<double, 3> &hi) {
+    const auto &qs = rotations_[t / 3];
+    double smallest[4] = {INFINITY, INFINITY, INFINITY, INFINITY};
+    for (const glm::dquat &q : qs) {
+      const double xyzw[4] = {q.x, q.y, q.z, q.w};
+      for (size_t i = 0; i < 4; ++i)
+        smallest[i] = std::min(smallest[i], std::abs(xyzw[i]));
+    }
+    uint32_t dropped = 0;
+    for (uint32_t d = 1; d < 4; ++d)
+      if (smallest[droppedIndex(d)] > smallest[droppedIndex(dropped)])
+        dropped = d;
+    tracks_[t].dropped = uint8_t(dropped);
+    auto &v = exact_[t];
+    for (size_t s = 0; s < v.size(); ++s)
+      v[s] = storedRotation(qs[s], dropped);
+    lo = hi = v[0];
+    for (const auto &x : v)
+      for (size_t c = 0; c < 3; ++c)
+        lo[c] = std::min(lo[c], x[c]), hi[c] = std::max(hi[c], x[c]);
   }
 
   void setBits(size_t t, uint32_t bits) {
@@ -461,7 +513,7 @@ private:
     glm::dquat r = node.rotation;
     glm::dvec3 tr = node.translation, sc = node.scale;
     if (tracks_[k * 3].kind != pack::TrackKind::Default)
-      r = rotationOf(deq_[k * 3][s]);
+      r = rotationOf(deq_[k * 3][s], tracks_[k * 3].dropped);
     if (tracks_[k * 3 + 1].kind != pack::TrackKind::Default)
       tr = {deq_[k * 3 + 1][s][0], deq_[k * 3 + 1][s][1], deq_[k * 3 + 1][s][2]};
     if (tracks_[k * 3 + 2].kind != pack::TrackKind::Default)
@@ -507,44 +559,72 @@ private:
                        [&](double e) { return e <= limit; });
   }
 
-  // One more bit on the animated track of joint j's chain that lowers j's error most.
-  bool raiseFor(size_t j) {
+  // How far joint j's box errs over `limit`, summed over the samples, with chain track t (of
+  // chain node chain[at]) at `bits` and the rest as they are. A sum, not the largest: where two
+  // tracks each make the worst error at a sample of their own, raising either lowers the sum.
+  double excessWith(size_t j, const std::vector<size_t> &chain, size_t at, size_t t, uint32_t bits,
+                    double limit) {
+    const auto saved = deq_[t];
+    const uint8_t savedBits = tracks_[t].bits;
+    setBits(t, bits);
+    double excess = 0;
+    const size_t k = chain[at];
+    const int parent = rig_.skeleton.parents[k];
+    for (size_t s = 0; s < times_.size(); ++s) {
+      glm::dmat4 g = decodedLocal(k, s);
+      if (parent >= 0)
+        g = global_[s][size_t(parent)] * g;
+      for (size_t below = at + 1; below < chain.size(); ++below)
+        g = g * local_[s][chain[below]];
+      double worst = 0;
+      for (const glm::dvec3 &q : shells_[j])
+        worst = std::max(
+            worst, glm::length(glm::dvec3(g * glm::dvec4(q, 1.0)) -
+                               glm::dvec3(exactGlobals_[s][chain.back()] * glm::dvec4(q, 1.0))));
+      excess += std::max(0.0, worst - limit);
+    }
+    tracks_[t].bits = savedBits;
+    deq_[t] = saved;
+    return excess;
+  }
+
+  // More bits on the animated track of joint j's chain that lowers j's excess over `limit` most
+  // per bit added, looking up to kRaiseLookahead bits ahead: one more bit can leave a sample's
+  // value where it was (on both grids), where two or three do not. Where none lowers it, the
+  // coarsest below kFloorBits; false where there is none.
+  bool raiseFor(size_t j, double limit) {
     std::vector<size_t> chain; // track nodes from the root down to j's
     for (int k = int(rig_.skeleton.jointNodes[j]); k >= 0; k = rig_.skeleton.parents[size_t(k)])
       chain.push_back(size_t(k));
     std::reverse(chain.begin(), chain.end());
-    size_t best = SIZE_MAX;
-    double bestError = INFINITY;
+    double now = -1;
+    size_t best = SIZE_MAX, fewest = SIZE_MAX;
+    uint32_t bestBits = 0;
+    double bestGain = 0;
     for (size_t at = 0; at < chain.size(); ++at)
       for (size_t p = 0; p < 3; ++p) {
         const size_t t = chain[at] * 3 + p;
         if (tracks_[t].kind != pack::TrackKind::Animated || tracks_[t].bits >= pack::kMaxTrackBits)
           continue;
-        const auto saved = deq_[t];
-        setBits(t, tracks_[t].bits + 1u);
-        double worst = 0;
-        for (size_t s = 0; s < times_.size(); ++s) {
-          const size_t k = chain[at];
-          const int parent = rig_.skeleton.parents[k];
-          glm::dmat4 g = decodedLocal(k, s);
-          if (parent >= 0)
-            g = global_[s][size_t(parent)] * g;
-          for (size_t below = at + 1; below < chain.size(); ++below)
-            g = g * local_[s][chain[below]];
-          for (const glm::dvec3 &q : shells_[j])
-            worst = std::max(worst, glm::length(glm::dvec3(g * glm::dvec4(q, 1.0)) -
-                                                glm::dvec3(exactGlobals_[s][chain.back()] *
-                                                           glm::dvec4(q, 1.0))));
+        if (fewest == SIZE_MAX || tracks_[t].bits < tracks_[fewest].bits)
+          fewest = t;
+        if (now < 0)
+          now = excessWith(j, chain, at, t, tracks_[t].bits, limit);
+        for (uint32_t more = 1; more <= kRaiseLookahead; ++more) {
+          const uint32_t bits = tracks_[t].bits + more;
+          if (bits > pack::kMaxTrackBits)
+            break;
+          const double gain = (now - excessWith(j, chain, at, t, bits, limit)) / double(more);
+          if (gain > bestGain)
+            best = t, bestBits = bits, bestGain = gain;
         }
-        tracks_[t].bits = uint8_t(tracks_[t].bits - 1u);
-        deq_[t] = saved;
-        if (best == SIZE_MAX || worst < bestError ||
-            (worst == bestError && tracks_[t].bits < tracks_[best].bits))
-          best = t, bestError = worst;
       }
-    if (best == SIZE_MAX)
-      return false;
-    setBits(best, tracks_[best].bits + 1u);
+    if (best == SIZE_MAX) { // errors that cancel: one more bit on the coarsest track
+      if (fewest == SIZE_MAX || tracks_[fewest].bits >= kFloorBits)
+        return false;
+      best = fewest, bestBits = tracks_[fewest].bits + 1u;
+    }
+    setBits(best, bestBits);
     updateLocal(best / 3);
     updateGlobals(best / 3);
     return true;
@@ -564,6 +644,7 @@ private:
   uint32_t keys_ = 0;
   std::vector<std::vector<std::array<double, 3>>> exact_; // per track, per sample
   std::vector<std::vector<glm::dmat4>> exactGlobals_;     // per sample, per track node
+  std::vector<std::vector<glm::dquat>> rotations_;        // per track node, per sample: exact
   std::vector<pack::Track> tracks_;
   std::vector<std::vector<std::array<float, 3>>> deq_;  // per track, per sample: as decoded
   std::vector<std::vector<glm::dmat4>> local_, global_; // per sample, per track node: decoded

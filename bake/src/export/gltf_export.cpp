@@ -225,7 +225,8 @@ void trackAnimation(Glb &glb, const pack::AnimationPack &p, std::vector<int> &jo
       std::vector<float> values;
       auto append = [&](const std::array<float, 3> &v) {
         if (rotation)
-          appendRotation(values, runtime::trackRotation(v)); // unit, as the player decodes it
+          // unit, as the player decodes it
+          appendRotation(values, runtime::trackRotation(v, track.dropped));
         else
           values.insert(values.end(), v.begin(), v.end());
       };

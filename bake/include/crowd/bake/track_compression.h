@@ -2,9 +2,10 @@
 // budget measured on skinned vertices. Samples sit on the source keys (the union of the clip's
 // channels' key times, cuts kept), so between keys the decoder interpolates as glTF does;
 // CUBICSPLINE spans get samples added until linear interpolation follows them. Each track is
-// default, constant or animated; an animated track's bit rate is the fewest bits that keep every
-// joint's error (on the box of the vertices it moves) within the budget, raised one bit at a
-// time on the track that lowers the worst joint's error most. Then every vertex is measured at
+// default, constant or animated (a rotation drops the component farthest from 0 over the clip);
+// an animated track's bit rate is the fewest bits that keep every joint's error (on the box of
+// the vertices it moves) within the budget, raised on the track of the worst joint's chain that
+// lowers its excess over the samples most per bit. Then every vertex is measured at
 // the samples, between them and at seeded random times, with the runtime's single-precision
 // decoder (runtime/track_pose.h); where that misses the budget, the joints' tolerance tightens.
 #pragma once

@@ -14,6 +14,8 @@ namespace crowd::pack {
 
 inline constexpr uint32_t kMaxTrackBits = 24; // a float's mantissa: more would not be stored
 inline constexpr uint32_t kTracksPerNode = 3; // rotation, translation, scale, in that order
+// TRAK's version: 2 adds the dropped rotation component (version 1: always w).
+inline constexpr uint32_t kJointTracksVersion = 2;
 
 enum class TrackKind : uint8_t {
   Default = 0,  // the node's rest value: nothing stored
@@ -21,12 +23,16 @@ enum class TrackKind : uint8_t {
   Animated = 2, // a value per sample, `bits` per component
 };
 
-// Rotations are stored as x, y, z of the unit quaternion with w >= 0 (w = sqrt(1 - x²-y²-z²)),
-// translations and scales as x, y, z.
+// Rotations are stored as three of the unit quaternion's x, y, z, w (in that order), the
+// `dropped` one left out and rebuilt >= 0 (sqrt(1 - the others' squares)); translations and
+// scales as x, y, z. Constant rotations always drop w.
 struct Track {
   TrackKind kind = TrackKind::Default;
   bool step = false; // Animated: each sample holds until the next (glTF STEP); else lerp / slerp
   uint8_t bits = 0;  // Animated: per component, 1..kMaxTrackBits
+  // Animated rotations: the component not stored, 0 w, 1 x, 2 y, 3 z. The bake drops the one
+  // farthest from 0 over the clip: w rebuilt near 0 amplifies the others' rounding without bound.
+  uint8_t dropped = 0;
   // Animated: component c of a sample is min[c] + extent[c] * q / (2^bits - 1), q its stored
   // integer; Constant: min is the value.
   std::array<float, 3> min{}, extent{};
@@ -71,12 +77,15 @@ std::array<float, 3> trackSample(const TrackClip &clip, const Track &track, uint
 // The chunk (TRAK): the skeleton (per node its parent, a matrix flag and its rest values; per
 // joint its node), then per clip its name, sample count, time table (one step where uniformTimes
 // holds, else every time), the tracks' kinds (2 bits each), each Constant track's value, each
-// Animated track's bits (the top bit: step) and range, and the sample stream. Little-endian,
+// Animated track's bits (low 5 bits; bits 5-6 the dropped rotation component; the top bit: step)
+// and range, and the sample stream. Little-endian,
 // unaligned: docs-grade byte counts, not GPU layout (the player uploads what it decodes).
 std::vector<uint8_t> encode(const JointTracks &tracks);
 // Checks everything local to the chunk (parents before children, joints' nodes, times
 // non-decreasing from 0, kinds, bits, ranges finite, every sample inside the stream).
-JointTracks decodeJointTracks(std::span<const uint8_t> bytes, const std::string &context);
+// Version 1 chunks hold no dropped component (w).
+JointTracks decodeJointTracks(std::span<const uint8_t> bytes, const std::string &context,
+                              uint32_t version = kJointTracksVersion);
 // What a clip takes in the chunk (the skeleton apart: every clip shares it), and the skeleton.
 uint64_t clipBytes(const TrackClip &clip);
 uint64_t skeletonBytes(const TrackSkeleton &skeleton);

@@ -25,9 +25,10 @@ SampleSpan sampleSpan(const pack::TrackClip &clip, float seconds);
 // about 2 degrees, where float slerp loses more than it keeps.
 glm::quat slerpShorter(glm::quat a, glm::quat b, float s);
 
-// A stored rotation (x, y, z; w >= 0 rebuilt) as the palette pass decodes it: unit length, also
-// where quantization put x, y, z past the unit sphere.
-glm::quat trackRotation(const std::array<float, 3> &xyz);
+// A stored rotation (three of x, y, z, w in that order, `dropped` (0 w, 1 x, 2 y, 3 z) rebuilt
+// >= 0) as the palette pass decodes it: unit length, also where quantization put the three past
+// the unit sphere.
+glm::quat trackRotation(const std::array<float, 3> &stored, uint32_t dropped = 0);
 
 // Every node's local transform at a time.
 struct LocalPose {
