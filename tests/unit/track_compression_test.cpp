@@ -446,8 +446,28 @@ TEST(TrackCompression, AHundredThousandKeys) {
   c.clips.push_back(clipOf({rotationZ(1, Interpolation::Linear, times, degrees)}));
   const CompressedClip cc = compress(c, 0);
   EXPECT_TRUE(cc.figures.met) << cc.figures.maxAnyTimeMm();
-  EXPECT_EQ(cc.figures.samples, 100000u);
+  EXPECT_EQ(cc.figures.sampledKeys, 100000u);
+  EXPECT_LT(cc.figures.samples, 50000u); // smooth at 1 kHz: interpolation reproduces most keys
   EXPECT_LE(cc.figures.meanBits, 16);
+}
+
+// A smooth 30 fps swing: the keys interpolation reproduces are dropped, and the clip still meets
+// the budget at every key (dropped ones included) and between them.
+TEST(TrackCompression, SmoothKeysAreDroppedWithinTheBudget) {
+  Character c = chain(4);
+  std::vector<double> times, degrees;
+  for (int k = 0; k <= 90; ++k)
+    times.push_back(k / 30.0), degrees.push_back(20 * std::sin(k * 0.02));
+  c.clips.push_back(clipOf({rotationZ(1, Interpolation::Linear, times, degrees),
+                            rotationZ(2, Interpolation::Linear, times, degrees)}));
+  const CompressedClip cc = compress(c, 0);
+  EXPECT_TRUE(cc.figures.met) << cc.figures.maxAnyTimeMm();
+  EXPECT_EQ(cc.figures.sampledKeys, 91u);
+  EXPECT_LT(cc.figures.samples, 60u);
+  std::vector<double> keys(times.begin(), times.end());
+  EXPECT_LE(trackErrors(c, trackRig(c), cc.clip, c.clips[0], keys, 0).max * millimetresPerUnit(c),
+            1.0);
+  EXPECT_LE(errorOverClip(c, cc, 0, 3001), 1.0);
 }
 
 // One key past what the TRAK decoder reads: one clear error before any sample is evaluated.

@@ -20,10 +20,18 @@ constexpr uint32_t kFirstBits = 1;
 // Share of the budget the joints' boxes may take at the samples: the rest is left to the
 // interpolation between them and to single precision, which only the vertex measure sees.
 constexpr double kSampleShare = 0.9;
+// Share of the budget the joints' boxes may err by at a dropped sample, interpolated from the
+// kept ones with exact values. The boxes bound the vertices' error from above, so the two shares
+// add to more than the whole; the vertex measure has the last word. Over the shared models
+// (track_bench) 0.7 took the fewest bytes of 0.2-1.2 with every clip within 1 mm; at 0.9, dq's
+// CUBICSPLINE clips missed it (1.02 mm).
+constexpr double kDropShare = 0.7;
 // Share the tracks turned constant may take together, before bits are allotted.
 constexpr double kConstantShare = 0.25;
 // Bisections of one span between keys where a CUBICSPLINE channel curves.
 constexpr int kMaxSplits = 10;
+// Samples dropSamples may bridge at most (a bound on its search).
+constexpr size_t kMaxDropSpan = 32;
 // Bits ahead a raise looks (raiseFor).
 constexpr uint32_t kRaiseLookahead = 3;
 // Where no raise lowers a joint's error, its chain's coarsest track still rises to this many
@@ -124,6 +132,57 @@ public:
     fromLeft_ = std::move(out.left);
   }
 
+  // Samples that interpolation between the kept ones reproduces within `share` of the tolerance
+  // (over every joint's box, exact values) are dropped, left to right, each kept sample as far
+  // from the last as that allows (at most kMaxDropSpan apart); the ends and both samples of a
+  // cut stay. The dropped samples' times stay in sampleTimes() for the vertex measure.
+  void dropSamples(double share) {
+    const size_t n = times_.size();
+    allSampleAt_ = sampleAt_;
+    if (n < 3 || share <= 0)
+      return;
+    std::vector<std::vector<Trs>> poses(n);
+    std::vector<std::vector<glm::dmat4>> exact(n);
+    parallelFor(n, threads_, [&](size_t s) {
+      poses[s] = exactPose(sampleAt_[s], fromLeft_[s]);
+      exact[s] = globals(poses[s]);
+    });
+    std::vector<uint8_t> keep(n, 0);
+    keep[0] = keep[n - 1] = 1;
+    for (size_t i = 0; i + 1 < n; ++i)
+      if (times_[i + 1] == times_[i])
+        keep[i] = keep[i + 1] = 1;
+    const double limit = share * tolerance_;
+    const auto reproduces = [&](size_t a, size_t b) {
+      for (size_t i = a + 1; i < b; ++i) {
+        const double alpha = (times_[i] - times_[a]) / (times_[b] - times_[a]);
+        if (poseError(globals(mixPoses(poses[a], poses[b], alpha)), exact[i]) > limit)
+          return false;
+      }
+      return true;
+    };
+    std::vector<size_t> kept = {0};
+    for (size_t a = 0; a + 1 < n;) {
+      size_t b = a + 1;
+      while (!keep[b] && b + 1 < n && b + 1 - a <= kMaxDropSpan && reproduces(a, b + 1))
+        ++b;
+      kept.push_back(b);
+      a = b;
+    }
+    if (kept.size() == n)
+      return;
+    std::vector<double> times, at;
+    std::vector<uint8_t> left;
+    for (size_t k : kept) {
+      times.push_back(times_[k]);
+      at.push_back(sampleAt_[k]);
+      left.push_back(fromLeft_[k]);
+    }
+    times_ = std::move(times);
+    sampleAt_ = std::move(at);
+    fromLeft_ = std::move(left);
+  }
+
   // The exact values at the samples, each track's kind, and the lossless start.
   void sampleTracks() {
     const size_t n = times_.size();
@@ -212,7 +271,8 @@ public:
   }
 
   const std::vector<double> &times() const { return times_; }
-  const std::vector<double> &sampleTimes() const { return sampleAt_; }
+  // Every sample's time before dropSamples: where the vertex measure looks first.
+  const std::vector<double> &sampleTimes() const { return allSampleAt_; }
 
   pack::TrackClip build() const {
     pack::TrackClip out;
@@ -381,6 +441,24 @@ private:
     return worst;
   }
 
+  // Poses `a` and `b` interpolated `s` of the way as the decoder does: slerp, lerp, STEP held.
+  std::vector<Trs> mixPoses(const std::vector<Trs> &a, const std::vector<Trs> &b, double s) const {
+    std::vector<Trs> mix(nodes_);
+    for (size_t k = 0; k < nodes_; ++k) {
+      const Channel *r = channelOf_[k * 3];
+      const bool holdR = r && r->interpolation == Interpolation::Step;
+      mix[k].r =
+          holdR ? a[k].r
+                : glm::dquat(runtime::slerpShorter(glm::quat(a[k].r), glm::quat(b[k].r), float(s)));
+      const Channel *tc = channelOf_[k * 3 + 1], *sc = channelOf_[k * 3 + 2];
+      mix[k].t =
+          tc && tc->interpolation == Interpolation::Step ? a[k].t : glm::mix(a[k].t, b[k].t, s);
+      mix[k].s =
+          sc && sc->interpolation == Interpolation::Step ? a[k].s : glm::mix(a[k].s, b[k].s, s);
+    }
+    return mix;
+  }
+
   // Bisects (t0, t1) while linear interpolation of the exact values at its ends departs from
   // the exact pose at its quarter points by more than a quarter of the tolerance.
   struct Samples {
@@ -392,24 +470,9 @@ private:
       return;
     const auto a = exactPose(t0, false), b = exactPose(t1, true);
     double worst = 0;
-    for (double s : {0.25, 0.5, 0.75}) {
-      std::vector<Trs> mix(nodes_);
-      for (size_t k = 0; k < nodes_; ++k) {
-        const Channel *r = channelOf_[k * 3];
-        const bool holdR = r && r->interpolation == Interpolation::Step;
-        mix[k].r =
-            holdR
-                ? a[k].r
-                : glm::dquat(runtime::slerpShorter(glm::quat(a[k].r), glm::quat(b[k].r), float(s)));
-        const Channel *tc = channelOf_[k * 3 + 1], *sc = channelOf_[k * 3 + 2];
-        mix[k].t =
-            tc && tc->interpolation == Interpolation::Step ? a[k].t : glm::mix(a[k].t, b[k].t, s);
-        mix[k].s =
-            sc && sc->interpolation == Interpolation::Step ? a[k].s : glm::mix(a[k].s, b[k].s, s);
-      }
-      worst =
-          std::max(worst, poseError(globals(mix), globals(exactPose(t0 + (t1 - t0) * s, false))));
-    }
+    for (double s : {0.25, 0.5, 0.75})
+      worst = std::max(worst, poseError(globals(mixPoses(a, b, s)),
+                                        globals(exactPose(t0 + (t1 - t0) * s, false))));
     if (worst <= 0.25 * tolerance_)
       return;
     const double mid = 0.5 * (t0 + t1);
@@ -638,9 +701,10 @@ private:
   size_t nodes_;
   std::vector<const Channel *> channelOf_;      // per track, its channel or null
   std::vector<std::vector<glm::dvec3>> shells_; // per joint
-  std::vector<double> times_;     // per sample, since the clip's start, as stored (floats)
-  std::vector<double> sampleAt_;  // per sample, the time its values are sampled at
-  std::vector<uint8_t> fromLeft_; // per sample: the first of a cut
+  std::vector<double> times_;       // per sample, since the clip's start, as stored (floats)
+  std::vector<double> sampleAt_;    // per sample, the time its values are sampled at
+  std::vector<uint8_t> fromLeft_;   // per sample: the first of a cut
+  std::vector<double> allSampleAt_; // sampleAt_ before dropSamples
   uint32_t keys_ = 0;
   std::vector<std::vector<std::array<double, 3>>> exact_; // per track, per sample
   std::vector<std::vector<glm::dmat4>> exactGlobals_;     // per sample, per track node
@@ -752,10 +816,13 @@ VertexErrors trackErrors(const Character &c, const TrackRig &rig, const pack::Tr
   return out;
 }
 
-CompressedClip compressClip(const Character &c, const TrackRig &rig, const AnimationClip &clip,
+namespace {
+
+// One compression of a clip with samples dropped within `dropShare` (0: none); `uniformBefore`
+// tells whether its time table was one step before any were dropped.
+CompressedClip compressWith(const Character &c, const TrackRig &rig, const AnimationClip &clip,
                             size_t clipIndex, const TrackCompressionOptions &options,
-                            const PlayedMorphs &played) {
-  options.validate();
+                            const PlayedMorphs &played, double dropShare, bool &uniformBefore) {
   const double budget = options.errorBudgetMm / options.mmPerUnit; // model units
   ClipCompressor compressor(c, rig, clip, budget, options.threads);
   compressor.refineCurves();
@@ -766,6 +833,11 @@ CompressedClip compressClip(const Character &c, const TrackRig &rig, const Anima
                 "hold (" +
                 std::to_string(limits::kTrackSamples) +
                 "); bake it as a texture (--store texture) or split the clip");
+  std::vector<float> before;
+  for (double t : compressor.times())
+    before.push_back(float(t));
+  uniformBefore = pack::uniformTimes(before);
+  compressor.dropSamples(dropShare);
   compressor.sampleTracks();
   compressor.makeConstant();
   const auto &times = compressor.times();
@@ -800,6 +872,7 @@ CompressedClip compressClip(const Character &c, const TrackRig &rig, const Anima
   f.clip = clip.name;
   f.keys = compressor.keys();
   f.samples = uint32_t(out.clip.times.size());
+  f.sampledKeys = uint32_t(compressor.sampleTimes().size());
   double bits = 0;
   for (const pack::Track &t : out.clip.tracks) {
     f.defaultTracks += t.kind == pack::TrackKind::Default;
@@ -812,6 +885,30 @@ CompressedClip compressClip(const Character &c, const TrackRig &rig, const Anima
   f.meanBits = f.animatedTracks ? bits / f.animatedTracks : 0.0;
   f.bytes = pack::clipBytes(out.clip);
   return out;
+}
+
+} // namespace
+
+CompressedClip compressClip(const Character &c, const TrackRig &rig, const AnimationClip &clip,
+                            size_t clipIndex, const TrackCompressionOptions &options,
+                            const PlayedMorphs &played) {
+  options.validate();
+  bool uniform = false;
+  CompressedClip dropped =
+      compressWith(c, rig, clip, clipIndex, options, played, kDropShare, uniform);
+  const TrackClipFigures &f = dropped.figures;
+  if (f.samples == f.sampledKeys)
+    return dropped; // nothing was dropped
+  // Every sample kept, where that can take fewer bytes: the drops missed the budget, or a
+  // one-step time table became a list that costs more than the samples dropped save (at the
+  // same bits).
+  const double timeTable = pack::uniformTimes(dropped.clip.times) ? 0.0 : 4.0 * f.samples;
+  const double saved = double(f.sampledKeys - f.samples) * f.animatedTracks * 3 * f.meanBits / 8;
+  if (f.met && !(uniform && saved < timeTable))
+    return dropped;
+  CompressedClip kept = compressWith(c, rig, clip, clipIndex, options, played, 0.0, uniform);
+  const bool keptWins = kept.figures.met != f.met ? kept.figures.met : kept.figures.bytes < f.bytes;
+  return keptWins ? kept : dropped;
 }
 
 } // namespace crowd

@@ -1,7 +1,9 @@
 // Compression of a character's clips into joint tracks (formats/joint_tracks.h) within an error
 // budget measured on skinned vertices. Samples sit on the source keys (the union of the clip's
 // channels' key times, cuts kept), so between keys the decoder interpolates as glTF does;
-// CUBICSPLINE spans get samples added until linear interpolation follows them. Each track is
+// CUBICSPLINE spans get samples added until linear interpolation follows them; then samples that
+// interpolation between their neighbours reproduces (exact values, a share of the budget) are
+// dropped, unless keeping every one takes fewer bytes or dropping misses the budget. Each track is
 // default, constant or animated (a rotation drops the component farthest from 0 over the clip);
 // an animated track's bit rate is the fewest bits that keep every joint's error (on the box of
 // the vertices it moves) within the budget, raised on the track of the worst joint's chain that
@@ -34,8 +36,10 @@ struct TrackCompressionOptions {
 // What a compressed clip holds and how far it errs, errors in millimetres at 1.8 m.
 struct TrackClipFigures {
   std::string clip;
-  uint32_t keys = 0;    // distinct source key times (a cut counts twice)
-  uint32_t samples = 0; // stored: the keys plus those added on CUBICSPLINE spans
+  uint32_t keys = 0;        // distinct source key times (a cut counts twice)
+  uint32_t samples = 0;     // stored: the keys plus those added on CUBICSPLINE spans, less those
+                            // interpolation between the others reproduces
+  uint32_t sampledKeys = 0; // before any were dropped: where the errors at samples are measured
   uint32_t defaultTracks = 0, constantTracks = 0, animatedTracks = 0;
   double meanBits = 0; // per component, over the animated tracks
   uint64_t bytes = 0;  // pack::clipBytes

@@ -1,5 +1,5 @@
 // Compressed joint animation: per clip, each skeleton node's local rotation, translation and
-// scale as tracks sampled on the clip's own keys (one time table per clip, so a decoder finds
+// scale as tracks sampled at the clip's own times (one time table per clip, so a decoder finds
 // any time's two samples without state), each track default (the node's rest value), constant,
 // or animated: range-reduced per clip and quantized at its own bit rate. Plain data and the
 // bit reads a decoder needs; runtime/track_pose.h decodes poses from it.
