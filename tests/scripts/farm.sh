@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # A library build's jobs in child processes: a runaway job (a clip stretched 100x, baked at
-# 30 fps) past --job-max-seconds, one past its manifest's memory limit, one killed with SIGKILL
+# 30 fps, texture and tracks) past --job-max-seconds, one past its manifest's memory limit, one killed with SIGKILL
 # (run again), an interrupted build that the next build finishes, two builds with different
 # limits sharing a cache, and a limit that is not a number.
 set -euo pipefail
@@ -14,7 +14,7 @@ library() { # library SLOW_EXTRA [QUICK_EXTRA]: the slow character between two q
   cat <<JSON
 {"characters": [
   {"name": "walker", "body": "s/humanoid.glb", "clips": ["walk"]${2:-}},
-  {"name": "slow", "body": "slow.glb", "clips": ["walk"], "anim": {"fps": 30}$1},
+  {"name": "slow", "body": "slow.glb", "clips": ["walk"], "anim": {"fps": 30, "store": "both"}$1},
   {"name": "runner", "body": "s/humanoid.glb", "clips": ["run"], "lod": {"floor": 0.1}${2:-}}
 ]}
 JSON
@@ -139,7 +139,7 @@ total=$("$bin/crowdbake" cache stats g --json | python3 -c 'import json,sys; pri
 cat > second.json <<'JSON'
 {"characters": [
   {"name": "runner", "body": "s/humanoid.glb", "clips": ["run"], "lod": {"floor": 0.1}},
-  {"name": "slow2", "body": "slow.glb", "clips": ["run"], "anim": {"fps": 30}}
+  {"name": "slow2", "body": "slow.glb", "clips": ["run"], "anim": {"fps": 30, "store": "both"}}
 ]}
 JSON
 "$bin/crowdbake" build second.json -o g2 --cache g -q &

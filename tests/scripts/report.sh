@@ -12,7 +12,8 @@ fail() { echo "FAIL: $*" >&2; exit 1; }
 "$bin/crowdbake" samples --out s >/dev/null
 cat > library.json <<'JSON'
 {"characters": [
-  {"name": "walker", "body": "s/humanoid.glb", "clips": ["walk", "run"], "lod": {"floor": 0.1}},
+  {"name": "walker", "body": "s/humanoid.glb", "clips": ["walk", "run"], "lod": {"floor": 0.1},
+   "anim": {"store": "both"}},
   {"name": "villager", "body": "s/humanoid.glb", "outfits": {"dress": "s/outfit_dress.glb"},
    "clips": ["walk"], "anim": {"fps": 30, "precision": "qts-half"},
    "visibility": {"rays": 12, "points": 1, "frame_step": 8, "loop_frames": 4},
@@ -26,7 +27,7 @@ JSON
   -o walk.crowdpack --report impostor.json -q
 "$bin/crowdbake" report lib impostor.json -o report.html
 svgs=$(grep -o "<svg" report.html | wc -l)
-# walker: walk and run error against bytes, LOD; villager: LOD, cloth, impostors; the bake: impostors
+# walker: walk and run error against bytes (the texture searched: both stored), LOD; villager: LOD, cloth, impostors; the bake: impostors
 [ "$svgs" -ge 7 ] || fail "$svgs charts in the page, expected at least 7"
 for want in "<h2>walker</h2>" "<h2>villager</h2>" "Animation &#39;run&#39;: error against bytes" \
   "LOD: error against triangles" "Impostors: accuracy against memory" \

@@ -5,9 +5,11 @@
 
 #include "crowd/bake/anim_bake.h"
 #include "crowd/bake/anim_report.h"
+#include "crowd/bake/import.h"
 #include "crowd/formats/container.h"
 #include "crowd/formats/error.h"
 #include "crowd/runtime/pack_joints.h"
+#include "gltf_writer.h"
 #include "sample_character.h"
 
 namespace crowd {
@@ -25,16 +27,19 @@ pack::AnimationPack readBack(const pack::AnimationPack &p) {
   return pack::loadAnimationPack(pack::Reader(pack::packBytes(p), "humanoid"));
 }
 
-// The largest distance (mm) between two packs' skinned vertices over every frame of every clip,
-// and halfway to the next.
+// The largest distance (mm) between two packs' skinned vertices at the times of every frame of
+// every clip of `a`, and halfway to the next (each pack's clip table places them).
 double largestPoseDifferenceMm(const pack::AnimationPack &a, const pack::AnimationPack &b,
                                double mmPerUnit) {
   double worst = 0;
   for (size_t ci = 0; ci < a.clips.size(); ++ci)
     for (uint32_t f = 0; f < a.clips[ci].frameCount; ++f)
       for (float alpha : {0.0f, 0.5f}) {
+        const float seconds = std::min((float(f) + alpha) / a.clips[ci].fps,
+                                       float(a.clips[ci].frameCount - 1) / a.clips[ci].fps);
+        const runtime::ClipTime atB = runtime::clipTimeAt(b.clips[ci], seconds);
         const auto ja = runtime::sampleJoints(a, ci, f, alpha),
-                   jb = runtime::sampleJoints(b, ci, f, alpha);
+                   jb = runtime::sampleJoints(b, ci, atB.frame, atB.alpha);
         for (uint32_t v = 0; v < a.mesh.vertexCount(); ++v) {
           const glm::vec3 bind(a.mesh.positions[3 * v], a.mesh.positions[3 * v + 1],
                                a.mesh.positions[3 * v + 2]);
@@ -56,8 +61,19 @@ TEST(AnimStore, TracksAloneReadBackWithoutATexture) {
   const pack::AnimationPack back = pack::loadAnimationPack(reader);
   EXPECT_FALSE(back.hasTexture());
   ASSERT_TRUE(back.tracks);
-  // The clip table keeps the texture's frames: morph weights and cloth loops count them.
-  EXPECT_EQ(back.animation.frameCount, texture.pack.animation.frameCount);
+  // No texture searched: the clip table samples each clip on its keys (its source rate), over
+  // the same durations, and counts its frames for the morph weights.
+  const Character c = test::sampleHumanoid();
+  ASSERT_EQ(back.clips.size(), texture.pack.clips.size());
+  uint32_t frames = 0;
+  for (size_t ci = 0; ci < back.clips.size(); ++ci) {
+    const pack::Clip &k = back.clips[ci], &t = texture.pack.clips[ci];
+    EXPECT_NEAR(k.fps, sourceRate(c.clips.at(ci)), 1e-3) << k.name;
+    EXPECT_NEAR((k.frameCount - 1) / k.fps, (t.frameCount - 1) / t.fps, 1e-5f) << k.name;
+    EXPECT_EQ(k.loop, t.loop) << k.name;
+    frames += k.frameCount;
+  }
+  EXPECT_EQ(back.animation.frameCount, frames);
   EXPECT_EQ(back.animation.jointCount, texture.pack.skeleton.jointCount());
   EXPECT_EQ(pack::packBytes(back), bytes);
   const double mm = largestPoseDifferenceMm(readBack(texture.pack), back, texture.mmPerUnit);
@@ -69,14 +85,29 @@ TEST(AnimStore, TracksAloneReadBackWithoutATexture) {
   EXPECT_LT(bytes.size(), pack::packBytes(texture.pack).size());
 }
 
-TEST(AnimStore, AutoKeepsTheFewerBytesWithinTheBudgetAndSaysWhy) {
-  const AnimBakeResult r = bakeStoring("auto");
+// Tracks within the budget in fewer bytes than any texture could take: no texture is searched,
+// and the pack is the one --store tracks writes.
+TEST(AnimStore, AutoKeepsTracksFewerThanAnyTextureWithoutSearchingOne) {
+  const AnimBakeResult r = bakeStoring("auto"), texture = bakeStoring("texture");
   ASSERT_EQ(r.tracks.size(), r.pack.clips.size());
   EXPECT_EQ(r.stored, "tracks");
-  EXPECT_LT(r.tracksBytes(), r.textureBytes());
-  EXPECT_NE(r.storeReason.find("both meet the budget, tracks in fewer bytes"), std::string::npos)
-      << r.storeReason;
+  EXPECT_TRUE(r.accuracy.empty()); // not measured
+  EXPECT_NE(r.storeReason.find("fewer than any texture takes"), std::string::npos) << r.storeReason;
+  BudgetSearch all;
+  for (const auto &p : precisions())
+    all.tried.push_back(&p);
+  all.matrixJoints = texture.budget.matrixJoints;
+  const Character c = test::sampleHumanoid();
+  std::vector<const AnimationClip *> clips;
+  for (const auto &clip : c.clips)
+    clips.push_back(&clip);
+  const uint64_t fewest = fewestTextureBytes(c, clips, all);
+  EXPECT_LE(r.tracksBytes(), fewest);
+  EXPECT_LE(fewest, texture.textureBytes()); // a floor of what the search found
+  EXPECT_EQ(pack::packBytes(r.pack), pack::packBytes(bakeStoring("tracks").pack));
   const auto report = animFigures(r);
+  EXPECT_FALSE(report.contains("precision"));
+  EXPECT_FALSE(report.contains("precisions"));
   EXPECT_EQ(report["store"], "tracks");
   EXPECT_EQ(report["animation_bytes"].get<uint64_t>(), r.tracksBytes());
   EXPECT_TRUE(report["budget_met"].get<bool>());
@@ -87,8 +118,10 @@ TEST(AnimStore, AutoKeepsTheFewerBytesWithinTheBudgetAndSaysWhy) {
   }
 }
 
-// A budget no texture rate reaches but the tracks (on the source keys) do: auto stores them.
-TEST(AnimStore, AutoStoresWhatMeetsTheBudget) {
+// A rate and precision forced where the texture would miss the budget (float frames 100 ms
+// apart): the tracks, on their keys, meet it in fewer bytes than that texture takes, so auto
+// stores them without measuring it; the clip table takes the forced rate.
+TEST(AnimStore, AutoWithAForcedTextureStoresTheTracksUnmeasured) {
   Reporter rep;
   rep.quiet = true;
   AnimBakeOptions o;
@@ -96,9 +129,76 @@ TEST(AnimStore, AutoStoresWhatMeetsTheBudget) {
   o.fps = 10; // forced: the texture blends matrices 100 ms apart and misses
   o.precision = "float";
   const AnimBakeResult r = bakeAnimation(test::sampleHumanoid(), o, rep);
-  EXPECT_FALSE(r.budget.met);
   EXPECT_EQ(r.stored, "tracks");
-  EXPECT_NE(r.storeReason.find("only tracks meets the budget"), std::string::npos) << r.storeReason;
+  EXPECT_NE(r.storeReason.find("no texture searched"), std::string::npos) << r.storeReason;
+  EXPECT_TRUE(r.accuracy.empty());
+  for (const auto &clip : r.pack.clips)
+    EXPECT_NEAR(clip.fps, 10.0f, 1e-4f) << clip.name;
+  for (const auto &t : r.tracks)
+    EXPECT_TRUE(t.met) << t.clip;
+}
+
+// Tracks that may take more than a texture (a two-joint quad turning over one second: the tracks'
+// skeleton alone outweighs two texture frames): the texture is searched, measured and compared.
+TEST(AnimStore, AutoSearchesTheTextureWhereTracksMayTakeMore) {
+  test::GltfBuilder g;
+  g.skinnedQuad();
+  g.animation("turn", 1, "rotation", {0, 1}, {0, 0, 0, 1, 0, 0, 0.38268343f, 0.92387953f});
+  Reporter rep;
+  rep.quiet = true;
+  const Character c = importGltf(g.write(test::tempDir("store_fallback"), "turn"), {}, rep);
+  const AnimBakeResult r = bakeAnimation(c, {}, rep);
+  BudgetSearch all;
+  for (const auto &p : precisions())
+    all.tried.push_back(&p);
+  all.matrixJoints = r.budget.matrixJoints;
+  ASSERT_FALSE(r.accuracy.empty()); // searched and measured
+  EXPECT_EQ(r.stored, "texture") << r.storeReason;
+  EXPECT_NE(r.storeReason.find("both meet the budget, texture in fewer bytes"), std::string::npos)
+      << r.storeReason;
+  // Searched because the tracks (skeleton and clip, as the reason gives them) took more than
+  // the floor; the floor is below what the search found.
+  const size_t at = r.storeReason.find("; tracks ");
+  ASSERT_NE(at, std::string::npos) << r.storeReason;
+  const uint64_t tracks = std::stoull(r.storeReason.substr(at + 9));
+  const uint64_t fewest = fewestTextureBytes(c, {&c.clips.at(0)}, all);
+  EXPECT_GT(tracks, fewest);
+  EXPECT_LE(fewest, r.textureBytes());
+  EXPECT_FALSE(r.budget.clips.at(0).tried.empty());
+  EXPECT_NE(r.storeReason.find("texture " + std::to_string(r.textureBytes()) + " bytes"),
+            std::string::npos)
+      << r.storeReason;
+  EXPECT_TRUE(animFigures(r).contains("precisions"));
+}
+
+// Tracks above the texture's floor but below any texture that meets the budget (a quarter turn
+// over ten seconds on two keys: two frames blend it badly, ten a second outweigh the tracks):
+// the search stops at the tracks' bytes and no texture is measured.
+TEST(AnimStore, AutoStopsTheSearchAtTheTracksBytes) {
+  test::GltfBuilder g;
+  g.skinnedQuad();
+  g.animation("slow turn", 1, "rotation", {0, 10}, {0, 0, 0, 1, 0, 0, 0.70710678f, 0.70710678f});
+  Reporter rep;
+  rep.quiet = true;
+  const Character c = importGltf(g.write(test::tempDir("store_capped"), "turn"), {}, rep);
+  const AnimBakeResult r = bakeAnimation(c, {}, rep);
+  EXPECT_EQ(r.stored, "tracks");
+  EXPECT_TRUE(r.accuracy.empty()); // not measured
+  EXPECT_NE(r.storeReason.find("no texture tried in fewer bytes meets it"), std::string::npos)
+      << r.storeReason;
+  ASSERT_EQ(r.budget.clips.size(), 1u);
+  const ClipBudget &b = r.budget.clips[0];
+  EXPECT_TRUE(b.capped);
+  ASSERT_FALSE(b.tried.empty());
+  for (const auto &o : b.tried) { // the lowest rate alone: 10 fps, next, takes 101 frames
+    EXPECT_FALSE(o.meets) << o.fps << " " << o.precision;
+    EXPECT_EQ(o.fps, b.tried[0].fps) << o.precision;
+  }
+  EXPECT_GT(101 * 2 * pack::texelsPerJoint(pack::JointEncoding::QuatTransScale) *
+                pack::bytesPerTexel(pack::TexelFormat::RGBA16F),
+            r.tracksBytes());
+  EXPECT_NEAR(r.pack.clips.at(0).fps, 0.1f, 1e-6f); // the table stays on the keys
+  EXPECT_TRUE(animFigures(r)["clips"][0].contains("options_tried"));
 }
 
 TEST(AnimStore, APackWithNeitherTextureNorTracksIsAClearError) {

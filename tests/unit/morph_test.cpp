@@ -30,8 +30,10 @@ std::string morphedQuad(const std::string &dir, int targets) {
   return g.write(dir, "morphed" + std::to_string(targets));
 }
 
+// Both encodings: these tests measure the texture's morph frames and the tracks played with them.
 AnimBakeResult bake(const Character &c, Reporter &r) {
   AnimBakeOptions o;
+  o.store = "both";
   return bakeAnimation(c, o, r);
 }
 
@@ -72,6 +74,9 @@ TEST(Morph, SkinnedMorphsBakeWithinTheBudgetAtAnyTime) {
   const auto &clip = result.accuracy[result.baked].clips.at(0);
   EXPECT_LE(clip.maxAnyTime() * result.mmPerUnit, 1.0);
   EXPECT_GT(clip.maxAnyTime(), 0.0); // measured, not skipped
+  ASSERT_EQ(result.tracks.size(), 1u);
+  EXPECT_LE(result.tracks[0].maxAnyTimeMm(), 1.0);
+  EXPECT_GT(result.tracks[0].maxAnyTimeMm(), 0.0);
   // The chunk survives the pack's round trip and its cross-checks.
   const auto bytes = pack::packBytes(result.pack);
   const auto back = pack::loadAnimationPack(pack::Reader(bytes, "morphs"));

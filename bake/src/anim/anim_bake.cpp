@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <optional>
 
 #include "anim_accuracy.h"
 #include "crowd/bake/evaluate.h"
@@ -121,6 +122,7 @@ void compressTracks(const Character &c, const std::vector<const AnimationClip *>
   const TrackRig rig = trackRig(c);
   pack::JointTracks tracks;
   tracks.skeleton = rig.skeleton;
+  result.tracks.clear();
   TrackCompressionOptions to;
   to.errorBudgetMm = options.errorBudgetMm;
   to.mmPerUnit = result.mmPerUnit;
@@ -208,20 +210,9 @@ std::vector<const AnimationClip *> chosenClips(const Character &c, const AnimBak
   return sourceClips;
 }
 
-// Each clip's rate and the pack's precision: forced, or the budget's choice.
-BudgetChoice chooseRates(const Character &c, const std::vector<const AnimationClip *> &sourceClips,
-                         const std::vector<uint32_t> &matrixJoints, double mmPerUnit,
-                         const AnimBakeOptions &options, Reporter &reporter) {
-  BudgetChoice budget;
-  const bool forced = options.fps != AnimBakeOptions::kFpsFromBudget && options.precision != "auto";
-  if (forced || sourceClips.empty()) {
-    budget.precision = options.precision == "auto" ? "float" : options.precision;
-    budget.matrixJoints = matrixJoints;
-    for (const auto *clip : sourceClips)
-      budget.clips.push_back(
-          {clip->name, options.fps > 0 ? options.fps : sourceRate(*clip), sourceRate(*clip), {}});
-    return budget;
-  }
+// The budget search's settings: the rates and precisions the options leave open.
+BudgetSearch budgetSearch(const std::vector<uint32_t> &matrixJoints, double mmPerUnit,
+                          const AnimBakeOptions &options, Reporter &reporter) {
   BudgetSearch search;
   search.budgetMm = options.errorBudgetMm;
   search.mmPerUnit = mmPerUnit;
@@ -235,6 +226,38 @@ BudgetChoice chooseRates(const Character &c, const std::vector<const AnimationCl
   search.threads = options.threads;
   search.matrixJoints = matrixJoints;
   search.step = reporter.onStep;
+  return search;
+}
+
+// Each clip at the rate --fps forces, else on its keys (its source rate, at most the ladder's
+// top): the clip table where no texture is searched. The precision is left empty.
+BudgetChoice keyRates(const std::vector<const AnimationClip *> &sourceClips,
+                      const std::vector<uint32_t> &matrixJoints, const AnimBakeOptions &options) {
+  BudgetChoice budget;
+  budget.matrixJoints = matrixJoints;
+  for (const auto *clip : sourceClips) {
+    const double source = sourceRate(*clip);
+    budget.clips.push_back({clip->name,
+                            options.fps > 0 ? options.fps : std::min(source, kRateLadder.back()),
+                            source,
+                            {}});
+  }
+  return budget;
+}
+
+// Each clip's rate and the pack's precision: forced, or the budget's choice.
+BudgetChoice chooseRates(const Character &c, const std::vector<const AnimationClip *> &sourceClips,
+                         const BudgetSearch &search, const AnimBakeOptions &options) {
+  const bool forced = options.fps != AnimBakeOptions::kFpsFromBudget && options.precision != "auto";
+  if (forced || sourceClips.empty()) {
+    BudgetChoice budget;
+    budget.precision = options.precision == "auto" ? "float" : options.precision;
+    budget.matrixJoints = search.matrixJoints;
+    for (const auto *clip : sourceClips)
+      budget.clips.push_back(
+          {clip->name, options.fps > 0 ? options.fps : sourceRate(*clip), sourceRate(*clip), {}});
+    return budget;
+  }
   return chooseByBudget(c, sourceClips, search);
 }
 
@@ -249,6 +272,23 @@ std::vector<ClipFrames> planClips(const std::vector<const AnimationClip *> &sour
     clips.push_back({nullptr, "rest", 0, 0, 1, options.fps > 0 ? options.fps : 30.0});
   }
   return clips;
+}
+
+// The clip table at result.budget's rates: every frame exactly, and the pack's clips and morph
+// frames; its warnings are kept to be said once the table is the pack's.
+struct ClipTable {
+  std::vector<ClipFrames> clips;
+  ExactFrames frames;
+  Reporter warnings;
+};
+
+bool sameRates(const BudgetChoice &a, const BudgetChoice &b) {
+  if (a.clips.size() != b.clips.size())
+    return false;
+  for (size_t i = 0; i < a.clips.size(); ++i)
+    if (a.clips[i].fps != b.clips[i].fps)
+      return false;
+  return true;
 }
 
 // Joint names, each joint's nearest ancestor that is a joint, and the inverse bind matrices.
@@ -307,19 +347,78 @@ void packMorphs(const Character &c, const ExactFrames &frames, AnimBakeResult &r
                   result.morphOverflow.frames);
 }
 
-// Tracks where asked, the store chosen, and what the pack does not store dropped.
+bool tracksMeetTheBudget(const AnimBakeResult &result) {
+  for (const auto &t : result.tracks)
+    if (!t.met)
+      return false;
+  return !result.tracks.empty();
+}
+
+void storeTracksUnmeasured(const std::string &reason, AnimBakeResult &result, Reporter &reporter) {
+  result.stored = "tracks";
+  result.storeReason = reason;
+  reporter.step("stores tracks: " + reason);
+}
+
+// Under --store auto, whether the tracks meet the budget on every clip in no more bytes than any
+// texture could take (fewestTextureBytes): then the pack stores them and no texture is searched.
+bool tracksBeatEveryTexture(const Character &c,
+                            const std::vector<const AnimationClip *> &sourceClips,
+                            const BudgetSearch &search, AnimBakeResult &result,
+                            Reporter &reporter) {
+  if (!tracksMeetTheBudget(result))
+    return false;
+  const uint64_t bytes = result.tracksBytes(), fewest = fewestTextureBytes(c, sourceClips, search);
+  if (bytes > fewest)
+    return false;
+  storeTracksUnmeasured(
+      "the tracks meet the budget in " + std::to_string(bytes) +
+          " bytes, fewer than any texture takes (at least " + std::to_string(fewest) +
+          " bytes at the lowest rate and smallest precision): no texture searched",
+      result, reporter);
+  return true;
+}
+
+// Under --store auto, after a texture search bounded by the tracks' bytes: whether the tracks,
+// meeting the budget, still win (no texture found within it in fewer bytes). Then the pack
+// keeps the key-rate clip table, the report the options tried, and no texture is measured.
+bool tracksBeatTheSearch(BudgetChoice &searched, AnimBakeResult &result, Reporter &reporter) {
+  if (!searched.searched || !tracksMeetTheBudget(result))
+    return false;
+  const uint64_t bytes = result.tracksBytes();
+  if (searched.met && searched.bytes < bytes)
+    return false;
+  for (size_t i = 0; i < searched.clips.size(); ++i)
+    searched.clips[i].fps = result.budget.clips[i].fps; // the rate of the table kept
+  searched.precision.clear();
+  result.budget = std::move(searched);
+  storeTracksUnmeasured(
+      "the tracks meet the budget in " + std::to_string(bytes) + " bytes; " +
+          (result.budget.met
+               ? "the texture meets it in " + std::to_string(result.budget.bytes) + " bytes or more"
+               : "no texture tried in fewer bytes meets it") +
+          ": no texture measured",
+      result, reporter);
+  return true;
+}
+
+// Tracks where asked and not yet compressed, the store chosen (where a texture was measured,
+// else the tracks), and what the pack does not store dropped.
 void chooseWhatIsStored(const Character &c, const std::vector<const AnimationClip *> &sourceClips,
-                        const AnimBakeOptions &options, AnimBakeResult &result,
+                        const AnimBakeOptions &options, size_t frames, AnimBakeResult &result,
                         Reporter &reporter) {
   auto &pk = result.pack;
-  if (options.compressesTracks())
+  if (options.compressesTracks() && !pk.tracks)
     compressTracks(c, sourceClips, options, result, reporter);
-  applyStore(options, result, reporter);
+  if (!result.accuracy.empty())
+    applyStore(options, result, reporter);
+  else
+    result.stored = "tracks";
   warnOverBudget(result, reporter); // of what the pack stores
   if (!result.storesTexture()) {    // the clip table's frames still count the morph weights' frames
     pack::AnimationTexture none;
-    none.jointCount = pk.animation.jointCount;
-    none.frameCount = pk.animation.frameCount;
+    none.jointCount = uint32_t(c.jointCount());
+    none.frameCount = uint32_t(frames);
     pk.animation = std::move(none);
   }
   if (!result.storesTracks())
@@ -354,11 +453,26 @@ void packMesh(const Character &c, pack::AnimationPack &pk) {
   }
 }
 
+// Each frame's bounding box, where no texture measure found it on the way.
+FrameBounds frameBounds(const Character &c, const ExactFrames &frames, int threads) {
+  FrameBounds bounds;
+  bounds.low.assign(frames.count(), glm::dvec3(INFINITY));
+  bounds.high.assign(frames.count(), glm::dvec3(-INFINITY));
+  parallelFor(frames.count(), threads, [&](size_t f) {
+    for (const auto &q : framePositions(c, frames, f)) {
+      bounds.low[f] = glm::min(bounds.low[f], q);
+      bounds.high[f] = glm::max(bounds.high[f], q);
+    }
+  });
+  return bounds;
+}
+
 // A bounding sphere over every frame of every clip. Matrix blends keep mid-frame positions
 // inside the frames' hull; the stored animation's worst error is added on top.
 std::array<float, 4> boundingSphere(const Character &c, const ExactFrames &frames,
-                                    const FrameBounds &bounds, const AnimBakeResult &result,
-                                    int threads) {
+                                    const std::optional<FrameBounds> &measured,
+                                    const AnimBakeResult &result, int threads) {
+  const FrameBounds bounds = measured ? *measured : frameBounds(c, frames, threads);
   glm::dvec3 lo(INFINITY), hi(-INFINITY);
   for (size_t f = 0; f < frames.count(); ++f) {
     lo = glm::min(lo, bounds.low[f]);
@@ -384,6 +498,18 @@ std::array<float, 4> boundingSphere(const Character &c, const ExactFrames &frame
   return {float(centre.x), float(centre.y), float(centre.z), float(radius)};
 }
 
+ClipTable layOutClips(const Character &c, const std::vector<const AnimationClip *> &sourceClips,
+                      const AnimBakeOptions &options, AnimBakeResult &result) {
+  ClipTable t;
+  t.warnings.quiet = true;
+  t.clips = planClips(sourceClips, result.budget, options, t.warnings);
+  t.frames = sampleFrames(c, t.clips, options.threads);
+  result.pack.clips.clear();
+  packClips(c, t.clips, t.frames, result, t.warnings);
+  packMorphs(c, t.frames, result, t.warnings);
+  return t;
+}
+
 } // namespace
 
 StoreChoice chooseStore(double budgetMm, StoreCandidate texture, StoreCandidate tracks) {
@@ -405,8 +531,10 @@ StoreChoice chooseStore(double budgetMm, StoreCandidate texture, StoreCandidate 
   return c;
 }
 
-// The stages: the clips and their rates, every frame exactly, the pack's skeleton, clips, skin
-// and morphs, every precision measured, what is stored, the fades, the mesh and its bounds.
+// The stages: the clip table (at the keys where tracks come first, else at the budget's rates)
+// with the skeleton, skin and morphs; the tracks first under --store tracks or auto, and the
+// texture searched only where it could take fewer bytes and measured only where it may be
+// stored; what is stored; the fades; the mesh and its bounds.
 AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
                              Reporter &reporter) {
   options.validate();
@@ -417,26 +545,49 @@ AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
   const std::vector<const AnimationClip *> sourceClips = chosenClips(c, options);
   const auto matrixJoints = matrixJointsByBudget(c, sourceClips, options.errorBudgetMm,
                                                  result.mmPerUnit, options.threads);
-  result.budget = chooseRates(c, sourceClips, matrixJoints, result.mmPerUnit, options, reporter);
-  const std::vector<ClipFrames> clips = planClips(sourceClips, result.budget, options, reporter);
-  const ExactFrames frames = sampleFrames(c, clips, options.threads);
+  const BudgetSearch search = budgetSearch(matrixJoints, result.mmPerUnit, options, reporter);
   auto &pk = result.pack;
   pk.skeleton = packSkeleton(c);
-  packClips(c, clips, frames, result, reporter);
   pk.skin = buildSkinTexture(c.mesh, options.maxWidth); // the same for every precision
-  packMorphs(c, frames, result, reporter);
-  const FrameBounds bounds =
-      measurePrecisions(c, clips, frames, matrixJoints, options, result, reporter);
-  result.budget.met = true; // from the full measure, frame times included
-  for (const auto &a : result.accuracy[result.baked].clips)
-    result.budget.met &= a.maxAnyTime() * result.mmPerUnit <= options.errorBudgetMm;
-  chooseWhatIsStored(c, sourceClips, options, result, reporter);
+  const bool tracksFirst = options.store == "tracks" || options.store == "auto";
+  bool searchTexture = !tracksFirst;
+  ClipTable table;
+  if (tracksFirst) {
+    result.budget = keyRates(sourceClips, matrixJoints, options);
+    table = layOutClips(c, sourceClips, options, result);
+    compressTracks(c, sourceClips, options, result, reporter);
+    searchTexture = options.store == "auto" &&
+                    !tracksBeatEveryTexture(c, sourceClips, search, result, reporter);
+  }
+  std::optional<FrameBounds> bounds;
+  if (searchTexture) {
+    BudgetSearch bounded = search; // under auto, only as far as it could take fewer bytes
+    if (tracksFirst && tracksMeetTheBudget(result))
+      bounded.fewerBytesThan = result.tracksBytes();
+    BudgetChoice budget = chooseRates(c, sourceClips, bounded, options);
+    if (!tracksFirst || !tracksBeatTheSearch(budget, result, reporter)) {
+      const bool newTable = !tracksFirst || !sameRates(budget, result.budget);
+      result.budget = std::move(budget);
+      if (newTable)
+        table = layOutClips(c, sourceClips, options, result);
+      if (newTable && tracksFirst && pk.morphs) // the tracks' errors include the frames' morphs
+        compressTracks(c, sourceClips, options, result, reporter);
+      bounds =
+          measurePrecisions(c, table.clips, table.frames, matrixJoints, options, result, reporter);
+      result.budget.met = true; // from the full measure, frame times included
+      for (const auto &a : result.accuracy[result.baked].clips)
+        result.budget.met &= a.maxAnyTime() * result.mmPerUnit <= options.errorBudgetMm;
+    }
+  }
+  for (const auto &w : table.warnings.warnings())
+    reporter.warn(w.code, w.message, w.count);
+  chooseWhatIsStored(c, sourceClips, options, table.frames.count(), result, reporter);
   if (sourceClips.size() > 1) { // as the player fades what the pack stores
     reporter.step("crossfades between " + std::to_string(sourceClips.size()) + " clips");
     result.fades = measureFades(c, sourceClips, pk, options.threads);
   }
   packMesh(c, pk);
-  pk.mesh.boundingSphere = boundingSphere(c, frames, bounds, result, options.threads);
+  pk.mesh.boundingSphere = boundingSphere(c, table.frames, bounds, result, options.threads);
   return result;
 }
 

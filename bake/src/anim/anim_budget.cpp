@@ -127,8 +127,24 @@ std::vector<double> maxErrors(const Character &c, const ClipFrames &f,
 
 // Every option of one clip, trying rates lowest first and dropping a precision once it meets the
 // budget; best[p] gets the option chosen for precision p.
+// The smallest precision tried: its bytes per frame, the pack's floor.
+uint64_t fewestFrameBytes(const Character &c, const BudgetSearch &s) {
+  uint64_t bytes = UINT64_MAX;
+  for (const Precision *p : s.tried)
+    bytes = std::min(bytes, p->frameBytes(c.jointCount(), s.matrixJoints.size()));
+  return bytes;
+}
+
+// A clip's fewest frames: at the lowest rate it tries.
+uint64_t fewestFrames(const AnimationClip &clip, const BudgetSearch &s) {
+  return planFrames(clip, ratesFor(s, sourceRate(clip)).front()).count;
+}
+
+// Every option of one clip, trying rates lowest first and dropping a precision once it meets the
+// budget, below `cap` bytes at the smallest precision; best[p] gets the option chosen for
+// precision p.
 ClipBudget searchClip(const Character &c, const AnimationClip &clip, size_t clipIndex,
-                      const BudgetSearch &s, const pack::SkinTexture &skin,
+                      const BudgetSearch &s, uint64_t cap, const pack::SkinTexture &skin,
                       const SkinErrorBound &bound, std::vector<size_t> &best) {
   ClipBudget cb;
   cb.clip = clip.name;
@@ -164,6 +180,10 @@ ClipBudget searchClip(const Character &c, const AnimationClip &clip, size_t clip
     if (!cb.tried.empty() && duration * rate >= double(limits::kClipFrames))
       break; // higher rates would not fit a clip
     const ClipFrames f = planFrames(clip, rate);
+    if (!cb.tried.empty() && f.count * fewestFrameBytes(c, s) >= cap) {
+      cb.capped = true; // no higher rate can take fewer bytes than the cap either
+      break;
+    }
     std::vector<std::vector<glm::dmat4>> joints(f.count);
     std::vector<std::vector<double>> morphs(f.count);
     parallelFor(f.count, s.threads, [&](size_t i) {
@@ -214,18 +234,31 @@ std::vector<uint32_t> matrixJointsByBudget(const Character &c,
   return matrixJointsFor(c.mesh, c.jointCount(), frames, 0.5 * budgetMm / mmPerUnit);
 }
 
+uint64_t fewestTextureBytes(const Character &c, const std::vector<const AnimationClip *> &clips,
+                            const BudgetSearch &s) {
+  uint64_t frames = clips.empty() ? 1 : 0; // the rest pose
+  for (const AnimationClip *clip : clips)
+    frames += fewestFrames(*clip, s);
+  return frames * fewestFrameBytes(c, s);
+}
+
 BudgetChoice chooseByBudget(const Character &c, const std::vector<const AnimationClip *> &clips,
                             const BudgetSearch &s) {
   const size_t np = s.tried.size();
   const pack::SkinTexture skin = buildSkinTexture(c.mesh, s.maxWidth);
   const SkinErrorBound bound(c.mesh, skin, c.jointCount());
   BudgetChoice out;
+  out.searched = true;
   std::vector<std::vector<size_t>> best(clips.size(), std::vector<size_t>(np, SIZE_MAX));
+  const uint64_t fewest = fewestTextureBytes(c, clips, s);
   for (size_t ci = 0; ci < clips.size(); ++ci) {
     if (s.step)
       s.step("error budget: clip " + std::to_string(ci + 1) + " of " +
              std::to_string(clips.size()) + " (" + clips[ci]->name + ")");
-    out.clips.push_back(searchClip(c, *clips[ci], ci, s, skin, bound, best[ci]));
+    // This clip's share of the cap: what the others leave at their fewest.
+    const uint64_t others = fewest - fewestFrames(*clips[ci], s) * fewestFrameBytes(c, s);
+    const uint64_t cap = s.fewerBytesThan > others ? s.fewerBytesThan - others : 0;
+    out.clips.push_back(searchClip(c, *clips[ci], ci, s, cap, skin, bound, best[ci]));
   }
   // The precision: fewest bytes among those meeting the budget everywhere, else the smallest
   // worst error (within 1%, the fewer bytes).
@@ -251,6 +284,7 @@ BudgetChoice chooseByBudget(const Character &c, const std::vector<const Animatio
   out.precision = s.tried[chosen]->name;
   out.matrixJoints = s.matrixJoints;
   out.met = met[chosen];
+  out.bytes = bytes[chosen];
   for (size_t ci = 0; ci < clips.size(); ++ci)
     out.clips[ci].fps = out.clips[ci].tried[best[ci][chosen]].fps;
   return out;

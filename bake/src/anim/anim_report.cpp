@@ -57,9 +57,12 @@ ordered_json animFigures(const AnimBakeResult &r) {
   f["diagonal"] = r.diagonal;
   f["mm_per_model_unit"] = r.mmPerUnit; // the character scaled to 1.8 m
   f["scaled_by"] = r.heightIsDiagonal ? "diagonal" : "height";
-  const auto &baked = r.accuracy[r.baked];
-  f["precision"] = baked.precision.name;
-  f["bytes_per_joint_per_frame"] = bytesPerJointPerFrame(baked.precision, r);
+  // The texture's, where one was measured (not where tracks won without a search).
+  const PrecisionAccuracy *baked = r.accuracy.empty() ? nullptr : &r.accuracy[r.baked];
+  if (baked) {
+    f["precision"] = baked->precision.name;
+    f["bytes_per_joint_per_frame"] = bytesPerJointPerFrame(baked->precision, r);
+  }
   // Joints whose shear or non-uniform scale the quaternion precisions cannot carry: they store
   // them as matrix rows (the budget's half, at the clips' source rates).
   f["matrix_joints"] = ordered_json::array();
@@ -90,11 +93,10 @@ ordered_json animFigures(const AnimBakeResult &r) {
       cj["max_error_any_time"] = t.maxAnyTimeMm() / r.mmPerUnit / r.diagonal;
       cj["animation_bytes"] = t.bytes;
     } else {
-      cj.update(clipErrorsJson(baked.clips.at(i), r));
-      const PrecisionAccuracy &pa = r.accuracy[r.baked];
+      cj.update(clipErrorsJson(baked->clips.at(i), r));
       cj["animation_bytes"] =
-          uint64_t(c.frameCount) *
-              pa.precision.frameBytes(r.pack.skeleton.jointCount(), r.budget.matrixJoints.size()) +
+          uint64_t(c.frameCount) * baked->precision.frameBytes(r.pack.skeleton.jointCount(),
+                                                               r.budget.matrixJoints.size()) +
           (r.storesTracks() ? r.tracks.at(i).bytes : 0);
     }
     if (i < r.budget.clips.size()) { // not the rest pose

@@ -102,8 +102,10 @@ void addAnimOptions(CLI::App &app, AnimBakeOptions &anim) {
                  "the animation the pack stores: texture (joint matrices per frame, the ANIM "
                  "chunk); tracks (every clip compressed into joint tracks on its own keys "
                  "within the same error budget, the TRAK chunk: crowdplay decodes them on the "
-                 "GPU); both; auto: the fewer bytes among those meeting the budget (the "
-                 "report's store_reason says why)")
+                 "GPU; no texture is searched); both; auto: the fewer bytes among those meeting "
+                 "the budget, the tracks first: where they meet it in fewer bytes than any "
+                 "texture could take, no texture is searched (the report's store_reason says "
+                 "why)")
       ->check(CLI::IsMember(AnimBakeOptions::stores()))
       ->capture_default_str();
 }

@@ -41,6 +41,11 @@ std::string text(const json &j, const char *key) {
   return v.is_string() ? v.get<std::string>() : "";
 }
 
+// What an animation pack stores: joint tracks, or the texture's precision.
+std::string stored(const json &f) {
+  return text(f, "store") == "tracks" ? "joint tracks" : text(f, "precision");
+}
+
 // One job as both report kinds give it: crowdbake build's jobs, or a bake's own report.
 struct JobView {
   std::string kind, label;
@@ -71,10 +76,9 @@ std::pair<std::string, std::string> bytesAndError(const JobView &job) {
           worst = number(c, "max_error_any_time_mm");
           clip = text(c, "name");
         }
-    const std::string error = clip.empty()
-                                  ? ""
-                                  : num(worst) + " mm at any time (clip " + escapeXml(clip) +
-                                        "), " + escapeXml(text(f, "precision"));
+    const std::string error = clip.empty() ? ""
+                                           : num(worst) + " mm at any time (clip " +
+                                                 escapeXml(clip) + "), " + escapeXml(stored(f));
     return {num(number(f, "triangles"), "%.0f") + " triangles", error};
   }
   if (job.kind == "impostor") {

@@ -35,12 +35,15 @@ struct ClipBudget {
   double fps = 0;                  // the rate baked
   double sourceFps = 0;            // the clip's own key rate
   std::vector<BudgetOption> tried; // in the order tried
+  bool capped = false; // higher rates not tried: they take BudgetSearch::fewerBytesThan or more
 };
 
 struct BudgetChoice {
   std::string precision;              // the one stored for the whole pack
   std::vector<uint32_t> matrixJoints; // stored as matrix rows by the quaternion precisions
   bool met = false;                   // every clip within the budget at that precision
+  bool searched = false;              // by chooseByBudget (else forced: nothing tried)
+  uint64_t bytes = 0;                 // the options chosen: every clip's frames, unpadded
   std::vector<ClipBudget> clips;      // one per clip given, in order
 };
 
@@ -54,6 +57,10 @@ struct BudgetSearch {
   uint32_t maxWidth = 4096;
   int threads = 0;
   Reporter::Listener step; // a line as each clip's search starts
+  // Rates are tried only while the texture could take fewer bytes than this (the tracks', where
+  // they meet the budget): a clip's rate whose frames at the smallest precision tried, with every
+  // other clip at its fewest (fewestTextureBytes), take as many is not tried (ClipBudget::capped).
+  uint64_t fewerBytesThan = UINT64_MAX;
 };
 
 // The joints the quaternion precisions store as matrix rows: those whose encoding alone would
@@ -68,6 +75,12 @@ std::vector<uint32_t> matrixJointsByBudget(const Character &c,
 // meeting the budget on every clip (else the one with the smallest worst error). Clips of one
 // frame (no duration) cost nothing to choose.
 BudgetChoice chooseByBudget(const Character &c, const std::vector<const AnimationClip *> &clips,
+                            const BudgetSearch &search);
+
+// The fewest texel bytes of any texture chooseByBudget could choose: each clip at the lowest
+// rate it tries, at the smallest precision tried, rows unpadded. Joint tracks that meet the
+// budget in no more bytes are stored whatever the search finds, so it need not run.
+uint64_t fewestTextureBytes(const Character &c, const std::vector<const AnimationClip *> &clips,
                             const BudgetSearch &search);
 
 } // namespace crowd
