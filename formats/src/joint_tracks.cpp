@@ -3,9 +3,14 @@
 #include <cmath>
 
 #include "crowd/formats/bytes.h"
+#include "crowd/formats/chunks.h"
 #include "crowd/formats/limits.h"
 
 namespace crowd::pack {
+
+namespace {
+constexpr int kTickShares = 4; // a tick is looked for at the smallest gap over 1 .. 4
+} // namespace
 
 uint32_t readBits(const std::vector<uint32_t> &stream, uint64_t at, uint32_t bits) {
   if (bits == 0)
@@ -54,22 +59,96 @@ bool uniformTimes(const std::vector<float> &times) {
   return true;
 }
 
+TimeTicks timeTicks(const std::vector<float> &times) {
+  double gap = 0; // the smallest step between two times: one tick or a few
+  for (size_t i = 1; i < times.size(); ++i)
+    if (const double d = double(times[i]) - double(times[i - 1]); d > 0 && (gap == 0 || d < gap))
+      gap = d;
+  if (!(gap > 0))
+    return {};
+  // Per share of the gap (samples dropped on a grid can leave no two neighbours), the last
+  // time's whole number of ticks and the floats around its quotient: a grid's step is found to
+  // the bit though each time was rounded on its own. The largest tick that holds every time.
+  const double last = times.back();
+  for (int share = 1; share <= kTickShares; ++share) {
+    const double steps = std::round(last / (gap / share));
+    if (!(steps >= 1))
+      continue;
+    float tick = float(last / steps);
+    for (int k = 0; k < 3; ++k)
+      tick = std::nextafter(tick, 0.0f);
+    for (int k = 0; k < 7; ++k, tick = std::nextafter(tick, INFINITY)) {
+      uint64_t most = 0;
+      bool all = tick > 0;
+      for (size_t i = 0; i < times.size() && all; ++i) {
+        const double n = std::round(double(times[i]) / double(tick));
+        all = n < double(uint64_t(1) << kMaxTickBits) && float(n * double(tick)) == times[i];
+        most = std::max(most, uint64_t(n));
+      }
+      if (all) {
+        uint32_t bits = 1;
+        while ((most >> bits) != 0)
+          ++bits;
+        return {tick, bits};
+      }
+    }
+  }
+  return {};
+}
+
+bool halfExtents(const Track &track) {
+  for (float e : track.extent)
+    if (!(e >= 0 && e <= 65504.0f) || halfToFloat(floatToHalf(e)) != e)
+      return false;
+  return true;
+}
+
+TimeTable timeTable(const std::vector<float> &times) {
+  if (uniformTimes(times))
+    return TimeTable::Step;
+  const TimeTicks ticks = timeTicks(times);
+  const uint64_t tickBytes = 5 + (uint64_t(times.size()) * ticks.bits + 7) / 8;
+  return ticks.bits && tickBytes < 4 * times.size() ? TimeTable::Ticks : TimeTable::Floats;
+}
+
 namespace {
+
+// What the chunk says of a track's kind: an animated track whose extents are halves, 3.
+uint8_t storedKind(const Track &t) {
+  return t.kind == TrackKind::Animated && halfExtents(t) ? 3 : uint8_t(t.kind);
+}
+
+void putTimes(ByteWriter &w, const std::vector<float> &times) {
+  const TimeTable kind = timeTable(times);
+  w.put<uint8_t>(uint8_t(kind));
+  if (kind == TimeTable::Step) {
+    w.put<float>(times[1]);
+    return;
+  }
+  if (kind == TimeTable::Floats) {
+    for (float t : times)
+      w.put<float>(t);
+    return;
+  }
+  const TimeTicks ticks = timeTicks(times);
+  w.put<float>(ticks.tick);
+  w.put<uint8_t>(uint8_t(ticks.bits));
+  std::vector<uint32_t> words;
+  for (size_t i = 0; i < times.size(); ++i)
+    writeBits(words, i * ticks.bits, ticks.bits,
+              uint32_t(std::round(double(times[i]) / double(ticks.tick))));
+  for (uint64_t b = 0; b < (uint64_t(times.size()) * ticks.bits + 7) / 8; ++b)
+    w.put<uint8_t>(uint8_t(words[b / 4] >> (8 * (b % 4))));
+}
 
 void putClip(ByteWriter &w, const TrackClip &clip) {
   w.putString(clip.name);
   w.put<uint32_t>(uint32_t(clip.times.size()));
-  const bool uniform = uniformTimes(clip.times);
-  w.put<uint8_t>(uniform ? 1 : 0);
-  if (uniform)
-    w.put<float>(clip.times[1]);
-  else
-    for (float t : clip.times)
-      w.put<float>(t);
+  putTimes(w, clip.times);
   for (size_t t = 0; t < clip.tracks.size(); t += 4) {
     uint8_t kinds = 0;
     for (size_t k = 0; k < 4 && t + k < clip.tracks.size(); ++k)
-      kinds = uint8_t(kinds | uint8_t(clip.tracks[t + k].kind) << (2 * k));
+      kinds = uint8_t(kinds | storedKind(clip.tracks[t + k]) << (2 * k));
     w.put<uint8_t>(kinds);
   }
   for (const Track &t : clip.tracks) {
@@ -81,8 +160,9 @@ void putClip(ByteWriter &w, const TrackClip &clip) {
     w.put<uint8_t>(uint8_t(t.bits | t.dropped << 5 | (t.step ? 0x80 : 0)));
     for (float v : t.min)
       w.put<float>(v);
+    const bool half = halfExtents(t);
     for (float v : t.extent)
-      w.put<float>(v);
+      half ? w.put<uint16_t>(floatToHalf(v)) : w.put<float>(v);
   }
   w.put<uint32_t>(uint32_t(clip.stream.size()));
   for (uint32_t word : clip.stream)
@@ -151,34 +231,48 @@ TrackClip getClip(ByteReader &r, size_t nodes, uint32_t version) {
   if (samples == 0 || samples > limits::kTrackSamples)
     r.fail("sample count", where + std::to_string(samples) + " is not in 1.." +
                                std::to_string(limits::kTrackSamples));
-  const uint8_t uniform = r.get<uint8_t>("time table");
-  if (uniform > 1 || (uniform && samples < 2))
-    r.fail("time table", where + "kind " + std::to_string(uniform) + " for " +
+  const uint8_t table = r.get<uint8_t>("time table");
+  if (table > (version < 3 ? 1 : 2) || (table && samples < 2))
+    r.fail("time table", where + "kind " + std::to_string(table) + " for " +
                              std::to_string(samples) + " samples");
-  if (uniform) {
-    const float step = finiteFloat(r, "time step");
+  if (table) {
+    const float step = finiteFloat(r, table == 1 ? "time step" : "time tick");
     if (!(step > 0))
-      r.fail("time step", where + "not positive");
-    for (uint32_t i = 0; i < samples; ++i)
-      clip.times.push_back(float(double(i) * double(step)));
-  } else {
-    for (uint32_t i = 0; i < samples; ++i) {
-      clip.times.push_back(finiteFloat(r, "times"));
-      if (i ? clip.times[i] < clip.times[i - 1] : clip.times[0] != 0)
-        r.fail("times", where + "sample " + std::to_string(i) + " at " +
-                            std::to_string(clip.times[i]) +
-                            (i ? " is before the one before it" : " (the first is at 0)"));
+      r.fail(table == 1 ? "time step" : "time tick", where + "not positive");
+    std::vector<uint32_t> ticks;
+    uint32_t bits = 0;
+    if (table == 2) {
+      bits = r.get<uint8_t>("tick bits");
+      if (bits == 0 || bits > kMaxTickBits)
+        r.fail("tick bits",
+               where + std::to_string(bits) + " (1.." + std::to_string(kMaxTickBits) + ")");
+      ticks.resize((uint64_t(samples) * bits + 31) / 32);
+      for (uint64_t b = 0; b < (uint64_t(samples) * bits + 7) / 8; ++b)
+        ticks[b / 4] |= uint32_t(r.get<uint8_t>("ticks")) << (8 * (b % 4));
     }
-  }
+    for (uint32_t i = 0; i < samples; ++i)
+      clip.times.push_back(
+          float(double(table == 1 ? i : readBits(ticks, uint64_t(i) * bits, bits)) * double(step)));
+  } else
+    for (uint32_t i = 0; i < samples; ++i)
+      clip.times.push_back(finiteFloat(r, "times"));
+  for (uint32_t i = 0; i < samples; ++i)
+    if (i ? clip.times[i] < clip.times[i - 1] : clip.times[0] != 0)
+      r.fail("times", where + "sample " + std::to_string(i) + " at " +
+                          std::to_string(clip.times[i]) +
+                          (i ? " is before the one before it" : " (the first is at 0)"));
   const size_t tracks = nodes * kTracksPerNode;
   clip.tracks.resize(tracks);
+  std::vector<uint8_t> halfExtent(tracks, 0); // kind 3: animated, extents as halves
   for (size_t t = 0; t < tracks; t += 4) {
     const uint8_t kinds = r.get<uint8_t>("track kinds");
     for (size_t k = 0; k < 4 && t + k < tracks; ++k) {
       const uint8_t kind = (kinds >> (2 * k)) & 3;
-      if (kind > uint8_t(TrackKind::Animated))
-        r.fail("track kinds", where + "track " + std::to_string(t + k) + " has kind 3");
-      clip.tracks[t + k].kind = TrackKind(kind);
+      if (kind == 3 && version < 3)
+        r.fail("track kinds", where + "track " + std::to_string(t + k) +
+                                  " has kind 3 (animated with half extents: version 3)");
+      halfExtent[t + k] = kind == 3;
+      clip.tracks[t + k].kind = kind == 3 ? TrackKind::Animated : TrackKind(kind);
     }
   }
   uint64_t bits = 0;
@@ -203,7 +297,9 @@ TrackClip getClip(ByteReader &r, size_t nodes, uint32_t version) {
     for (float &v : track.min)
       v = finiteFloat(r, "range");
     for (float &v : track.extent) {
-      v = finiteFloat(r, "range");
+      v = halfExtent[t] ? halfToFloat(r.get<uint16_t>("range")) : finiteFloat(r, "range");
+      if (!std::isfinite(v))
+        r.fail("range", where + "track " + std::to_string(t) + " has an extent NaN or infinite");
       if (v < 0)
         r.fail("range", where + "track " + std::to_string(t) + " has a negative extent");
     }

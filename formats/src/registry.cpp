@@ -187,6 +187,17 @@ Description describeLooks(std::span<const uint8_t> b, uint32_t, const std::strin
   return d;
 }
 
+const char *timeTableName(const std::vector<float> &times) {
+  switch (timeTable(times)) {
+  case TimeTable::Step:
+    return "uniform";
+  case TimeTable::Ticks:
+    return "ticks";
+  default:
+    return "keys";
+  }
+}
+
 Description describeJointTracks(std::span<const uint8_t> b, uint32_t version,
                                 const std::string &ctx) {
   const JointTracks t = decodeJointTracks(b, ctx, version);
@@ -205,11 +216,10 @@ Description describeJointTracks(std::span<const uint8_t> b, uint32_t version,
       ++kinds[size_t(track.kind)];
       bits += track.bits;
     }
-    clips.rows.push_back({text(c.name), number(double(c.times.size())),
-                          text(uniformTimes(c.times) ? "uniform" : "keys"),
-                          number(double(kinds[0])), number(double(kinds[1])),
-                          number(double(kinds[2])), number(kinds[2] ? bits / double(kinds[2]) : 0),
-                          number(double(clipBytes(c)))});
+    clips.rows.push_back(
+        {text(c.name), number(double(c.times.size())), text(timeTableName(c.times)),
+         number(double(kinds[0])), number(double(kinds[1])), number(double(kinds[2])),
+         number(kinds[2] ? bits / double(kinds[2]) : 0), number(double(clipBytes(c)))});
   }
   d.tables = {clips};
   return d;

@@ -118,6 +118,81 @@ TEST(JointTracks, UniformTimesAreOneStep) {
   EXPECT_FALSE(pack::uniformTimes(t));
 }
 
+// Times kept from a uniform grid (some dropped) and CUBICSPLINE bisections are whole ticks: the
+// table stores them in fewer bits and reads them back to the bit; times off any grid stay floats.
+TEST(JointTracks, TimesOnAGridAreStoredAsTicks) {
+  std::vector<float> grid;
+  for (int i = 0; i < 400; ++i)
+    if (i % 7 != 3 && i % 11 != 5) // dropped samples
+      grid.push_back(float(i * double(1.0f / 30)));
+  ASSERT_FALSE(pack::uniformTimes(grid));
+  pack::TimeTicks ticks = pack::timeTicks(grid);
+  EXPECT_EQ(ticks.tick, 1.0f / 30);
+  EXPECT_EQ(ticks.bits, 9u);   // 399 ticks
+  std::vector<float> bisected; // 5 s spans, one halved 6 times, the other 4 times
+  for (int k = 0; k < 64; ++k)
+    bisected.push_back(float(5.0 * k / 64));
+  for (int k = 0; k <= 16; ++k)
+    bisected.push_back(float(5.0 + 5.0 * k / 16));
+  ticks = pack::timeTicks(bisected);
+  EXPECT_EQ(ticks.tick, 5.0f / 64);
+  EXPECT_EQ(ticks.bits, 8u); // 128 ticks
+  std::vector<float> sparse; // no two neighbours on the grid: gaps of 2 and 3 ticks
+  for (int i = 0; i < 300; i += i % 5 == 0 ? 2 : 3)
+    sparse.push_back(float(i * double(1.0f / 24)));
+  ticks = pack::timeTicks(sparse);
+  EXPECT_EQ(ticks.tick, 1.0f / 24);
+  std::vector<float> irregular = {0.0f};
+  std::mt19937 random(7);
+  for (int k = 0; k < 100; ++k)
+    irregular.push_back(irregular.back() +
+                        std::uniform_real_distribution<float>(0.01f, 0.1f)(random));
+  EXPECT_EQ(pack::timeTicks(irregular).bits, 0u);
+
+  pack::JointTracks t; // one node at rest: a clip of times alone
+  t.skeleton.parents = {-1};
+  t.skeleton.rest = {{0, 0, 0, 1, 0, 0, 0, 1, 1, 1}};
+  t.skeleton.restIsMatrix = {0};
+  t.skeleton.jointNodes = {0};
+  t.clips.resize(1);
+  t.clips[0].name = "c";
+  t.clips[0].tracks.resize(pack::kTracksPerNode);
+  for (const auto &times : {grid, bisected, sparse, irregular}) {
+    t.clips[0].times = times;
+    EXPECT_EQ(pack::decodeJointTracks(pack::encode(t), "TRAK").clips[0].times, times);
+  }
+  t.clips[0].times = grid;
+  const uint64_t asTicks = pack::clipBytes(t.clips[0]);
+  t.clips[0].times[5] = std::nextafter(t.clips[0].times[5], 1.0f); // off the grid: floats
+  EXPECT_EQ(pack::clipBytes(t.clips[0]), asTicks - 5 - (grid.size() * 9 + 7) / 8 + 4 * grid.size());
+
+  // Damaged: a tick table in a version 2 chunk, its bits out of 1..24, its tick not positive.
+  t.clips[0].times = grid;
+  const std::vector<uint8_t> good = pack::encode(t);
+  const size_t table = pack::skeletonBytes(t.skeleton) + 4 + 4 + 1 + 4;
+  ASSERT_EQ(good.at(table), 2);
+  const auto expectError = [&](std::vector<uint8_t> bytes, uint32_t version,
+                               const std::string &field) {
+    try {
+      pack::decodeJointTracks(bytes, "TRAK", version);
+      ADD_FAILURE() << "no error for " << field;
+    } catch (const Error &e) {
+      EXPECT_NE(std::string(e.what()).find("field '" + field + "'"), std::string::npos) << e.what();
+    }
+  };
+  expectError(good, 2, "time table");
+  for (uint8_t bits : {0, 25}) {
+    auto bytes = good;
+    bytes[table + 5] = bits;
+    expectError(bytes, pack::kJointTracksVersion, "tick bits");
+  }
+  auto negative = good;
+  negative[table + 4] |= 0x80; // the tick's sign bit
+  expectError(negative, pack::kJointTracksVersion, "time tick");
+  for (size_t n = table; n < good.size(); ++n)
+    EXPECT_THROW(pack::decodeJointTracks(std::span(good.data(), n), "TRAK"), Error) << n;
+}
+
 // The sample humanoid baked with --store both: its TRAK chunk, as written and as read back.
 const pack::AnimationPack &humanoidWithTracks() {
   static const pack::AnimationPack p = [] {
@@ -182,6 +257,16 @@ TEST(JointTracks, DamagedChunksAreClearErrors) {
   t = good;
   t.clips[0].tracks[animated].extent[1] = -1;
   expectError(t, "range");
+  // Half extents (kind 3): the bake's, read back; an error in version 2; a NaN half an error.
+  ASSERT_TRUE(pack::halfExtents(good.clips[0].tracks[animated]));
+  EXPECT_THROW(pack::decodeJointTracks(pack::encode(good), "TRAK", 2), Error);
+  t = good;
+  t.clips[0].tracks[animated].extent[2] = NAN;
+  expectError(t, "range"); // written as a float: not a half
+  t = good;
+  t.clips[0].tracks[animated].extent[0] = 0.1f; // not a half: written as floats, read back
+  EXPECT_EQ(pack::decodeJointTracks(pack::encode(t), "TRAK").clips[0].tracks[animated].extent[0],
+            0.1f);
   // A dropped component: read back in version 2, an error in version 1 and off a rotation.
   size_t rotation = 0, translation = 0;
   while (rotation % pack::kTracksPerNode != 0 ||

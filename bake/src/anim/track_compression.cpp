@@ -76,6 +76,8 @@ std::array<double, 3> storedRotation(glm::dquat q, uint32_t dropped) {
 }
 
 // The range a float min and extent cover: min rounded down, extent up, so both ends are inside.
+// The extent is rounded up to a half where it is a normal one: 2 bytes in the chunk instead of
+// 4 (pack::halfExtents), for a quantization step at most 2^-10 coarser.
 void floatRange(double lo, double hi, float &min, float &extent) {
   min = float(lo);
   if (double(min) > lo)
@@ -83,6 +85,13 @@ void floatRange(double lo, double hi, float &min, float &extent) {
   extent = float(hi - double(min));
   while (double(min) + double(extent) < hi)
     extent = std::nextafter(extent, INFINITY);
+  if (extent >= 6.103515625e-05f && extent <= 65504.0f) { // 2^-14, the largest half
+    uint16_t h = pack::floatToHalf(extent);
+    if (pack::halfToFloat(h) < extent)
+      ++h; // the next half up: positive halves order as their bits
+    if (pack::halfToFloat(h) <= 65504.0f)
+      extent = pack::halfToFloat(h);
+  }
 }
 
 float dequantize(float min, float extent, uint32_t q, uint32_t bits) {

@@ -14,8 +14,10 @@ namespace crowd::pack {
 
 inline constexpr uint32_t kMaxTrackBits = 24; // a float's mantissa: more would not be stored
 inline constexpr uint32_t kTracksPerNode = 3; // rotation, translation, scale, in that order
-// TRAK's version: 2 adds the dropped rotation component (version 1: always w).
-inline constexpr uint32_t kJointTracksVersion = 2;
+// TRAK's version: 2 adds the dropped rotation component (version 1: always w); 3 the time
+// table of ticks and extents as halves.
+inline constexpr uint32_t kJointTracksVersion = 3;
+inline constexpr uint32_t kMaxTickBits = 24; // a time table's ticks: a float holds them exactly
 
 enum class TrackKind : uint8_t {
   Default = 0,  // the node's rest value: nothing stored
@@ -76,7 +78,8 @@ std::array<float, 3> trackSample(const TrackClip &clip, const Track &track, uint
 
 // The chunk (TRAK): the skeleton (per node its parent, a matrix flag and its rest values; per
 // joint its node), then per clip its name, sample count, time table (one step where uniformTimes
-// holds, else every time), the tracks' kinds (2 bits each), each Constant track's value, each
+// holds, else each time's ticks where timeTicks finds a tick and they take fewer bytes, else
+// every time as a float), the tracks' kinds (2 bits each), each Constant track's value, each
 // Animated track's bits (low 5 bits; bits 5-6 the dropped rotation component; the top bit: step)
 // and range, and the sample stream. Little-endian,
 // unaligned: docs-grade byte counts, not GPU layout (the player uploads what it decodes).
@@ -91,5 +94,22 @@ uint64_t clipBytes(const TrackClip &clip);
 uint64_t skeletonBytes(const TrackSkeleton &skeleton);
 // Whether times[i] is exactly float(i * double(times[1])): then only that step is stored.
 bool uniformTimes(const std::vector<float> &times);
+// A tick every time is a whole multiple of, each exactly float(n * double(tick)) with n below
+// 2^kMaxTickBits, and the bits the largest n takes; {0, 0} where none is found. Times kept from
+// a uniform grid, and CUBICSPLINE spans bisected, are such multiples: stored as `bits`-bit
+// ticks instead of floats.
+struct TimeTicks {
+  float tick = 0;
+  uint32_t bits = 0;
+};
+TimeTicks timeTicks(const std::vector<float> &times);
+// How the chunk stores a clip's times: one step where uniformTimes holds, else the ticks where
+// timeTicks finds some and they take fewer bytes, else every time as a float.
+enum class TimeTable : uint8_t { Floats = 0, Step = 1, Ticks = 2 };
+TimeTable timeTable(const std::vector<float> &times);
+// Whether every extent of an animated track is a binary16 value: then the chunk stores it in 2
+// bytes (kind 3 in the chunk's kinds). The bake rounds extents up to halves (a step at most
+// 2^-10 coarser).
+bool halfExtents(const Track &track);
 
 } // namespace crowd::pack
