@@ -634,25 +634,32 @@ private:
   // How far joint j's box errs over `limit`, summed over the samples, with chain track t (of
   // chain node chain[at]) at `bits` and the rest as they are. A sum, not the largest: where two
   // tracks each make the worst error at a sample of their own, raising either lowers the sum.
+  // What every candidate raise of one joint's chain shares, per sample: the exact pose's
+  // corners of the joint's box, and (for the chain node at hand) the decoded locals below it.
+  struct ChainSamples {
+    std::vector<std::array<glm::dvec3, 8>> exactCorners;
+    std::vector<glm::dmat4> below; // per sample: the product of the locals under chain[at]
+    std::vector<std::array<glm::dvec4, 8>> belowCorners; // per sample: below x the box corners
+  };
+
+  // Joint j's excess over `limit` summed over the samples, with track t of chain[at] at `bits`.
   double excessWith(size_t j, const std::vector<size_t> &chain, size_t at, size_t t, uint32_t bits,
-                    double limit) {
+                    double limit, const ChainSamples &shared) {
     const auto saved = deq_[t];
     const uint8_t savedBits = tracks_[t].bits;
     setBits(t, bits);
     double excess = 0;
     const size_t k = chain[at];
     const int parent = rig_.skeleton.parents[k];
+    const auto &corners = shells_[j];
     for (size_t s = 0; s < times_.size(); ++s) {
       glm::dmat4 g = decodedLocal(k, s);
       if (parent >= 0)
         g = global_[s][size_t(parent)] * g;
-      for (size_t below = at + 1; below < chain.size(); ++below)
-        g = g * local_[s][chain[below]];
       double worst = 0;
-      for (const glm::dvec3 &q : shells_[j])
-        worst = std::max(
-            worst, glm::length(glm::dvec3(g * glm::dvec4(q, 1.0)) -
-                               glm::dvec3(exactGlobals_[s][chain.back()] * glm::dvec4(q, 1.0))));
+      for (size_t i = 0; i < corners.size(); ++i)
+        worst = std::max(worst, glm::length(glm::dvec3(g * shared.belowCorners[s][i]) -
+                                            shared.exactCorners[s][i]));
       excess += std::max(0.0, worst - limit);
     }
     tracks_[t].bits = savedBits;
@@ -663,34 +670,63 @@ private:
   // More bits on the animated track of joint j's chain that lowers j's excess over `limit` most
   // per bit added, looking up to kRaiseLookahead bits ahead: one more bit can leave a sample's
   // value where it was (on both grids), where two or three do not. Where none lowers it, the
-  // coarsest below kFloorBits; false where there is none.
+  // coarsest below kFloorBits; false where there is none. The chain is walked from j up, each
+  // node's locals below it built on the last; the first best in root-down order is taken.
   bool raiseFor(size_t j, double limit) {
     std::vector<size_t> chain; // track nodes from the root down to j's
     for (int k = int(rig_.skeleton.jointNodes[j]); k >= 0; k = rig_.skeleton.parents[size_t(k)])
       chain.push_back(size_t(k));
     std::reverse(chain.begin(), chain.end());
-    double now = -1;
-    size_t best = SIZE_MAX, fewest = SIZE_MAX;
-    uint32_t bestBits = 0;
-    double bestGain = 0;
-    for (size_t at = 0; at < chain.size(); ++at)
-      for (size_t p = 0; p < 3; ++p) {
+    const size_t n = times_.size();
+    ChainSamples shared;
+    shared.exactCorners.resize(n);
+    shared.below.assign(n, glm::dmat4(1.0));
+    for (size_t s = 0; s < n; ++s)
+      for (size_t i = 0; i < shells_[j].size(); ++i)
+        shared.exactCorners[s][i] =
+            glm::dvec3(exactGlobals_[s][chain.back()] * glm::dvec4(shells_[j][i], 1.0));
+    struct Candidate {
+      size_t at, t;
+      uint32_t bits;
+      double excess;
+    };
+    std::vector<Candidate> tried; // bottom-up
+    size_t fewest = SIZE_MAX;
+    shared.belowCorners.resize(n);
+    for (size_t at = chain.size(); at-- > 0;) {
+      if (at + 1 < chain.size())
+        for (size_t s = 0; s < n; ++s)
+          shared.below[s] = local_[s][chain[at + 1]] * shared.below[s];
+      for (size_t s = 0; s < n; ++s)
+        for (size_t i = 0; i < shells_[j].size(); ++i)
+          shared.belowCorners[s][i] = shared.below[s] * glm::dvec4(shells_[j][i], 1.0);
+      for (size_t p = 3; p-- > 0;) {
         const size_t t = chain[at] * 3 + p;
         if (tracks_[t].kind != pack::TrackKind::Animated || tracks_[t].bits >= pack::kMaxTrackBits)
           continue;
-        if (fewest == SIZE_MAX || tracks_[t].bits < tracks_[fewest].bits)
-          fewest = t;
-        if (now < 0)
-          now = excessWith(j, chain, at, t, tracks_[t].bits, limit);
-        for (uint32_t more = 1; more <= kRaiseLookahead; ++more) {
+        if (fewest == SIZE_MAX || tracks_[t].bits <= tracks_[fewest].bits)
+          fewest = t; // the first in root-down order among the coarsest
+        for (uint32_t more = kRaiseLookahead + 1; more-- > 0;) { // reversed below with the rest
           const uint32_t bits = tracks_[t].bits + more;
-          if (bits > pack::kMaxTrackBits)
-            break;
-          const double gain = (now - excessWith(j, chain, at, t, bits, limit)) / double(more);
-          if (gain > bestGain)
-            best = t, bestBits = bits, bestGain = gain;
+          if (bits <= pack::kMaxTrackBits)
+            tried.push_back({at, t, bits, excessWith(j, chain, at, t, bits, limit, shared)});
         }
       }
+    }
+    std::reverse(tried.begin(), tried.end()); // root-down, each track's bits ascending
+    size_t best = SIZE_MAX;
+    uint32_t bestBits = 0;
+    double bestGain = 0;
+    double now = -1; // the excess as it stands, measured on the first candidate's path
+    for (const Candidate &c : tried) {
+      if (now < 0 && c.bits == tracks_[c.t].bits)
+        now = c.excess;
+      if (c.bits == tracks_[c.t].bits)
+        continue;
+      const double gain = (now - c.excess) / double(c.bits - tracks_[c.t].bits);
+      if (gain > bestGain)
+        best = c.t, bestBits = c.bits, bestGain = gain;
+    }
     if (best == SIZE_MAX) { // errors that cancel: one more bit on the coarsest track
       if (fewest == SIZE_MAX || tracks_[fewest].bits >= kFloorBits)
         return false;
