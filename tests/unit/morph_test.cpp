@@ -176,3 +176,30 @@ TEST(Morph, AnimatedMorphCubeBakesAndPlays) {
   }
   EXPECT_GT(moved, 0.1 * result.diagonal);
 }
+
+// A morph clip whose weights step (STEP keys, a 10 cm target, the joints still): the pack holds
+// morph weights per clip frame and the player blends between frames, so a step is smeared over a
+// frame at any rate. Not met, and said so: the error, from the seeded random times just before a
+// step, is over half the target's offset (issue 77's morph weights as tracks would hold it).
+TEST(Morph, SteppedWeightsMissTheBudgetAndSaySo) {
+  const auto dir = test::tempDir("morph_step");
+  test::GltfBuilder g;
+  const int node = g.skinnedQuad();
+  std::vector<float> offsets(12, 0.0f);
+  offsets[10] = 0.1f;
+  g.morphTargets(0, {offsets});
+  g.animation("blink", node, "weights", {0, 1, 2, 3}, {0, 1, 0, 1}, "STEP");
+  Reporter r;
+  r.quiet = true;
+  const Character c = importGltf(g.write(dir, "stepped"), {}, r);
+  const auto result = bakeAnimation(c, {}, r);
+  ASSERT_TRUE(result.pack.morphs.has_value());
+  ASSERT_EQ(result.tracks.size(), 1u);
+  const double stepMm = 0.1 * result.mmPerUnit, mm = result.tracks[0].maxAnyTimeMm();
+  std::printf("stepped weights: stored %s, tracks %.3f mm of a %.1f mm step\n",
+              result.stored.c_str(), mm, stepMm);
+  EXPECT_FALSE(result.tracks[0].met);
+  EXPECT_TRUE(warned(r, "error_budget_not_met"));
+  EXPECT_GT(mm, 0.5 * stepMm);
+  EXPECT_LE(mm, stepMm * (1 + 1e-6));
+}

@@ -536,6 +536,30 @@ TEST(TrackCompression, AHundredThousandKeys) {
   EXPECT_LE(cc.figures.meanBits, 16);
 }
 
+// White noise on every joint at 30 fps (each key a random turn of up to 90 degrees): no key is
+// reproduced by its neighbours, so none is dropped, and the bits rise high, within the budget.
+TEST(TrackCompression, NoiseKeepsEveryKeyAndMeetsTheBudget) {
+  Character c = chain(4);
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> turn(-90, 90);
+  std::vector<Channel> channels;
+  for (int j = 1; j < 4; ++j) {
+    std::vector<double> times, degrees;
+    for (int k = 0; k < 300; ++k)
+      times.push_back(k / 30.0), degrees.push_back(turn(random));
+    channels.push_back(rotationZ(j, Interpolation::Linear, times, degrees));
+  }
+  c.clips.push_back(clipOf(channels));
+  const CompressedClip cc = compress(c, 0);
+  std::printf("noise: %u samples of %u keys, %.1f mean bits, %.3f mm, %llu bytes\n",
+              cc.figures.samples, cc.figures.keys, cc.figures.meanBits, cc.figures.maxAnyTimeMm(),
+              (unsigned long long)cc.figures.bytes);
+  EXPECT_TRUE(cc.figures.met) << cc.figures.maxAnyTimeMm();
+  EXPECT_EQ(cc.figures.samples, cc.figures.keys);
+  EXPECT_GE(cc.figures.meanBits, 10.0); // 12.0 measured
+  EXPECT_LE(errorOverClip(c, cc, 0, 3001), 1.0);
+}
+
 // A smooth 30 fps swing: the keys interpolation reproduces are dropped, and the clip still meets
 // the budget at every key (dropped ones included) and between them.
 TEST(TrackCompression, SmoothKeysAreDroppedWithinTheBudget) {
