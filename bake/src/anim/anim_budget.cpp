@@ -125,8 +125,6 @@ std::vector<double> maxErrors(const Character &c, const ClipFrames &f,
   return before;
 }
 
-// Every option of one clip, trying rates lowest first and dropping a precision once it meets the
-// budget; best[p] gets the option chosen for precision p.
 // The smallest precision tried: its bytes per frame, the pack's floor.
 uint64_t fewestFrameBytes(const Character &c, const BudgetSearch &s) {
   uint64_t bytes = UINT64_MAX;

@@ -631,9 +631,6 @@ private:
                        [&](double e) { return e <= limit; });
   }
 
-  // How far joint j's box errs over `limit`, summed over the samples, with chain track t (of
-  // chain node chain[at]) at `bits` and the rest as they are. A sum, not the largest: where two
-  // tracks each make the worst error at a sample of their own, raising either lowers the sum.
   // What every candidate raise of one joint's chain shares, per sample: the exact pose's
   // corners of the joint's box, and (for the chain node at hand) the decoded locals below it.
   struct ChainSamples {
@@ -642,7 +639,9 @@ private:
     std::vector<std::array<glm::dvec4, 8>> belowCorners; // per sample: below x the box corners
   };
 
-  // Joint j's excess over `limit` summed over the samples, with track t of chain[at] at `bits`.
+  // How far joint j's box errs over `limit`, summed over the samples, with chain track t (of
+  // chain node chain[at]) at `bits` and the rest as they are. A sum, not the largest: where two
+  // tracks each make the worst error at a sample of their own, raising either lowers the sum.
   double excessWith(size_t j, const std::vector<size_t> &chain, size_t at, size_t t, uint32_t bits,
                     double limit, const ChainSamples &shared) {
     const auto saved = deq_[t];
@@ -690,6 +689,14 @@ private:
       uint32_t bits;
       double excess;
     };
+    const auto raisable = [&](size_t t) {
+      return tracks_[t].kind == pack::TrackKind::Animated && tracks_[t].bits < pack::kMaxTrackBits;
+    };
+    size_t first = SIZE_MAX; // the first raisable track root-down: where the excess now is taken
+    for (size_t at = 0; at < chain.size() && first == SIZE_MAX; ++at)
+      for (size_t p = 0; p < 3 && first == SIZE_MAX; ++p)
+        if (raisable(chain[at] * 3 + p))
+          first = chain[at] * 3 + p;
     std::vector<Candidate> tried; // bottom-up
     size_t fewest = SIZE_MAX;
     shared.belowCorners.resize(n);
@@ -702,12 +709,12 @@ private:
           shared.belowCorners[s][i] = shared.below[s] * glm::dvec4(shells_[j][i], 1.0);
       for (size_t p = 3; p-- > 0;) {
         const size_t t = chain[at] * 3 + p;
-        if (tracks_[t].kind != pack::TrackKind::Animated || tracks_[t].bits >= pack::kMaxTrackBits)
+        if (!raisable(t))
           continue;
         if (fewest == SIZE_MAX || tracks_[t].bits <= tracks_[fewest].bits)
           fewest = t; // the first in root-down order among the coarsest
-        for (uint32_t more = kRaiseLookahead + 1; more-- > 0;) { // reversed below with the rest
-          const uint32_t bits = tracks_[t].bits + more;
+        for (uint32_t more = kRaiseLookahead + 1; more-- > (t == first ? 0u : 1u);) {
+          const uint32_t bits = tracks_[t].bits + more; // reversed below with the rest
           if (bits <= pack::kMaxTrackBits)
             tried.push_back({at, t, bits, excessWith(j, chain, at, t, bits, limit, shared)});
         }
@@ -717,12 +724,12 @@ private:
     size_t best = SIZE_MAX;
     uint32_t bestBits = 0;
     double bestGain = 0;
-    double now = -1; // the excess as it stands, measured on the first candidate's path
+    double now = -1; // the excess as it stands, measured on the first track's path
     for (const Candidate &c : tried) {
-      if (now < 0 && c.bits == tracks_[c.t].bits)
+      if (c.bits == tracks_[c.t].bits) {
         now = c.excess;
-      if (c.bits == tracks_[c.t].bits)
         continue;
+      }
       const double gain = (now - c.excess) / double(c.bits - tracks_[c.t].bits);
       if (gain > bestGain)
         best = c.t, bestBits = c.bits, bestGain = gain;
