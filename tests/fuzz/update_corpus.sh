@@ -7,7 +7,7 @@ set -euo pipefail
 cd "$(dirname "$0")/../.."
 [ -d build-fuzz/seeds ] || { echo "update_corpus: run ./run fuzz first" >&2; exit 1; }
 for entry in pack_reader:packs:1048576 gltf_import:gltf:262144 point_cache:caches:65536 \
-  pack_consumer:packs:1048576; do
+  pack_consumer:packs:1048576 manifest:manifests:65536 scene:scenes:65536; do
   IFS=: read -r target seeds max_len <<< "$entry"
   work=$(mktemp -d)
   cp "build-fuzz/seeds/$seeds"/* "$work/" # first: only what adds to the seeds' coverage is kept

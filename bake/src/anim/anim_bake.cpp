@@ -17,31 +17,6 @@
 
 namespace crowd {
 
-void AnimBakeOptions::validate() const {
-  if (!(fps == kFpsFromBudget || (fps >= 0 && fps <= 1000)))
-    throw Error("fps: must be in (0, 1000], source or auto");
-  if (maxWidth < 2 || maxWidth > limits::kTextureSide)
-    throw Error("max-width: must be in [2, " + std::to_string(limits::kTextureSide) + "]");
-  if (threads < 0 || threads > 1024)
-    throw Error("threads: must be in [0, 1024]");
-  if (!(errorBudgetMm > 0 && errorBudgetMm <= 1e6))
-    throw Error("error-budget: must be in (0, 1e6] millimetres");
-  if (precision != "auto")
-    try {
-      precisionByName(precision);
-    } catch (const Error &e) {
-      throw Error(std::string("precision: ") + e.what() + " or auto");
-    }
-  const auto &all = stores();
-  if (std::find(all.begin(), all.end(), store) == all.end())
-    throw Error("store: '" + store + "' is none of texture, tracks, both or auto");
-}
-
-const std::vector<std::string> &AnimBakeOptions::stores() {
-  static const std::vector<std::string> names = {"texture", "tracks", "both", "auto"};
-  return names;
-}
-
 uint64_t AnimBakeResult::textureBytes() const { return accuracy.at(baked).textureBytes; }
 
 uint64_t AnimBakeResult::tracksBytes() const {
@@ -51,33 +26,6 @@ uint64_t AnimBakeResult::tracksBytes() const {
   for (const auto &clip : pack.tracks->clips)
     bytes += pack::clipBytes(clip);
   return bytes;
-}
-
-double AnimBakeOptions::parseFps(const std::string &text) {
-  if (text == "auto")
-    return kFpsFromBudget;
-  if (text == "source")
-    return kFpsSource;
-  try {
-    size_t used = 0;
-    const double fps = std::stod(text, &used);
-    if (used == text.size() && fps > 0 && fps <= 1000)
-      return fps;
-  } catch (const std::exception &) {
-  }
-  throw Error("fps: expects auto, source or a number in (0, 1000], got '" + text + "'");
-}
-
-std::string AnimBakeOptions::fpsName(double fps) {
-  if (fps == kFpsFromBudget)
-    return "auto";
-  if (fps == kFpsSource)
-    return "source";
-  std::string s = std::to_string(fps);
-  s.erase(s.find_last_not_of('0') + 1);
-  if (s.back() == '.')
-    s.pop_back();
-  return s;
 }
 
 double millimetresPerUnit(const Character &c, bool *heightIsDiagonal) {

@@ -9,23 +9,6 @@
 
 namespace crowd {
 
-const std::vector<Precision> &precisions() {
-  using E = pack::JointEncoding;
-  using F = pack::TexelFormat;
-  static const std::vector<Precision> all = {{"float", E::Matrix3x4, F::RGBA32F},
-                                             {"half", E::Matrix3x4, F::RGBA16F},
-                                             {"qts", E::QuatTransScale, F::RGBA32F},
-                                             {"qts-half", E::QuatTransScale, F::RGBA16F}};
-  return all;
-}
-
-const Precision &precisionByName(const std::string &name) {
-  for (const auto &p : precisions())
-    if (p.name == name)
-      return p;
-  throw Error("unknown precision '" + name + "' (float, half, qts, qts-half)");
-}
-
 namespace {
 
 // A joint matrix as a unit quaternion and a uniform scale (its 3x3 part's cube-root

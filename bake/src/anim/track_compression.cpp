@@ -810,15 +810,6 @@ TrackRig trackRig(const Character &c) {
   return rig;
 }
 
-void TrackCompressionOptions::validate() const {
-  if (!(errorBudgetMm > 0) || !std::isfinite(errorBudgetMm))
-    throw Error("errorBudgetMm: " + std::to_string(errorBudgetMm) + " is not a positive number");
-  if (!(mmPerUnit > 0) || !std::isfinite(mmPerUnit))
-    throw Error("mmPerUnit: " + std::to_string(mmPerUnit) + " is not a positive number");
-  if (threads < 0)
-    throw Error("threads: " + std::to_string(threads) + " is negative");
-}
-
 double TrackClipFigures::maxAnyTimeMm() const {
   return std::max({maxAtSamplesMm, maxAtMidsMm, maxAtRandomMm});
 }

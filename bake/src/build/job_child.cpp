@@ -1,8 +1,14 @@
 // The child's side of job_process.h: crowdbake build-job SPEC.
+#include <chrono>
 #include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <functional>
 #include <memory>
 #include <sys/prctl.h>
+#include <thread>
 #include <unistd.h>
 
 #include "crowd/bake/content_cache.h"
@@ -51,11 +57,38 @@ Part bakeIntoCache(const std::vector<Job> &jobs, size_t job, const ContentCache 
   return partOf(job);
 }
 
+namespace {
+
+// A test's hold on jobs (docs/farm.md): with CROWD_JOB_HOLD=DIR each job writes its pid to
+// DIR/ENTRY.JOB.pid as it starts, and one that finds DIR/ENTRY.JOB.hold takes it (renamed to
+// .held, so a retry runs on) and waits until that file is removed or the job is killed. Tests of
+// limits, kills and interrupts then act on events, never on how long a bake takes.
+void holdForTest(const JobSpec &spec) {
+  const char *dir = std::getenv("CROWD_JOB_HOLD");
+  if (!dir || !*dir)
+    return;
+  namespace fs = std::filesystem;
+  const fs::path base =
+      fs::path(dir) / (std::to_string(spec.entry) + "." + std::to_string(spec.job));
+  const fs::path pid = base.string() + ".pid", held = base.string() + ".held";
+  std::ofstream(pid.string() + ".tmp") << ::getpid() << "\n";
+  std::error_code ec;
+  fs::rename(pid.string() + ".tmp", pid, ec); // whole or absent to a reader
+  fs::rename(base.string() + ".hold", held, ec);
+  if (ec)
+    return; // not held
+  while (fs::exists(held))
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+}
+
+} // namespace
+
 void runJobSpec(const JobSpec &spec) {
   // The spawning thread of the build lives until its jobs end, so its death is the build's.
   ::prctl(PR_SET_PDEATHSIG, SIGKILL);
   if (spec.parent != 0 && ::getppid() != spec.parent)
     throw Error("the build that started this job has ended");
+  holdForTest(spec);
   ResourceLimits guardLimits;
   guardLimits.flag = "--job-max";
   guardLimits.maxMemoryMiB = spec.limits.maxMemoryMiB;

@@ -82,14 +82,6 @@ std::pair<pid_t, int> spawn(const std::string &executable, const std::vector<std
 
 } // namespace
 
-void JobLimits::validate() const {
-  if (!(maxSeconds >= 0 && maxSeconds <= kMostSeconds))
-    throw Error("job-max-seconds: must be in [0, " + std::to_string(int64_t(kMostSeconds)) +
-                "] (0: no limit)");
-  if (maxMemoryMiB > kMostMemoryMiB)
-    throw Error("job-max-memory: must be at most 2^30 MiB (0: no limit)");
-}
-
 void catchInterrupts() {
   struct sigaction on {};
   on.sa_handler = onInterrupt;

@@ -80,17 +80,6 @@ private:
 
 } // namespace
 
-void ClothBakeOptions::validate() const {
-  cache.validate();
-  ClothLoopOptions l = loop; // the cycle is the clip's, set by the bake: check the rest
-  l.search.cycleFrames = std::max(l.search.cycleFrames, 2.0);
-  l.validate();
-  if (blend < -1 || blend > 100000)
-    throw Error("blend: " + std::to_string(blend) + " is outside -1..100000 (-1: as needed)");
-  if (!(pushMarginMm >= 0.0) || pushMarginMm > 100.0)
-    throw Error("push margin: must be in 0..100 mm");
-}
-
 namespace {
 
 using Frames = std::vector<std::vector<glm::vec3>>;

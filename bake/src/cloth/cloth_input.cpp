@@ -33,13 +33,6 @@ double cacheFrameTime(const AnimationClip &clip, uint32_t frame, double fps) {
   return clip.start + (duration > 0 ? std::fmod(t, duration) : 0.0);
 }
 
-void ClothCacheOptions::validate() const {
-  if (!std::isfinite(fps) || fps < 0.0 || fps > 1000.0)
-    throw Error("fps: " + std::to_string(fps) + " is outside 0..1000 (0: the file's)");
-  if (!(orderTolerance > 0.0) || orderTolerance > 1.0)
-    throw Error("order tolerance: must be in (0, 1]");
-}
-
 std::vector<uint32_t> garmentVertices(const Character &outfit, const std::string &garment) {
   std::vector<std::string> names;
   for (const auto &part : outfit.mesh.parts) {

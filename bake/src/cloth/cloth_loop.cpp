@@ -17,17 +17,6 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
 
 } // namespace
 
-void ClothLoopOptions::validate() const {
-  search.validate();
-  edges.validate();
-  if (!(maxJumpRatio > 0.0) || maxJumpRatio > 10.0)
-    throw Error("max-jump: " + std::to_string(maxJumpRatio) + " is outside (0, 10]");
-  if (!(maxToMedian > 0.0) || maxToMedian > 1.0)
-    throw Error("max-to-median: " + std::to_string(maxToMedian) + " is outside (0, 1]");
-  if (!(exactRatio > 0.0) || exactRatio > maxJumpRatio)
-    throw Error("exact ratio: must be in (0, max-jump]");
-}
-
 LoopChoice chooseLoop(uint32_t frameCount, uint32_t vertexCount, const ClothFrames &frames,
                       const std::vector<uint32_t> &indices, const ClothLoopOptions &options) {
   options.validate();

@@ -60,16 +60,6 @@ double meanOver(const cv::Mat &edges, const cv::Mat &distance, double &count) {
 
 } // namespace
 
-void EdgeMatchOptions::validate() const {
-  if (views < 1 || views > 64)
-    throw Error("views: " + std::to_string(views) + " is outside 1..64");
-  if (pixels < 16 || pixels > 2048)
-    throw Error("pixels: " + std::to_string(pixels) + " is outside 16..2048");
-  if (!(cannyLow > 0.0) || !(cannyHigh >= cannyLow) || !std::isfinite(cannyHigh))
-    throw Error("canny thresholds: need 0 < low <= high, got " + std::to_string(cannyLow) +
-                " and " + std::to_string(cannyHigh));
-}
-
 std::vector<double> edgeDistances(const std::vector<glm::vec3> &a, const std::vector<glm::vec3> &b,
                                   const std::vector<uint32_t> &indices,
                                   const EdgeMatchOptions &options) {

@@ -57,23 +57,6 @@ double meanLength(const std::vector<glm::vec3> &a, const std::vector<glm::vec3> 
 
 } // namespace
 
-void LoopSearchOptions::validate() const {
-  if (!std::isfinite(cycleFrames) || cycleFrames < 2.0)
-    throw Error("cycle: " + std::to_string(cycleFrames) +
-                " cache frames per body-clip cycle; a cycle needs at least 2 frames");
-  if (candidates < 1 || candidates > 100)
-    throw Error("candidates: " + std::to_string(candidates) + " is outside 1..100");
-  if (!std::isfinite(velocityWeight) || velocityWeight < 0.0)
-    throw Error("velocity-weight: must be a finite number >= 0");
-  if (window > 16)
-    throw Error("window: " + std::to_string(window) + " frames is over 16");
-  if (minCycles < 1)
-    throw Error("min-cycles: must be at least 1");
-  if (maxCycles != 0 && maxCycles < minCycles)
-    throw Error("max-cycles: " + std::to_string(maxCycles) + " is under min-cycles " +
-                std::to_string(minCycles));
-}
-
 LoopSearch searchLoops(uint32_t frameCount, uint32_t vertexCount, const ClothFrames &frames,
                        const LoopSearchOptions &options) {
   options.validate();

@@ -71,15 +71,6 @@ std::vector<std::vector<glm::vec3>> samplePoses(const Character &c, uint32_t cou
   return poses;
 }
 
-void LodOptions::validate() const {
-  if (!(floorFraction >= 0 && floorFraction <= 1))
-    throw Error("floor: must be in [0, 1]");
-  if (poses > 1024)
-    throw Error("poses: must be an integer in [0, 1024]");
-  if (!(maxNormalDeviationDeg > 0 && maxNormalDeviationDeg <= 180))
-    throw Error("max normal deviation: must be in (0, 180] degrees");
-}
-
 namespace {
 
 // Each repeat goes with its first: the same new indices, the same vertex removal deleting it, so

@@ -1,0 +1,93 @@
+// The animation bake's options and their checks (a manifest's reader needs these alone).
+#include "crowd/bake/anim_bake.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "crowd/bake/anim_frames.h"
+#include "crowd/bake/track_compression.h"
+#include "crowd/formats/error.h"
+#include "crowd/formats/limits.h"
+
+namespace crowd {
+
+const std::vector<Precision> &precisions() {
+  using E = pack::JointEncoding;
+  using F = pack::TexelFormat;
+  static const std::vector<Precision> all = {{"float", E::Matrix3x4, F::RGBA32F},
+                                             {"half", E::Matrix3x4, F::RGBA16F},
+                                             {"qts", E::QuatTransScale, F::RGBA32F},
+                                             {"qts-half", E::QuatTransScale, F::RGBA16F}};
+  return all;
+}
+
+const Precision &precisionByName(const std::string &name) {
+  for (const auto &p : precisions())
+    if (p.name == name)
+      return p;
+  throw Error("unknown precision '" + name + "' (float, half, qts, qts-half)");
+}
+
+void AnimBakeOptions::validate() const {
+  if (!(fps == kFpsFromBudget || (fps >= 0 && fps <= 1000)))
+    throw Error("fps: must be in (0, 1000], source or auto");
+  if (maxWidth < 2 || maxWidth > limits::kTextureSide)
+    throw Error("max-width: must be in [2, " + std::to_string(limits::kTextureSide) + "]");
+  if (threads < 0 || threads > 1024)
+    throw Error("threads: must be in [0, 1024]");
+  if (!(errorBudgetMm > 0 && errorBudgetMm <= 1e6))
+    throw Error("error-budget: must be in (0, 1e6] millimetres");
+  if (precision != "auto")
+    try {
+      precisionByName(precision);
+    } catch (const Error &e) {
+      throw Error(std::string("precision: ") + e.what() + " or auto");
+    }
+  const auto &all = stores();
+  if (std::find(all.begin(), all.end(), store) == all.end())
+    throw Error("store: '" + store + "' is none of texture, tracks, both or auto");
+}
+
+const std::vector<std::string> &AnimBakeOptions::stores() {
+  static const std::vector<std::string> names = {"texture", "tracks", "both", "auto"};
+  return names;
+}
+
+void TrackCompressionOptions::validate() const {
+  if (!(errorBudgetMm > 0) || !std::isfinite(errorBudgetMm))
+    throw Error("errorBudgetMm: " + std::to_string(errorBudgetMm) + " is not a positive number");
+  if (!(mmPerUnit > 0) || !std::isfinite(mmPerUnit))
+    throw Error("mmPerUnit: " + std::to_string(mmPerUnit) + " is not a positive number");
+  if (threads < 0)
+    throw Error("threads: " + std::to_string(threads) + " is negative");
+}
+
+double AnimBakeOptions::parseFps(const std::string &text) {
+  if (text == "auto")
+    return kFpsFromBudget;
+  if (text == "source")
+    return kFpsSource;
+  try {
+    size_t used = 0;
+    const double fps = std::stod(text, &used);
+    if (used == text.size() && fps > 0 && fps <= 1000)
+      return fps;
+  } catch (const std::exception &) {
+  }
+  throw Error("fps: expects auto, source or a number in (0, 1000], got '" + text + "'");
+}
+
+std::string AnimBakeOptions::fpsName(double fps) {
+  if (fps == kFpsFromBudget)
+    return "auto";
+  if (fps == kFpsSource)
+    return "source";
+  std::string s = std::to_string(fps);
+  s.erase(s.find_last_not_of('0') + 1);
+  if (s.back() == '.')
+    s.pop_back();
+  return s;
+}
+
+} // namespace crowd

@@ -1,0 +1,17 @@
+// The LOD bake's options checked (a manifest's reader needs this alone).
+#include "crowd/bake/lod_bake.h"
+
+#include "crowd/formats/error.h"
+
+namespace crowd {
+
+void LodOptions::validate() const {
+  if (!(floorFraction >= 0 && floorFraction <= 1))
+    throw Error("floor: must be in [0, 1]");
+  if (poses > 1024)
+    throw Error("poses: must be an integer in [0, 1024]");
+  if (!(maxNormalDeviationDeg > 0 && maxNormalDeviationDeg <= 180))
+    throw Error("max normal deviation: must be in (0, 180] degrees");
+}
+
+} // namespace crowd
