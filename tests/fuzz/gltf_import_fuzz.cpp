@@ -3,22 +3,19 @@
 // input is written to a private folder (the importer reads files, as the bakes do) beside one
 // small external buffer, so URIs that name "buffer.bin" reach the external-buffer path too.
 #include <cstdint>
-#include <cstdlib>
 #include <fstream>
 #include <string>
 
 #include "crowd/bake/import.h"
 #include "crowd/bake/report.h"
 #include "crowd/formats/error.h"
+#include "fuzz_folder.h"
 
 namespace {
 
 std::string folder() {
   static const std::string dir = [] {
-    std::string pattern = std::string(std::getenv("TMPDIR") ? std::getenv("TMPDIR") : "/tmp") +
-                          "/crowd_gltf_fuzz_XXXXXX";
-    if (!mkdtemp(pattern.data()))
-      std::abort();
+    std::string pattern = crowd::fuzz::makeFolder("gltf");
     std::ofstream(pattern + "/buffer.bin", std::ios::binary) << std::string(256, '\x01');
     return pattern;
   }();

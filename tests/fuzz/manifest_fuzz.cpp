@@ -3,21 +3,18 @@
 // outside the manifest's folder. Each input is written to a private folder beside the files a
 // manifest may name (a body, an outfit, a scene), so the parse reaches past the path checks.
 #include <cstdint>
-#include <cstdlib>
 #include <fstream>
 #include <string>
 
 #include "crowd/bake/manifest.h"
 #include "crowd/formats/error.h"
+#include "fuzz_folder.h"
 
 namespace {
 
 std::string folder() {
   static const std::string dir = [] {
-    std::string pattern = std::string(std::getenv("TMPDIR") ? std::getenv("TMPDIR") : "/tmp") +
-                          "/crowd_manifest_fuzz_XXXXXX";
-    if (!mkdtemp(pattern.data()))
-      std::abort();
+    std::string pattern = crowd::fuzz::makeFolder("manifest");
     for (const char *name : {"/body.glb", "/outfit.glb", "/cloth.pc2", "/village.glb"})
       std::ofstream(pattern + name) << "glTF";
     std::ofstream(pattern + "/scene.json") << R"({"packs": [{"path": "a.crowdpack"}]})";

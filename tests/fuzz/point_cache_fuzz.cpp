@@ -3,22 +3,19 @@
 // allocation past the header's checked counts. The reader streams from a file, so each input
 // is written to a private folder first.
 #include <cstdint>
-#include <cstdlib>
 #include <fstream>
 #include <string>
 #include <vector>
 
 #include "crowd/bake/point_cache.h"
 #include "crowd/formats/error.h"
+#include "fuzz_folder.h"
 
 namespace {
 
 std::string folder() {
   static const std::string dir = [] {
-    std::string pattern = std::string(std::getenv("TMPDIR") ? std::getenv("TMPDIR") : "/tmp") +
-                          "/crowd_cache_fuzz_XXXXXX";
-    if (!mkdtemp(pattern.data()))
-      std::abort();
+    std::string pattern = crowd::fuzz::makeFolder("cache");
     return pattern;
   }();
   return dir;

@@ -6,14 +6,15 @@ runs each through every bake command, classifying each run:
   accepted  exit 0: the mutation is harmless to the bake; every such case must be listed, with
             the reason, in accepted.txt beside this script (and nothing else may be listed)
   crash     a signal, a sanitizer report, any other exit code or stderr
-  hang      still running after --timeout seconds
+  hang      stopped by its own --max-seconds guard (GUARD), or still running HANG_MARGIN seconds
+            after it (the guard failed)
   memory    peak resident memory over --max-rss MiB (or stopped by the --max-memory guard)
   bad pack  exit 0, but `crowdbake verify` rejects the pack written
 
 Exit 0 when there is no crash, hang, memory or bad-pack case and the accepted cases match accepted.txt.
 
-usage: campaign.py BIN_DIR WORK_DIR [--assets DIR] [--jobs N] [--timeout S] [--max-rss MIB]
-                   [--table FILE.md] [--rotate | --one] [--every N]
+usage: campaign.py BIN_DIR WORK_DIR [--assets DIR] [--jobs N] [--max-rss MIB]
+                   [--table FILE.md] [--rotate | --one] [--every N] [--only REGEX]
 """
 import argparse
 import base64
@@ -21,6 +22,7 @@ import concurrent.futures
 import copy
 import json
 import os
+import re
 import shutil
 import signal
 import struct
@@ -28,6 +30,7 @@ import subprocess
 import sys
 import threading
 import time
+import zlib
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
@@ -87,8 +90,10 @@ DELETE = object()
 # --- the cases -------------------------------------------------------------------------------
 
 class Case:
-    def __init__(self, name, write):
-        self.name, self.write = name, write  # write(folder) -> input path
+    def __init__(self, name, write, base, kind='gltf'):
+        # write(folder) -> input path; base: the unbroken input it was made from; kind: 'gltf'
+        # (a character or environment) or 'cache' (a cloth cache)
+        self.name, self.write, self.base, self.kind = name, write, base, kind
 
 
 def glb_case(name, base, mutate):
@@ -99,7 +104,7 @@ def glb_case(name, base, mutate):
         open(path, 'wb').write(result if isinstance(result, (bytes, bytearray)) else
                                glb_bytes(doc, binary))
         return path
-    return Case(name, write)
+    return Case(name, write, base)
 
 
 def gltf_case(name, base_dir, base_name, mutate):
@@ -111,7 +116,7 @@ def gltf_case(name, base_dir, base_name, mutate):
         path = os.path.join(folder, name + '.gltf')
         open(path, 'w').write(text if isinstance(text, str) else json.dumps(doc))
         return path
-    return Case(name, write)
+    return Case(name, write, os.path.join(base_dir, base_name))
 
 
 def build_cases(assets, samples):
@@ -287,14 +292,112 @@ def build_cases(assets, samples):
                           lambda d, b: glb_bytes(d, b, json.dumps(d)[:-1] + ', "extras": ' + deep(100000) + '}')))
     cases.append(glb_case('rigged_nesting_arrays_100000', rigged,
                           lambda d, b: glb_bytes(d, b, json.dumps(d)[:-1] + ', "extras": ' + '[' * 100000 + ']' * 100000 + '}')))
+
+    # Images a bake decodes: the Fox's PNG replaced by one that lies in its header, is corrupt,
+    # cut or no image, in the GLB's binary chunk and as a data URI.
+    def png(width, height, idat):
+        chunk = lambda kind, data: (struct.pack('>I', len(data)) + kind + data +
+                                    struct.pack('>I', zlib.crc32(kind + data)))
+        return (b'\x89PNG\r\n\x1a\n' + chunk(b'IHDR', struct.pack('>IIBBBBB', width, height, 8, 6, 0, 0, 0)) +
+                chunk(b'IDAT', idat) + chunk(b'IEND', b''))
+    def corrupt_zlib(real):  # the first IDAT's data inverted, its CRC made right again
+        at = real.index(b'IDAT') - 4
+        length = struct.unpack_from('>I', real, at)[0]
+        data = bytes(x ^ 0xff for x in real[at + 8:at + 8 + length])
+        return (real[:at + 8] + data + struct.pack('>I', zlib.crc32(b'IDAT' + data)) +
+                real[at + 12 + length:])
+    images = [('60000x60000', lambda real: png(60000, 60000, zlib.compress(b'\0' * 4096))),
+              ('1x2p30', lambda real: png(1, 1 << 30, zlib.compress(b'\0' * 4096))),
+              ('corrupt_zlib', corrupt_zlib), ('truncated', lambda real: real[:len(real) // 2]),
+              ('not_png', lambda real: b'this is not an image\n' * 8), ('empty', lambda real: b'')]
+    def replace_image(damage, as_uri):
+        def m(d, b):
+            image = d['images'][0]
+            view = d['bufferViews'][image['bufferView']]
+            at = view.get('byteOffset', 0)
+            bad = damage(bytes(b[at:at + view['byteLength']]))
+            if as_uri:
+                del image['bufferView']
+                image['uri'] = 'data:image/png;base64,' + base64.b64encode(bad).decode()
+                return
+            b.extend(b'\0' * (-len(b) % 4))
+            d['bufferViews'].append({'buffer': 0, 'byteOffset': len(b), 'byteLength': len(bad)})
+            b.extend(bad)
+            image['bufferView'] = len(d['bufferViews']) - 1
+            d['buffers'][0]['byteLength'] = len(b)
+        return m
+    for iname, damage in images:
+        cases.append(glb_case(f'fox_image_{iname}', fox, replace_image(damage, False)))
+        cases.append(glb_case(f'fox_image_{iname}_uri', fox, replace_image(damage, True)))
+    return cases
+
+
+# --- damaged cloth caches ------------------------------------------------------------------------
+
+# The garment the caches drape: the fuzzers' quad (one joint, clip "wave" of 1 s), posed by
+# `crowdbake pose` over 8 cycles at 8 fps into the PC2 every case damages.
+QUAD = os.path.join(HERE, '../fuzz/seed_quad.gltf')
+
+
+def good_cache(bin_dir, work):
+    b = os.path.join(bin_dir, 'crowdbake')
+    pack, cache = os.path.join(work, 'quad.crowdpack'), os.path.join(work, 'quad_cycles.pc2')
+    subprocess.run([b, 'anim', QUAD, '-o', pack, '--quiet'], check=True)
+    times = ','.join(str(i / 8) for i in range(65))
+    subprocess.run([b, 'pose', pack, '--clip', 'wave', '-o', cache, '--times', times, '--quiet'],
+                   check=True)
+    return cache
+
+
+def cache_cases(base):
+    """PC2: 'POINTCACHE2\\0', int32 version, int32 points, float start, float rate, int32 samples,
+    then samples x points x 3 floats."""
+    good = open(base, 'rb').read()
+    points, samples = struct.unpack_from('<i', good, 16)[0], struct.unpack_from('<i', good, 28)[0]
+    def case(name, damage):
+        def write(folder):
+            path = os.path.join(folder, name + '.pc2')
+            open(path, 'wb').write(damage(bytearray(good)))
+            return path
+        return Case(f'cache_{name}', write, base, 'cache')
+    def field(offset, fmt, value):
+        return lambda d: (struct.pack_into(fmt, d, offset, value), d)[1]
+    vertex = lambda frame, point: 32 + 12 * (frame * points + point)
+    cases = [case(f'truncated_{cut}', lambda d, cut=cut: d[:cut])
+             for cut in (0, 5, 11, 12, 20, 31, 32, 32 + 12 * points - 4, len(good) // 2, len(good) - 1)]
+    for name, offset, fmt, value in [
+            ('magic', 0, '<12s', b'POINTCACHE3\0'), ('version_2', 12, '<i', 2),
+            ('points_zero', 16, '<i', 0), ('points_negative', 16, '<i', -1),
+            ('points_huge', 16, '<i', 2147483647), ('points_one_more', 16, '<i', points + 1),
+            ('start_nan', 20, '<f', float('nan')), ('start_inf', 20, '<f', float('inf')),
+            ('start_huge', 20, '<f', -1e30), ('rate_zero', 24, '<f', 0.0),
+            ('rate_negative', 24, '<f', -1.0), ('rate_nan', 24, '<f', float('nan')),
+            ('rate_inf', 24, '<f', float('inf')), ('samples_zero', 28, '<i', 0),
+            ('samples_negative', 28, '<i', -1), ('samples_huge', 28, '<i', 2147483647),
+            ('samples_one_more', 28, '<i', samples + 1),
+            ('z_nan', vertex(samples // 2, 0) + 8, '<f', float('nan')),
+            ('z_inf', vertex(1, points - 1) + 8, '<f', float('inf')),
+            ('z_huge', vertex(2, 0) + 8, '<f', 3e38)]:
+        cases.append(case(name, field(offset, fmt, value)))
+    cases.append(case('trailing_bytes', lambda d: d + b'\0' * 7))
+    cases.append(case('one_sample', lambda d: (struct.pack_into('<i', d, 28, 1), d[:32 + 12 * points])[1]))
     return cases
 
 
 # --- running ---------------------------------------------------------------------------------
 
-def commands(bin_dir, path, out):
+# Every bake stops itself past GUARD seconds (its --max-seconds); a run still going HANG_MARGIN
+# seconds after that is a hang: its own guard failed, whatever this machine's speed.
+GUARD, HANG_MARGIN = 120, 60
+GLTF_COMMANDS = ('anim', 'lod', 'impostor', 'outfits', 'terrain', 'outfit')
+
+
+def commands(bin_dir, case, path, out):
     b = os.path.join(bin_dir, 'crowdbake')
-    guard = ['--max-seconds', '120', '--quiet']
+    guard = ['--max-seconds', str(GUARD), '--quiet']
+    if case.kind == 'cache':
+        return {'cloth': [b, 'cloth', path, '--body', QUAD, '--outfit', 'quad=' + QUAD, '--garment',
+                          'skin', '--clip', 'wave', '--fps', '8', '-o', out + '.cloth.crowdpack'] + guard}
     return {
         'anim': [b, 'anim', path, '-o', out + '.anim.crowdpack'] + guard,
         'lod': [b, 'lod', path, '-o', out + '.lod.crowdpack', '--poses', '2'] + guard,
@@ -302,16 +405,20 @@ def commands(bin_dir, path, out):
                      '--views', '4x2', '--texels', '16'] + guard,
         'outfits': [b, 'outfits', path, '--outfit', 'self=' + path, '-o', out + '.outfits.crowdpack',
                     '--frame-step', '16', '--rays', '4'] + guard,
+        'terrain': [b, 'terrain', path, '-o', out + '.terrain.crowdpack'] + guard,
+        # the case as an outfit of its own unbroken body
+        'outfit': [b, 'outfits', case.base, '--outfit', 'broken=' + path, '-o',
+                   out + '.outfit.crowdpack', '--frame-step', '16', '--rays', '4'] + guard,
     }
 
 
-def run_one(argv, timeout, max_rss, max_memory):
-    out_path = argv[4 if argv[1] != 'outfits' else 6]
+def run_one(argv, max_rss, max_memory):
+    out_path = argv[argv.index('-o') + 1]
     err_path = out_path + '.stderr'
     argv = argv + ['--max-memory', str(max_memory)]
     with open(err_path, 'wb') as err:
         p = subprocess.Popen(argv, stdout=subprocess.DEVNULL, stderr=err, start_new_session=True)
-        timer = threading.Timer(timeout, lambda: os.killpg(p.pid, signal.SIGKILL))
+        timer = threading.Timer(GUARD + HANG_MARGIN, lambda: os.killpg(p.pid, signal.SIGKILL))
         timer.start()
         start = time.monotonic()
         _, status, usage = os.wait4(p.pid, 0)
@@ -322,7 +429,9 @@ def run_one(argv, timeout, max_rss, max_memory):
     lines = [l for l in stderr.splitlines() if l.strip()]
     rss = usage.ru_maxrss // 1024
     if os.WIFSIGNALED(status):
-        outcome = 'hang' if seconds >= timeout else 'crash'
+        outcome = 'hang' if seconds >= GUARD + HANG_MARGIN else 'crash'
+    elif 'over --max-seconds' in stderr:
+        outcome = 'hang'  # stopped by its own guard: the input kept it busy for GUARD seconds
     elif rss > max_rss or 'over --max-memory' in stderr:
         outcome = 'memory'
     elif 'Sanitizer' in stderr or 'runtime error:' in stderr:
@@ -346,17 +455,17 @@ def main():
     ap.add_argument('work')
     ap.add_argument('--assets', default=os.path.join(HERE, '../../../shared/assets/gltf'))
     ap.add_argument('--jobs', type=int, default=os.cpu_count() or 2)
-    ap.add_argument('--timeout', type=float, default=60)
     ap.add_argument('--max-rss', type=int, default=1536, help='MiB (sanitizer builds: raise it)')
     ap.add_argument('--table', help='write the per-case table (Markdown) here')
     ap.add_argument('--rotate', action='store_true',
                     help='each case through anim and one other command in turn (lod, impostor, '
-                         'outfits): half the runs, every command still covered (CI budget)')
+                         'outfits, terrain, outfit): every command still covered (CI budget)')
     ap.add_argument('--one', action='store_true',
-                    help='each case through one command in turn (anim, lod, impostor, outfits): '
-                         'a quarter of the runs, every command still covered (sanitizer builds)')
+                    help='each case through one command in turn (anim, lod, impostor, outfits, '
+                         'terrain, outfit): every command still covered (sanitizer builds)')
     ap.add_argument('--every', type=int, default=1,
                     help='only every N-th case (sanitizer builds: 3, within CI\'s budget)')
+    ap.add_argument('--only', help='only the cases whose name matches this regular expression')
     a = ap.parse_args()
     if not os.path.isdir(os.path.join(a.assets, 'RiggedSimple')):
         # As tests/scripts/skip.sh: a failure where CI promises the assets, else a skip (77).
@@ -368,7 +477,10 @@ def main():
         return 77
     shutil.rmtree(a.work, ignore_errors=True)
     os.makedirs(a.work)
-    cases = build_cases(os.path.abspath(a.assets), None)[::max(1, a.every)]
+    cases = (build_cases(os.path.abspath(a.assets), None) +
+             cache_cases(good_cache(os.path.abspath(a.bin_dir), a.work)))[::max(1, a.every)]
+    if a.only:
+        cases = [c for c in cases if re.search(a.only, c.name)]
     names = [c.name for c in cases]
     assert len(names) == len(set(names)), 'case names repeat'
     runs = []
@@ -376,19 +488,22 @@ def main():
         folder = os.path.join(a.work, c.name, 'asset')
         os.makedirs(folder)
         path = c.write(folder)
-        chosen = commands(os.path.abspath(a.bin_dir), path, os.path.join(a.work, c.name, 'out'))
-        if a.one:
-            only = ('anim', 'lod', 'impostor', 'outfits')[names.index(c.name) % 4]
+        chosen = commands(os.path.abspath(a.bin_dir), c, path, os.path.join(a.work, c.name, 'out'))
+        i = names.index(c.name)
+        if c.kind != 'gltf':
+            pass  # one command reads a cloth cache
+        elif a.one:
+            only = GLTF_COMMANDS[i % len(GLTF_COMMANDS)]
             chosen = {only: chosen[only]}
         elif a.rotate:
-            other = ('lod', 'impostor', 'outfits')[names.index(c.name) % 3]
+            other = GLTF_COMMANDS[1 + i % (len(GLTF_COMMANDS) - 1)]
             chosen = {k: v for k, v in chosen.items() if k in ('anim', other)}
         for command, argv in chosen.items():
             runs.append((c.name, command, argv))
     print(f'campaign: {len(cases)} cases, {len(runs)} runs, {a.jobs} at a time', flush=True)
     results = {}
     with concurrent.futures.ThreadPoolExecutor(a.jobs) as pool:
-        futures = {pool.submit(run_one, argv, a.timeout, a.max_rss, a.max_rss): (name, cmd)
+        futures = {pool.submit(run_one, argv, a.max_rss, a.max_rss): (name, cmd)
                    for name, cmd, argv in runs}
         for f in concurrent.futures.as_completed(futures):
             results[futures[f]] = f.result()
@@ -403,7 +518,7 @@ def main():
     rows = []
     for name in names:
         row = [name]
-        for command in ('anim', 'lod', 'impostor', 'outfits'):
+        for command in GLTF_COMMANDS + ('cloth',):
             if (name, command) not in results:
                 row.append('-')
                 continue
@@ -431,7 +546,8 @@ def main():
     print(f'total run time {sum(r[1] for r in results.values()):.0f} s')
     if a.table:
         with open(a.table, 'w') as t:
-            t.write('| case | anim | lod | impostor | outfits |\n|---|---|---|---|---|\n')
+            columns = GLTF_COMMANDS + ('cloth',)
+            t.write('| case | ' + ' | '.join(columns) + ' |\n|---|' + '---|' * len(columns) + '\n')
             for row in rows:
                 t.write('| ' + ' | '.join(row) + ' |\n')
     for b in bad:

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # crowdplay with a world: samples/scenes/village.json's agents walk the sample
 # village's terrain and draw (headless, Mesa under Xvfb); a walker casts its shadow on the ground;
-# a behaviour image of another size than the terrain's grid, a missing terrain pack and a FIFO
+# a behaviour image of another size than the terrain's grid, one oversized, one cut, a missing
+# terrain pack and a FIFO
 # for an image are one-line errors.
 set -euo pipefail
 . "$(dirname "$(realpath "$0")")/skip.sh"
@@ -75,7 +76,10 @@ cb export out/humanoid.crowdpack --images tex >/dev/null
 expect_error() { # expect_error NAME SED PATTERN: the village scene, edited by SED, exits 1 with PATTERN
   sed "$2" samples/scenes/village.json > "samples/scenes/$1.json"
   local rc; rc=$(play "samples/scenes/$1.json" --instances 10 --frames 1)
-  [ "$rc" = 1 ] && grep -q "$3" err.txt || fail "$1 (exit $rc): $(cat err.txt)"
+  # one crowdplay line; beside it only xvfb.sh's report of the exit (no decoder's own lines)
+  [ "$rc" = 1 ] && grep -q "$3" err.txt && [ "$(grep -c '^crowdplay: ' err.txt)" = 1 ] &&
+    ! grep -qv -e '^crowdplay: error: ' -e '^xvfb.sh: ' -e '^  ' -e '^$' err.txt ||
+    fail "$1 (exit $rc, expected 1 and one line): $(cat err.txt)"
   echo "ok: $(cat err.txt)"
 }
 expect_error wrong_size 's|../../out/samples/village_behaviour.png|../../tex/diffuse.png|' \
@@ -86,4 +90,18 @@ expect_error no_terrain 's|../../out/village.crowdpack|../../out/none.crowdpack|
 mkfifo fifo.png
 expect_error fifo 's|../../out/samples/village_behaviour.png|../../fifo.png|' \
   "fifo.png: not a regular file (a FIFO): nothing read"
+# A behaviour image whose PNG header claims 60000x60000 pixels, and the real one cut in half:
+# refused before decoding, in one line (no decoder's own output beside it).
+python3 - out/samples/village_behaviour.png <<'PY'
+import struct, sys, zlib
+chunk = lambda kind, data: struct.pack('>I', len(data)) + kind + data + struct.pack('>I', zlib.crc32(kind + data))
+open('big.png', 'wb').write(b'\x89PNG\r\n\x1a\n' + chunk(b'IHDR', struct.pack('>IIBBBBB', 60000, 60000, 8, 2, 0, 0, 0)) +
+                            chunk(b'IDAT', zlib.compress(b'\0' * 4096)) + chunk(b'IEND', b''))
+real = open(sys.argv[1], 'rb').read()
+open('cut.png', 'wb').write(real[:len(real) // 2])
+PY
+expect_error oversized 's|../../out/samples/village_behaviour.png|../../big.png|' \
+  "big.png: expected an RGB or RGBA image of at most [0-9]* pixels a side: cannot decode (PNG 60000x60000 is outside 1\.\."
+expect_error corrupt 's|../../out/samples/village_behaviour.png|../../cut.png|' \
+  "cut.png: expected an RGB or RGBA image .*: cannot decode (PNG chunk IDAT: cut"
 echo "world: all checks passed"

@@ -3,15 +3,16 @@
 // which two runs in one process cannot show.
 #pragma once
 #include <functional>
+#include <optional>
 #include <string>
 
 namespace crowd::test {
 
 // In the test that calls it: runs `compute` here and in a child process that runs the same test
 // alone with MALLOC_PERTURB_ set; fails the test (naming the first differing byte) where the two
-// results differ. In that child it writes its result for the parent and returns false: the test
-// then returns. Returns true in the parent.
-bool sameInAFreshProcess(const std::function<std::string()> &compute);
+// results differ. In that child it writes its result for the parent and returns nothing: the
+// test then returns. In the parent it returns the result computed here, for further checks.
+std::optional<std::string> sameInAFreshProcess(const std::function<std::string()> &compute);
 
 // True in that child process.
 bool inFreshProcess();

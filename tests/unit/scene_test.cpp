@@ -69,7 +69,7 @@ TEST(Scene, GridRandomAndListPlacements) {
     EXPECT_LE(std::abs(i.position.x), 1);
     EXPECT_LE(std::abs(i.position.z), 2);
   }
-  const bool parent = test::sameInAFreshProcess([] { // seeded: the same in any process
+  const auto parent = test::sameInAFreshProcess([] { // seeded: the same in any process
     auto seeded = parseScene(R"({"packs": [{"path": "a"}], "instances": {"count": 50, "seed": 4,
       "placement": {"type": "random", "min": [-1, 0, -2], "max": [1, 0, 2]}}})",
                              "s.json");

@@ -1,7 +1,6 @@
 // The child's side of job_process.h: crowdbake build-job SPEC.
 #include <chrono>
 #include <csignal>
-#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>

@@ -3,6 +3,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include "image_codec.h"
+#include "png_check.h"
 
 namespace crowd::images {
 namespace {
@@ -17,6 +18,10 @@ OIIO::TypeDesc typeOf(pack::Image::Pixel pixel) {
 
 bool decode(const std::vector<uint8_t> &bytes, const std::string &name, int maxSide,
             pack::Image &out, std::string &why) try {
+  if (isPng(bytes) && !pngIsWhole(bytes, maxSide, why)) {
+    why = "cannot decode (" + why + ")";
+    return false;
+  }
   OIIO::Filesystem::IOMemReader memory(bytes.data(), bytes.size());
   auto in = OIIO::ImageInput::open(name, nullptr, &memory);
   if (!in) {
