@@ -138,15 +138,21 @@ TEST(AnimStore, AutoWithAForcedTextureStoresTheTracksUnmeasured) {
     EXPECT_TRUE(t.met) << t.clip;
 }
 
+// A two-joint quad whose second joint turns about z from rest to (0, 0, z, w) over `seconds`, on
+// two keys (one clip, "turn"), imported from test::tempDir(folder).
+Character turningQuad(const std::string &folder, float seconds, float z, float w, Reporter &rep) {
+  test::GltfBuilder g;
+  g.skinnedQuad();
+  g.animation("turn", 1, "rotation", {0, seconds}, {0, 0, 0, 1, 0, 0, z, w});
+  return importGltf(g.write(test::tempDir(folder), "turn"), {}, rep);
+}
+
 // Tracks that may take more than a texture (a two-joint quad turning over one second: the tracks'
 // skeleton alone outweighs two texture frames): the texture is searched, measured and compared.
 TEST(AnimStore, AutoSearchesTheTextureWhereTracksMayTakeMore) {
-  test::GltfBuilder g;
-  g.skinnedQuad();
-  g.animation("turn", 1, "rotation", {0, 1}, {0, 0, 0, 1, 0, 0, 0.38268343f, 0.92387953f});
   Reporter rep;
   rep.quiet = true;
-  const Character c = importGltf(g.write(test::tempDir("store_fallback"), "turn"), {}, rep);
+  const Character c = turningQuad("store_fallback", 1, 0.38268343f, 0.92387953f, rep);
   const AnimBakeResult r = bakeAnimation(c, {}, rep);
   BudgetSearch all;
   for (const auto &p : precisions())
@@ -175,12 +181,9 @@ TEST(AnimStore, AutoSearchesTheTextureWhereTracksMayTakeMore) {
 // over ten seconds on two keys: two frames blend it badly, ten a second outweigh the tracks):
 // the search stops at the tracks' bytes and no texture is measured.
 TEST(AnimStore, AutoStopsTheSearchAtTheTracksBytes) {
-  test::GltfBuilder g;
-  g.skinnedQuad();
-  g.animation("slow turn", 1, "rotation", {0, 10}, {0, 0, 0, 1, 0, 0, 0.70710678f, 0.70710678f});
   Reporter rep;
   rep.quiet = true;
-  const Character c = importGltf(g.write(test::tempDir("store_capped"), "turn"), {}, rep);
+  const Character c = turningQuad("store_capped", 10, 0.70710678f, 0.70710678f, rep);
   const AnimBakeResult r = bakeAnimation(c, {}, rep);
   EXPECT_EQ(r.stored, "tracks");
   EXPECT_TRUE(r.accuracy.empty()); // not measured
