@@ -198,7 +198,8 @@ void parsePacks(const Checker &c, const json &j, const std::filesystem::path &di
       c.fail({"packs"}, "each pack needs a \"path\"");
     s.packPaths.push_back((dir / p["path"].get<std::string>()).lexically_normal().string());
     s.packNames.push_back(
-        p.value("name", std::filesystem::path(p["path"].get<std::string>()).stem().string()));
+        p.contains("name") ? c.string(p["name"], {"packs", "name"})
+                           : std::filesystem::path(p["path"].get<std::string>()).stem().string());
     if (p.contains("impostor") && !p["impostor"].is_string())
       c.fail({"packs", "impostor"}, "expected the path of an impostor pack");
     s.impostorPaths.push_back(
@@ -288,7 +289,11 @@ Choices parseChoices(const Checker &c, const json &in, uint64_t seed, Scene &s) 
 std::vector<glm::dvec3> placeInstances(const Checker &c, const json &in, size_t instanceOverride,
                                        size_t &count, std::mt19937_64 &rng) {
   json placement = in.value("placement", json{{"type", "grid"}});
-  std::string type = placement.value("type", "grid");
+  if (!placement.is_object())
+    c.fail({"instances", "placement"}, "expected an object");
+  const std::string type = placement.contains("type")
+                               ? c.string(placement["type"], {"instances", "placement", "type"})
+                               : "grid";
   std::vector<glm::dvec3> positions;
   if (type == "grid") {
     c.onlyKeys(placement, {"instances", "placement"}, {"type", "spacing"});
@@ -389,9 +394,7 @@ void parseCamera(const Checker &c, const json &cam, Camera &camera) {
   }
 }
 
-} // namespace
-
-Scene parseScene(const std::string &text, const std::string &path, size_t instanceOverride) {
+Scene parseSceneText(const std::string &text, const std::string &path, size_t instanceOverride) {
   Checker c(text, path);
   json j = c.parse();
   Scene s;
@@ -414,7 +417,8 @@ Scene parseScene(const std::string &text, const std::string &path, size_t instan
   size_t count = instanceCount(c, in, instanceOverride, s);
   uint32_t pack = 0;
   if (in.contains("pack")) {
-    auto it = std::find(s.packNames.begin(), s.packNames.end(), in["pack"].get<std::string>());
+    auto it = std::find(s.packNames.begin(), s.packNames.end(),
+                        c.string(in["pack"], {"instances", "pack"}));
     if (it == s.packNames.end())
       c.fail({"instances", "pack"}, "no pack named " + in["pack"].dump());
     pack = uint32_t(it - s.packNames.begin());
@@ -455,6 +459,18 @@ Scene parseScene(const std::string &text, const std::string &path, size_t instan
   if (j.contains("budget"))
     s.budget = uint64_t(c.number(j["budget"], {"budget"}, 0, 1e12));
   return s;
+}
+
+} // namespace
+
+Scene parseScene(const std::string &text, const std::string &path, size_t instanceOverride) {
+  try {
+    return parseSceneText(text, path, instanceOverride);
+  } catch (const json::exception &e) {
+    // A value of a type the checks above do not look for where the reader reads it: an error,
+    // never a crash (each one the fuzzer finds also gets its own check, with line and column).
+    throw Error(path + ": a value of an unexpected type: " + e.what());
+  }
 }
 
 Scene loadScene(const std::string &path, size_t instanceOverride) {

@@ -54,6 +54,17 @@ json JsonChecker::parse() const {
     if (auto p = what.find("syntax error"); p != std::string::npos)
       what = what.substr(p);
     throw Error(path_ + ":" + lineColumn(text_, e.byte ? e.byte - 1 : 0) + ": " + what);
+  } catch (const json::out_of_range &e) {
+    // A number past a double's range (1e400): the parser names the number, not where it is.
+    std::string what = e.what();
+    const size_t open = what.find('\''), close = what.rfind('\'');
+    const std::string number =
+        open != std::string::npos && close > open ? what.substr(open + 1, close - open - 1) : "";
+    const size_t at = number.empty() ? std::string::npos : text_.find(number);
+    throw Error(
+        path_ + (at == std::string::npos ? "" : ":" + lineColumn(text_, at)) +
+        ": a number out of range" +
+        (number.empty() ? "" : ": " + number.substr(0, 40) + (number.size() > 40 ? "..." : "")));
   }
 }
 

@@ -181,6 +181,17 @@ TEST(Scene, ErrorsGiveLineAndColumn) {
   EXPECT_NE(e.find("colour components must be in [0, 1]"), std::string::npos) << e;
   e = errorOf(R"({"packs": [{"path": "a"}], "instances": {"pack": "b"}})");
   EXPECT_NE(e.find("no pack named \"b\""), std::string::npos) << e;
+  // A number past a double's range (the manifest fuzzer's finding: it escaped as the JSON
+  // library's own exception).
+  e = errorOf("{\"packs\": [{\"path\": \"a\"}],\n \"instances\": {\"count\": 7e777}}");
+  EXPECT_EQ(e, "s.json:2:25: a number out of range: 7e777");
+  // Names of another type than a string (the scene fuzzer's finding), each where it is.
+  e = errorOf(R"({"packs": [{"path": "a"}], "instances": {"pack": ["walk", "run"]}})");
+  EXPECT_NE(e.find("/instances/pack: expected"), std::string::npos) << e;
+  e = errorOf(R"({"packs": [{"path": "a", "name": 3}], "instances": {}})");
+  EXPECT_NE(e.find("/packs/name: expected"), std::string::npos) << e;
+  e = errorOf(R"({"packs": [{"path": "a"}], "instances": {"placement": 4}})");
+  EXPECT_NE(e.find("/instances/placement: expected an object"), std::string::npos) << e;
 }
 
 } // namespace
