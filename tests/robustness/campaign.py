@@ -1,6 +1,8 @@
 #!/usr/bin/env python3
-"""The malformed-input campaign: mutates real characters into a few hundred broken glTF files and
-runs each through every bake command, classifying each run:
+"""The malformed-input campaign: mutates real characters into a few hundred broken glTF files (and
+a cloth cache into damaged PC2 files) and runs each through the commands that read it (a glTF
+through anim, lod, impostor, outfits, terrain and as the outfit of its unbroken body; a cache
+through cloth), classifying each run:
 
   handled   exit 1 (or 2) with one "crowdbake: error:" / "crowdbake: usage:" line on stderr
   accepted  exit 0: the mutation is harmless to the bake; every such case must be listed, with
