@@ -25,15 +25,19 @@ public:
     std::vector<std::vector<runtime::JointRows>> sampled;
     for (const auto &t : textures_)
       sampled.push_back(runtime::sampleJoints(t, pk_.clips[ci], frame, alpha));
+    // Locals, written once: the callers' slots of neighbouring times share cache lines.
+    std::vector<double> most(max, max + textures_.size()), total(sum, sum + textures_.size());
     for (uint32_t v = 0; v < uint32_t(c_.mesh.vertexCount()); ++v) {
       const glm::vec3 bind = morphedBind(c_.mesh, pk_.morphs, at, v); // the same for every p
       for (size_t p = 0; p < textures_.size(); ++p) {
         double e =
             glm::length(glm::dvec3(runtime::skinVertex(sampled[p], pk_.skin, v, bind)) - exact[v]);
-        max[p] = std::max(max[p], e);
-        sum[p] += e;
+        most[p] = std::max(most[p], e);
+        total[p] += e;
       }
     }
+    std::copy(most.begin(), most.end(), max);
+    std::copy(total.begin(), total.end(), sum);
   }
 
 private:
@@ -58,10 +62,10 @@ FrameErrors measureFrames(const Character &c, const std::vector<ClipFrames> &cli
     const size_t ci = frames.list[f].first;
     const uint32_t i = frames.list[f].second;
     const auto exact = framePositions(c, frames, f);
-    for (const auto &q : exact) {
-      bounds.low[f] = glm::min(bounds.low[f], q);
-      bounds.high[f] = glm::max(bounds.high[f], q);
-    }
+    glm::dvec3 low(INFINITY), high(-INFINITY);
+    for (const auto &q : exact)
+      low = glm::min(low, q), high = glm::max(high, q);
+    bounds.low[f] = low, bounds.high[f] = high;
     meter.measure(ci, i, 0.0f, exact, &e.frameMax[f * np], &e.frameSum[f * np]);
     const auto &cf = clips[ci];
     if (i + 1 < cf.count)

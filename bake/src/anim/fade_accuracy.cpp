@@ -74,6 +74,7 @@ FadeAccuracy measureFades(const Character &c, const std::vector<const AnimationC
       for (const glm::mat4 &m :
            runtime::decodePalette(pack, {float(b), float(tb), float(a), float(ta), weight}))
         palette.push_back({glm::row(m, 0), glm::row(m, 1), glm::row(m, 2)});
+    double most = 0, total = 0; // locals: neighbouring slots share cache lines
     for (uint32_t v = 0; v < vertices; ++v) {
       glm::vec3 bind = c.mesh.positions[v];
       if (pack.morphs)
@@ -85,9 +86,10 @@ FadeAccuracy measureFades(const Character &c, const std::vector<const AnimationC
                                         .position
                                   : runtime::skinVertex(palette, pack.skin, v, bind);
       const double e = glm::length(glm::dvec3(drawn) - exact[v]);
-      max[s] = std::max(max[s], e);
-      sum[s] += e;
+      most = std::max(most, e);
+      total += e;
     }
+    max[s] = most, sum[s] = total;
   });
   for (size_t s = 0; s < samples; ++s) {
     out.maxError = std::max(out.maxError, max[s]);

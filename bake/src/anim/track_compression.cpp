@@ -1,8 +1,10 @@
 #include "crowd/bake/track_compression.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <map>
+#include <optional>
 
 #include "crowd/bake/anim_frames.h"
 #include "crowd/bake/evaluate.h"
@@ -11,6 +13,7 @@
 #include "crowd/formats/limits.h"
 #include "crowd/runtime/texture_skinning.h"
 #include "crowd/runtime/track_pose.h"
+#include "skin_error_bound.h"
 
 namespace crowd {
 namespace {
@@ -565,31 +568,46 @@ private:
   }
 
   void setBits(size_t t, uint32_t bits) {
-    pack::Track &track = tracks_[t];
-    track.bits = uint8_t(bits);
-    deq_[t].resize(times_.size());
-    for (size_t s = 0; s < times_.size(); ++s)
-      for (int c = 0; c < 3; ++c) {
-        const size_t cc = size_t(c);
-        deq_[t][s][cc] =
-            dequantize(track.min[cc], track.extent[cc],
-                       quantize(exact_[t][s][cc], track.min[cc], track.extent[cc], bits), bits);
-      }
+    deq_[t] = valuesAt(t, bits);
+    tracks_[t].bits = uint8_t(bits);
   }
 
-  // The local matrix of track node k at sample s as the tracks now stand.
-  glm::dmat4 decodedLocal(size_t k, size_t s) const {
+  using Values = std::vector<std::array<float, 3>>; // per sample, as decoded
+
+  // Track t's values at `bits` (its range as it stands).
+  Values valuesAt(size_t t, uint32_t bits) const {
+    const pack::Track &track = tracks_[t];
+    Values out(times_.size());
+    for (size_t s = 0; s < times_.size(); ++s)
+      for (size_t c = 0; c < 3; ++c)
+        out[s][c] =
+            dequantize(track.min[c], track.extent[c],
+                       quantize(exact_[t][s][c], track.min[c], track.extent[c], bits), bits);
+    return out;
+  }
+
+  // The local matrix of track node k at sample s as the tracks now stand, or with track
+  // `other` taking the values `instead`.
+  glm::dmat4 decodedLocal(size_t k, size_t s, size_t other = SIZE_MAX,
+                          const Values *instead = nullptr) const {
     const Node &node = c_.nodes[size_t(rig_.sourceNode[k])];
     if (node.hasMatrix)
       return node.matrix;
+    const auto value = [&](size_t t) -> const std::array<float, 3> & {
+      return t == other ? (*instead)[s] : deq_[t][s];
+    };
     glm::dquat r = node.rotation;
     glm::dvec3 tr = node.translation, sc = node.scale;
     if (tracks_[k * 3].kind != pack::TrackKind::Default)
-      r = rotationOf(deq_[k * 3][s], tracks_[k * 3].dropped);
-    if (tracks_[k * 3 + 1].kind != pack::TrackKind::Default)
-      tr = {deq_[k * 3 + 1][s][0], deq_[k * 3 + 1][s][1], deq_[k * 3 + 1][s][2]};
-    if (tracks_[k * 3 + 2].kind != pack::TrackKind::Default)
-      sc = {deq_[k * 3 + 2][s][0], deq_[k * 3 + 2][s][1], deq_[k * 3 + 2][s][2]};
+      r = rotationOf(value(k * 3), tracks_[k * 3].dropped);
+    if (tracks_[k * 3 + 1].kind != pack::TrackKind::Default) {
+      const auto &v = value(k * 3 + 1);
+      tr = {v[0], v[1], v[2]};
+    }
+    if (tracks_[k * 3 + 2].kind != pack::TrackKind::Default) {
+      const auto &v = value(k * 3 + 2);
+      sc = {v[0], v[1], v[2]};
+    }
     return trsMatrix(r, tr, sc);
   }
 
@@ -608,19 +626,25 @@ private:
       from = 0;
     for (size_t k = from; k < nodes_; ++k)
       below[k] = below[k] || k == from || (parents[k] >= 0 && below[size_t(parents[k])]);
+    std::vector<size_t> joints; // whose errors change
+    for (size_t j = 0; j < shells_.size(); ++j)
+      if (below[rig_.skeleton.jointNodes[j]])
+        joints.push_back(j);
+    std::vector<double> errors(times_.size() * joints.size()); // per sample, per joint
     parallelFor(times_.size(), threads_, [&](size_t s) {
       for (size_t k = from; k < nodes_; ++k)
         if (below[k])
           global_[s][k] =
               parents[k] >= 0 ? global_[s][size_t(parents[k])] * local_[s][k] : local_[s][k];
+      for (size_t i = 0; i < joints.size(); ++i)
+        errors[s * joints.size() + i] = jointError(joints[i], global_[s], exactGlobals_[s]);
     });
-    for (size_t j = 0; j < shells_.size(); ++j)
-      if (below[rig_.skeleton.jointNodes[j]]) {
-        double worst = 0;
-        for (size_t s = 0; s < times_.size(); ++s)
-          worst = std::max(worst, jointError(j, global_[s], exactGlobals_[s]));
-        jointError_[j] = worst;
-      }
+    for (size_t i = 0; i < joints.size(); ++i) {
+      double worst = 0;
+      for (size_t s = 0; s < times_.size(); ++s)
+        worst = std::max(worst, errors[s * joints.size() + i]);
+      jointError_[joints[i]] = worst;
+    }
   }
 
   // Applies track node k's current values; true when every joint then errs within `limit`.
@@ -632,37 +656,34 @@ private:
   }
 
   // What every candidate raise of one joint's chain shares, per sample: the exact pose's
-  // corners of the joint's box, and (for the chain node at hand) the decoded locals below it.
+  // corners of the joint's box, and per chain node the decoded locals below it times them.
+  using Corners = std::vector<std::array<glm::dvec4, 8>>; // per sample
   struct ChainSamples {
     std::vector<std::array<glm::dvec3, 8>> exactCorners;
-    std::vector<glm::dmat4> below; // per sample: the product of the locals under chain[at]
-    std::vector<std::array<glm::dvec4, 8>> belowCorners; // per sample: below x the box corners
+    std::vector<Corners> belowCorners; // per chain node
   };
 
   // How far joint j's box errs over `limit`, summed over the samples, with chain track t (of
   // chain node chain[at]) at `bits` and the rest as they are. A sum, not the largest: where two
   // tracks each make the worst error at a sample of their own, raising either lowers the sum.
   double excessWith(size_t j, const std::vector<size_t> &chain, size_t at, size_t t, uint32_t bits,
-                    double limit, const ChainSamples &shared) {
-    const auto saved = deq_[t];
-    const uint8_t savedBits = tracks_[t].bits;
-    setBits(t, bits);
+                    double limit, const ChainSamples &shared) const {
+    const Values values = valuesAt(t, bits);
     double excess = 0;
     const size_t k = chain[at];
     const int parent = rig_.skeleton.parents[k];
     const auto &corners = shells_[j];
+    const Corners &below = shared.belowCorners[at];
     for (size_t s = 0; s < times_.size(); ++s) {
-      glm::dmat4 g = decodedLocal(k, s);
+      glm::dmat4 g = decodedLocal(k, s, t, &values);
       if (parent >= 0)
         g = global_[s][size_t(parent)] * g;
       double worst = 0;
       for (size_t i = 0; i < corners.size(); ++i)
-        worst = std::max(worst, glm::length(glm::dvec3(g * shared.belowCorners[s][i]) -
-                                            shared.exactCorners[s][i]));
+        worst =
+            std::max(worst, glm::length(glm::dvec3(g * below[s][i]) - shared.exactCorners[s][i]));
       excess += std::max(0.0, worst - limit);
     }
-    tracks_[t].bits = savedBits;
-    deq_[t] = saved;
     return excess;
   }
 
@@ -679,7 +700,7 @@ private:
     const size_t n = times_.size();
     ChainSamples shared;
     shared.exactCorners.resize(n);
-    shared.below.assign(n, glm::dmat4(1.0));
+    shared.belowCorners.resize(chain.size());
     for (size_t s = 0; s < n; ++s)
       for (size_t i = 0; i < shells_[j].size(); ++i)
         shared.exactCorners[s][i] =
@@ -699,27 +720,38 @@ private:
           first = chain[at] * 3 + p;
     std::vector<Candidate> tried; // bottom-up
     size_t fewest = SIZE_MAX;
-    shared.belowCorners.resize(n);
+    std::vector<glm::dmat4> below(n, glm::dmat4(1.0)); // the product of the locals under `at`
     for (size_t at = chain.size(); at-- > 0;) {
       if (at + 1 < chain.size())
         for (size_t s = 0; s < n; ++s)
-          shared.below[s] = local_[s][chain[at + 1]] * shared.below[s];
-      for (size_t s = 0; s < n; ++s)
-        for (size_t i = 0; i < shells_[j].size(); ++i)
-          shared.belowCorners[s][i] = shared.below[s] * glm::dvec4(shells_[j][i], 1.0);
+          below[s] = local_[s][chain[at + 1]] * below[s];
+      bool any = false;
       for (size_t p = 3; p-- > 0;) {
         const size_t t = chain[at] * 3 + p;
         if (!raisable(t))
           continue;
+        any = true;
         if (fewest == SIZE_MAX || tracks_[t].bits <= tracks_[fewest].bits)
           fewest = t; // the first in root-down order among the coarsest
         for (uint32_t more = kRaiseLookahead + 1; more-- > (t == first ? 0u : 1u);) {
           const uint32_t bits = tracks_[t].bits + more; // reversed below with the rest
           if (bits <= pack::kMaxTrackBits)
-            tried.push_back({at, t, bits, excessWith(j, chain, at, t, bits, limit, shared)});
+            tried.push_back({at, t, bits, 0.0});
         }
       }
+      if (!any)
+        continue;
+      Corners &corners = shared.belowCorners[at];
+      corners.resize(n);
+      for (size_t s = 0; s < n; ++s)
+        for (size_t i = 0; i < shells_[j].size(); ++i)
+          corners[s][i] = below[s] * glm::dvec4(shells_[j][i], 1.0);
     }
+    // Each candidate measured on its own: the same figures in any order.
+    parallelFor(tried.size(), threads_, [&](size_t i) {
+      Candidate &c = tried[i];
+      c.excess = excessWith(j, chain, c.at, c.t, c.bits, limit, shared);
+    });
     std::reverse(tried.begin(), tried.end()); // root-down, each track's bits ascending
     size_t best = SIZE_MAX;
     uint32_t bestBits = 0;
@@ -816,12 +848,22 @@ double TrackClipFigures::maxAnyTimeMm() const {
 
 VertexErrors trackErrors(const Character &c, const TrackRig &rig, const pack::TrackClip &tracks,
                          const AnimationClip &clip, const std::vector<double> &seconds, int threads,
-                         const PlayedMorphs &played) {
+                         const PlayedMorphs &played, bool withMean) {
   const SkinnedMesh &m = c.mesh;
   std::vector<float> inverseBind(c.jointCount() * 16);
   for (size_t j = 0; j < c.jointCount(); ++j)
     for (int k = 0; k < 16; ++k)
       inverseBind[j * 16 + size_t(k)] = float(c.inverseBind[j][k / 4][k % 4]);
+  // Squared distances until the end: the root of the largest is the largest root, to the bit.
+  std::optional<pack::SkinTexture> skin;
+  std::optional<SkinErrorBound> bound;
+  if (!withMean) {
+    skin = buildSkinTexture(m, limits::kTextureSide);
+    bound.emplace(m, *skin, c.jointCount());
+  }
+  // The largest found so far at any time of the set: where it rises first does not change it.
+  std::atomic<double> found{0.0};
+  const uint32_t vertices = uint32_t(m.vertexCount());
   std::vector<double> largest(seconds.size(), 0.0), sum(seconds.size(), 0.0);
   parallelFor(seconds.size(), threads, [&](size_t i) {
     const double t = clip.start + seconds[i];
@@ -832,21 +874,46 @@ VertexErrors trackErrors(const Character &c, const TrackRig &rig, const pack::Tr
     const auto weights = morphWeights(c, &clip, t);
     const runtime::ClipTime at =
         played.morphs ? runtime::clipTimeAt(*played.clip, float(seconds[i])) : runtime::ClipTime{};
-    for (size_t v = 0; v < m.vertexCount(); ++v) {
+    SkinErrorBound::Terms terms;
+    if (bound) {
+      std::vector<runtime::JointRows> rows;
+      for (const glm::mat4 &j : palette)
+        rows.push_back(runtime::toRows(j));
+      terms = bound->terms(rows, exact);
+    }
+    double most = withMean ? 0.0 : found.load(), total = 0; // locals: slots share cache lines
+    for (uint32_t v = 0; v < vertices; ++v) {
+      if (bound && bound->blocks() && v % SkinErrorBound::kBlock == 0 &&
+          bound->block(v / SkinErrorBound::kBlock, terms) <= most) {
+        v += SkinErrorBound::kBlock - 1;
+        continue;
+      }
+      const bool morphed = played.morphs || !m.morphs.empty();
+      const glm::dvec3 exactBind =
+          m.morphs.empty() ? glm::dvec3(m.positions[v]) : morphedPosition(m, weights, v);
       const glm::dvec3 bindD =
-          played.morphs      ? glm::dvec3(runtime::morphVertex(*played.morphs, at, uint32_t(v),
-                                                               {m.positions[v], m.normals[v]})
-                                              .position)
-          : m.morphs.empty() ? glm::dvec3(m.positions[v])
-                             : morphedPosition(m, weights, v);
+          played.morphs ? glm::dvec3(runtime::morphVertex(*played.morphs, at, uint32_t(v),
+                                                          {m.positions[v], m.normals[v]})
+                                         .position)
+                        : exactBind;
+      if (bound &&
+          (morphed ? bound->morphedVertex(v, terms, glm::dvec3(glm::vec3(bindD)), exactBind)
+                   : bound->vertex(v, terms)) <= most)
+        continue; // cannot raise the largest (a NaN bound can)
       const glm::vec4 bind(glm::vec3(bindD), 1.0f);
       glm::vec3 skinned(0.0f);
       for (int k = 0; k < 4; ++k)
         if (m.weights[v][k] > 0)
           skinned += m.weights[v][k] * glm::vec3(palette[m.joints[v][k]] * bind);
-      const double e = glm::length(glm::dvec3(skinned) - skinPosition(m, exact, weights, v));
-      largest[i] = std::max(largest[i], e);
-      sum[i] += e;
+      const glm::dvec3 off = glm::dvec3(skinned) - skinPosition(m, exact, weights, v);
+      const double squared = glm::dot(off, off);
+      most = std::max(most, squared);
+      if (withMean)
+        total += std::sqrt(squared);
+    }
+    largest[i] = most;
+    sum[i] = total;
+    for (double was = found.load(); most > was && !found.compare_exchange_weak(was, most);) {
     }
   });
   VertexErrors out;
@@ -854,8 +921,9 @@ VertexErrors trackErrors(const Character &c, const TrackRig &rig, const pack::Tr
     out.max = std::max(out.max, largest[i]);
     out.mean += sum[i];
   }
-  const double count = double(seconds.size()) * double(std::max<size_t>(m.vertexCount(), 1));
-  out.mean = seconds.empty() ? 0.0 : out.mean / count;
+  out.max = std::sqrt(out.max);
+  const double count = double(seconds.size()) * double(std::max<size_t>(vertices, 1));
+  out.mean = !withMean || seconds.empty() ? 0.0 : out.mean / count;
   return out;
 }
 
@@ -898,9 +966,12 @@ CompressedClip compressWith(const Character &c, const TrackRig &rig, const Anima
   for (int round = 0; round < kTighteningRounds; ++round) {
     compressor.allotBits(share);
     out.clip = compressor.build();
-    const VertexErrors atSamples =
-        trackErrors(c, rig, out.clip, clip, compressor.sampleTimes(), options.threads, played);
-    const VertexErrors atMids = trackErrors(c, rig, out.clip, clip, mids, options.threads, played);
+    // Only the random times' mean is reported: the others skin only the vertices that may
+    // raise their largest.
+    const VertexErrors atSamples = trackErrors(c, rig, out.clip, clip, compressor.sampleTimes(),
+                                               options.threads, played, false);
+    const VertexErrors atMids =
+        trackErrors(c, rig, out.clip, clip, mids, options.threads, played, false);
     const VertexErrors atRandom =
         trackErrors(c, rig, out.clip, clip, random, options.threads, played);
     f.maxAtSamplesMm = atSamples.max * options.mmPerUnit;

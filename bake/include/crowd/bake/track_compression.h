@@ -68,12 +68,14 @@ CompressedClip compressClip(const Character &c, const TrackRig &rig, const Anima
 
 // The largest and mean vertex errors (model units) of `tracks` against exact evaluation of
 // `clip`, at each of `seconds` (since the clip's start): the runtime decoder's palette skins
-// every vertex in single precision, over the morph weights `played` gives.
+// every vertex in single precision, over the morph weights `played` gives. Without `withMean`
+// only the vertices whose SkinErrorBound exceeds the largest error found so far are skinned (the
+// same largest, to the bit) and the mean is 0.
 struct VertexErrors {
   double max = 0, mean = 0;
 };
 VertexErrors trackErrors(const Character &c, const TrackRig &rig, const pack::TrackClip &tracks,
                          const AnimationClip &clip, const std::vector<double> &seconds, int threads,
-                         const PlayedMorphs &played = {});
+                         const PlayedMorphs &played = {}, bool withMean = true);
 
 } // namespace crowd
