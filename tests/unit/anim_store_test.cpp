@@ -1,6 +1,8 @@
 // What the animation bake stores (AnimBakeOptions::store): joint tracks alone make a pack
 // without an animation texture that reads back, poses and reports as the texture's does; "auto"
 // keeps the fewer bytes within the budget and says why.
+#include <tuple>
+
 #include <gtest/gtest.h>
 
 #include "crowd/bake/anim_bake.h"
@@ -118,24 +120,78 @@ TEST(AnimStore, AutoKeepsTracksFewerThanAnyTextureWithoutSearchingOne) {
   }
 }
 
-// A rate and precision forced where the texture would miss the budget (float frames 100 ms
-// apart): the tracks, on their keys, meet it in fewer bytes than that texture takes, so auto
-// stores them without measuring it; the clip table takes the forced rate.
-TEST(AnimStore, AutoWithAForcedTextureStoresTheTracksUnmeasured) {
+// An option that shapes the texture is never silently dropped: under auto a forced precision
+// or rate stores the texture (measured, the report naming it and why); under tracks a
+// precision is an error naming the conflict, and a rate sets the tracks' clip table.
+TEST(AnimStore, AutoWithAForcedTextureStoresIt) {
+  for (const auto &[fps, precision, named] :
+       {std::tuple{10.0, std::string("float"), std::string("precision float")},
+        std::tuple{10.0, std::string("auto"), std::string("fps 10")},
+        std::tuple{AnimBakeOptions::kFpsSource, std::string("auto"), std::string("fps source")},
+        std::tuple{AnimBakeOptions::kFpsFromBudget, std::string("half"),
+                   std::string("precision half")}}) {
+    Reporter rep;
+    rep.quiet = true;
+    AnimBakeOptions o;
+    o.fps = fps;
+    o.precision = precision;
+    const AnimBakeResult r = bakeAnimation(test::sampleHumanoid(), o, rep);
+    EXPECT_EQ(r.stored, "texture") << named;
+    EXPECT_EQ(r.storeReason.rfind(named + " shapes the texture", 0), 0u) << r.storeReason;
+    EXPECT_FALSE(r.pack.tracks) << named;
+    ASSERT_FALSE(r.accuracy.empty()) << named;
+    if (precision != "auto")
+      EXPECT_EQ(r.accuracy[r.baked].precision.name, precision);
+    if (fps > 0)
+      for (const auto &clip : r.pack.clips)
+        EXPECT_NEAR(clip.fps, float(fps), 1e-4f) << clip.name;
+    const auto report = animFigures(r);
+    EXPECT_EQ(report["store"], "texture");
+    EXPECT_EQ(report["store_reason"], r.storeReason);
+    EXPECT_EQ(report["precision"], r.accuracy[r.baked].precision.name);
+  }
+}
+
+TEST(AnimStore, TracksWithAPrecisionIsAnErrorAndARateSetsTheClipTable) {
   Reporter rep;
   rep.quiet = true;
   AnimBakeOptions o;
-  o.store = "auto";
-  o.fps = 10; // forced: the texture blends matrices 100 ms apart and misses
-  o.precision = "float";
+  o.store = "tracks";
+  o.precision = "half";
+  try {
+    bakeAnimation(test::sampleHumanoid(), o, rep);
+    ADD_FAILURE() << "a precision under store tracks baked";
+  } catch (const Error &e) {
+    EXPECT_EQ(std::string(e.what()).rfind("precision: half shapes the texture, which store "
+                                          "tracks leaves out",
+                                          0),
+              0u)
+        << e.what();
+  }
+  o.precision = "auto";
+  o.fps = 10;
   const AnimBakeResult r = bakeAnimation(test::sampleHumanoid(), o, rep);
   EXPECT_EQ(r.stored, "tracks");
-  EXPECT_NE(r.storeReason.find("no texture searched"), std::string::npos) << r.storeReason;
-  EXPECT_TRUE(r.accuracy.empty());
+  EXPECT_TRUE(r.accuracy.empty()); // no texture searched
   for (const auto &clip : r.pack.clips)
     EXPECT_NEAR(clip.fps, 10.0f, 1e-4f) << clip.name;
   for (const auto &t : r.tracks)
     EXPECT_TRUE(t.met) << t.clip;
+}
+
+// Where auto measured the texture and kept the tracks, the report names no precision at the top
+// (the pack holds none) and lists the measured ones under "precisions".
+TEST(AnimStore, AReportNamesOnlyWhatThePackHolds) {
+  Reporter rep;
+  rep.quiet = true;
+  AnimBakeOptions o;
+  o.store = "both";
+  AnimBakeResult r = bakeAnimation(test::sampleHumanoid(), o, rep);
+  ASSERT_FALSE(r.accuracy.empty());
+  EXPECT_TRUE(animFigures(r).contains("precision"));
+  r.stored = "tracks"; // as auto leaves a result whose texture lost
+  EXPECT_FALSE(animFigures(r).contains("precision"));
+  EXPECT_TRUE(animFigures(r).contains("precisions"));
 }
 
 // A two-joint quad whose second joint turns about z from rest to (0, 0, z, w) over `seconds`, on

@@ -483,10 +483,13 @@ StoreChoice chooseStore(double budgetMm, StoreCandidate texture, StoreCandidate 
 // with the skeleton, skin and morphs; the tracks first under --store tracks or auto, and the
 // texture searched only where it could take fewer bytes and measured only where it may be
 // stored; what is stored; the fades; the mesh and its bounds.
-AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &options,
-                             Reporter &reporter) {
-  options.validate();
+AnimBakeResult bakeAnimation(const Character &c, const AnimBakeOptions &asked, Reporter &reporter) {
+  asked.validate();
   AnimBakeResult result;
+  AnimBakeOptions options = asked;
+  options.store = asked.storeAsked(&result.storeReason);
+  if (!result.storeReason.empty())
+    reporter.step("stores texture: " + result.storeReason);
   result.diagonal = restDiagonal(c);
   result.mmPerUnit = millimetresPerUnit(c, &result.heightIsDiagonal);
   result.errorBudgetMm = options.errorBudgetMm;

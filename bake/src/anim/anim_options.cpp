@@ -47,6 +47,28 @@ void AnimBakeOptions::validate() const {
   const auto &all = stores();
   if (std::find(all.begin(), all.end(), store) == all.end())
     throw Error("store: '" + store + "' is none of texture, tracks, both or auto");
+  if (store == "tracks" && precision != "auto")
+    throw Error("precision: " + precision +
+                " shapes the texture, which store tracks leaves out: drop the precision, or "
+                "store texture, both or auto");
+}
+
+std::string AnimBakeOptions::shapesTheTexture() const {
+  if (precision != "auto")
+    return "precision " + precision;
+  if (fps != kFpsFromBudget)
+    return "fps " + fpsName(fps);
+  return "";
+}
+
+std::string AnimBakeOptions::storeAsked(std::string *reason) const {
+  const std::string option = shapesTheTexture();
+  if (store != "auto" || option.empty())
+    return store;
+  if (reason)
+    *reason = option + " shapes the texture: the texture is stored, no tracks compressed (store "
+                       "auto; store both keeps the tracks too)";
+  return "texture";
 }
 
 const std::vector<std::string> &AnimBakeOptions::stores() {

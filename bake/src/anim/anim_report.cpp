@@ -57,9 +57,9 @@ ordered_json animFigures(const AnimBakeResult &r) {
   f["diagonal"] = r.diagonal;
   f["mm_per_model_unit"] = r.mmPerUnit; // the character scaled to 1.8 m
   f["scaled_by"] = r.heightIsDiagonal ? "diagonal" : "height";
-  // The texture's, where one was measured (not where tracks won without a search).
+  // The stored texture's (the texture measured but not stored is in "precisions").
   const PrecisionAccuracy *baked = r.accuracy.empty() ? nullptr : &r.accuracy[r.baked];
-  if (baked) {
+  if (baked && r.storesTexture()) {
     f["precision"] = baked->precision.name;
     f["bytes_per_joint_per_frame"] = bytesPerJointPerFrame(baked->precision, r);
   }

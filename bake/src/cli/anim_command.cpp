@@ -40,7 +40,7 @@ int animOrLod(int argc, char **argv, const std::string &command) {
   CLI::App app(lodCommand ? kLodHelp : kAnimHelp, "crowdbake " + command);
   example(app, lodCommand
                    ? "crowdbake lod humanoid.glb -o humanoid.crowdpack --report r.json"
-                   : "crowdbake anim humanoid.glb -o humanoid.crowdpack --fps 30 --report r.json");
+                   : "crowdbake anim humanoid.glb -o humanoid.crowdpack --report r.json");
   BakeArgs b;
   b.add(app);
   crowd::AnimBakeOptions opt;

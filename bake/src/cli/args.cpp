@@ -87,13 +87,16 @@ void addAnimOptions(CLI::App &app, AnimBakeOptions &anim) {
              throw CLI::ValidationError("--fps", e.what());
            }
          },
-         "sampling rate, frames per second (forces it); \"source\": each clip's own key rate, "
-         "so baked frames sit on the keys; \"auto\": the error budget picks from 10 to 120 fps "
-         "and the source rate")
+         "the texture's sampling rate, frames per second (forces it); \"source\": each clip's "
+         "own key rate, so baked frames sit on the keys; \"auto\": the error budget picks from "
+         "10 to 120 fps and the source rate. A rate other than auto selects the texture under "
+         "--store auto; under --store tracks it sets the clip table's rate (the morph "
+         "weights' frames)")
       ->default_str(AnimBakeOptions::fpsName(anim.fps));
   app.add_option("--precision", anim.precision,
                  "float (3 RGBA32F texels per joint), half (3 RGBA16F), qts (2 RGBA32F: "
-                 "quaternion, translation, uniform scale) or qts-half (forces it); auto: the "
+                 "quaternion, translation, uniform scale) or qts-half (forces it, and selects "
+                 "the texture under --store auto; an error with --store tracks); auto: the "
                  "error budget picks")
       ->capture_default_str();
   app.add_option("--max-width", anim.maxWidth, "texture width limit in texels")
@@ -104,8 +107,8 @@ void addAnimOptions(CLI::App &app, AnimBakeOptions &anim) {
                  "within the same error budget, the TRAK chunk: crowdplay decodes them on the "
                  "GPU; no texture is searched); both; auto: the fewer bytes among those meeting "
                  "the budget, the tracks first: where they meet it in fewer bytes than any "
-                 "texture could take, no texture is searched (the report's store_reason says "
-                 "why)")
+                 "texture could take, no texture is searched; texture where --fps or "
+                 "--precision shapes it (the report's store_reason says why)")
       ->check(CLI::IsMember(AnimBakeOptions::stores()))
       ->capture_default_str();
 }

@@ -38,7 +38,15 @@ struct AnimBakeOptions {
   std::string store = "auto";
   static const std::vector<std::string> &stores();
   bool compressesTracks() const { return store != "texture"; }
-  // Throws crowd::Error naming the first field out of range ("fps: ...").
+  // The option that shapes the texture alone ("precision qts", "fps 30", "fps source"), or
+  // empty: under store "auto" it selects the texture (storeAsked), and under "tracks" a
+  // precision is an error (validate). A rate stays open to the tracks: it sets their pack's clip
+  // table (the morph weights' frames).
+  std::string shapesTheTexture() const;
+  // The store the options ask for: `store`, but "texture" where it is "auto" and an option
+  // shapes the texture; `reason` then says why.
+  std::string storeAsked(std::string *reason = nullptr) const;
+  // Throws crowd::Error naming the first field out of range ("fps: ...") or in conflict.
   void validate() const;
   // --fps and the manifest's "fps": "auto", "source" or a number in (0, 1000]; throws Error.
   static double parseFps(const std::string &text);
