@@ -140,11 +140,13 @@ TEST(AnimStore, AutoWithAForcedTextureStoresIt) {
     EXPECT_EQ(r.storeReason.rfind(named + " shapes the texture", 0), 0u) << r.storeReason;
     EXPECT_FALSE(r.pack.tracks) << named;
     ASSERT_FALSE(r.accuracy.empty()) << named;
-    if (precision != "auto")
+    if (precision != "auto") {
       EXPECT_EQ(r.accuracy[r.baked].precision.name, precision);
-    if (fps > 0)
+    }
+    if (fps > 0) {
       for (const auto &clip : r.pack.clips)
         EXPECT_NEAR(clip.fps, float(fps), 1e-4f) << clip.name;
+    }
     const auto report = animFigures(r);
     EXPECT_EQ(report["store"], "texture");
     EXPECT_EQ(report["store_reason"], r.storeReason);

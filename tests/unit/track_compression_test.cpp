@@ -8,6 +8,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
+#include "../../bake/src/anim/skin_error_bound.h"
 #include "crowd/bake/anim_bake.h"
 #include "crowd/bake/evaluate.h"
 #include "crowd/bake/import.h"
@@ -664,7 +665,9 @@ TEST(TrackCompression, CulledMeasureFindsTheSameLargest) {
       times.push_back(duration * i / 99.0 + 1e-3 * duration * std::sin(i));
     const TrackRig rig = trackRig(c);
     const VertexErrors every = trackErrors(c, rig, cc.clip, c.clips[0], times, 0);
-    const VertexErrors culled = trackErrors(c, rig, cc.clip, c.clips[0], times, 0, {}, false);
+    const pack::SkinTexture skin = buildSkinTexture(c.mesh, limits::kTextureSide);
+    const SkinErrorBound bound(c.mesh, skin, c.jointCount());
+    const VertexErrors culled = trackErrors(c, rig, cc.clip, c.clips[0], times, 0, {}, &bound);
     EXPECT_EQ(culled.max, every.max) << path;
     EXPECT_GT(every.max, 0.0) << path;
     EXPECT_EQ(culled.mean, 0.0) << path;

@@ -1,9 +1,13 @@
 #include "crowd/bake/anim_bake.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <condition_variable>
 #include <cstdio>
 #include <cstring>
+#include <functional>
+#include <mutex>
 #include <optional>
 
 #include "anim_accuracy.h"
@@ -64,41 +68,56 @@ void warnRootMotion(const std::vector<glm::dvec3> &first, const std::vector<glm:
 }
 
 // Every clip of the pack as joint tracks (pack.tracks), and their figures; the rest-pose clip
-// of a character without clips is one sample of default tracks.
+// of a character without clips is one sample of default tracks. Clips are compressed side by
+// side, each on one thread: a clip's steps are too small to share out (two threads on one clip
+// took 1.5x one thread's time), so a single clip alone gets every thread.
 void compressTracks(const Character &c, const std::vector<const AnimationClip *> &sourceClips,
                     const AnimBakeOptions &options, AnimBakeResult &result, Reporter &reporter) {
   const TrackRig rig = trackRig(c);
   pack::JointTracks tracks;
   tracks.skeleton = rig.skeleton;
-  result.tracks.clear();
   TrackCompressionOptions to;
   to.errorBudgetMm = options.errorBudgetMm;
   to.mmPerUnit = result.mmPerUnit;
-  to.threads = options.threads;
+  const size_t compressed = std::min(sourceClips.size(), result.pack.clips.size());
+  to.threads = compressed > 1 ? 1 : options.threads;
+  std::vector<CompressedClip> done(compressed);
+  std::mutex said;
+  std::condition_variable turn;
+  size_t next = 0; // the clip whose step is said next: in order, one at a time
+  parallelFor(compressed, compressed > 1 ? options.threads : 1, [&](size_t ci) {
+    {
+      std::unique_lock lock(said);
+      turn.wait(lock, [&] { return next == ci; }); // clips are taken in order: no wait is long
+      ++next; // the next clip's step waits for the lock, not for this one to succeed
+      turn.notify_all();
+      reporter.step("joint tracks: clip " + std::to_string(ci + 1) + " of " +
+                    std::to_string(sourceClips.size()) + " (" + sourceClips[ci]->name + ")");
+    }
+    const auto &pk = result.pack; // the player blends its frames' morph weights with the tracks
+    done[ci] = compressClip(c, rig, *sourceClips[ci], ci, to,
+                            {pk.morphs ? &*pk.morphs : nullptr, &pk.clips[ci]});
+  });
+  result.tracks.clear();
   for (size_t ci = 0; ci < result.pack.clips.size(); ++ci) {
-    if (ci >= sourceClips.size()) {
-      pack::TrackClip rest;
-      rest.name = result.pack.clips[ci].name;
-      rest.times = {0.0f};
-      rest.tracks.resize(rig.skeleton.nodeCount() * pack::kTracksPerNode);
-      TrackClipFigures f;
-      f.clip = rest.name;
-      f.keys = f.samples = 1;
-      f.defaultTracks = uint32_t(rest.tracks.size());
-      f.bytes = pack::clipBytes(rest);
-      f.met = true;
-      result.tracks.push_back(f);
-      tracks.clips.push_back(std::move(rest));
+    if (ci < compressed) {
+      done[ci].clip.name = result.pack.clips[ci].name;
+      result.tracks.push_back(done[ci].figures);
+      tracks.clips.push_back(std::move(done[ci].clip));
       continue;
     }
-    reporter.step("joint tracks: clip " + std::to_string(ci + 1) + " of " +
-                  std::to_string(sourceClips.size()) + " (" + sourceClips[ci]->name + ")");
-    const auto &pk = result.pack; // the player blends its frames' morph weights with the tracks
-    CompressedClip cc = compressClip(c, rig, *sourceClips[ci], ci, to,
-                                     {pk.morphs ? &*pk.morphs : nullptr, &pk.clips[ci]});
-    cc.clip.name = result.pack.clips[ci].name;
-    result.tracks.push_back(cc.figures);
-    tracks.clips.push_back(std::move(cc.clip));
+    pack::TrackClip rest;
+    rest.name = result.pack.clips[ci].name;
+    rest.times = {0.0f};
+    rest.tracks.resize(rig.skeleton.nodeCount() * pack::kTracksPerNode);
+    TrackClipFigures f;
+    f.clip = rest.name;
+    f.keys = f.samples = 1;
+    f.defaultTracks = uint32_t(rest.tracks.size());
+    f.bytes = pack::clipBytes(rest);
+    f.met = true;
+    result.tracks.push_back(f);
+    tracks.clips.push_back(std::move(rest));
   }
   result.pack.tracks = std::move(tracks);
 }
@@ -427,14 +446,26 @@ std::array<float, 4> boundingSphere(const Character &c, const ExactFrames &frame
     hi = glm::max(hi, bounds.high[f]);
   }
   glm::dvec3 centre = (lo + hi) * 0.5;
-  std::vector<double> frameRadius(frames.count(), 0.0);
-  parallelFor(frames.count(), threads, [&](size_t f) {
-    for (const auto &q : framePositions(c, frames, f))
-      frameRadius[f] = std::max(frameRadius[f], glm::length(q - centre));
+  // A frame's box corner farthest from the centre bounds its vertices' distance: frames are
+  // skinned from the farthest-reaching box down, and only while one can still raise the radius
+  // (the same radius as skinning every frame).
+  std::vector<std::pair<double, size_t>> reach;
+  for (size_t f = 0; f < frames.count(); ++f) {
+    const glm::dvec3 far =
+        glm::max(glm::abs(bounds.low[f] - centre), glm::abs(bounds.high[f] - centre));
+    reach.push_back({glm::length(far), f});
+  }
+  std::sort(reach.begin(), reach.end(), std::greater<>());
+  std::atomic<double> radius{0.0};
+  parallelFor(reach.size(), threads, [&](size_t i) {
+    if (reach[i].first < radius.load())
+      return;
+    double most = 0;
+    for (const auto &q : framePositions(c, frames, reach[i].second))
+      most = std::max(most, glm::length(q - centre));
+    for (double was = radius.load(); most > was && !radius.compare_exchange_weak(was, most);) {
+    }
   });
-  double radius = 0;
-  for (double r : frameRadius)
-    radius = std::max(radius, r);
   double slack = 0; // the worst error of what the pack stores
   if (result.storesTexture())
     for (const auto &a : result.accuracy[result.baked].clips)
@@ -442,8 +473,8 @@ std::array<float, 4> boundingSphere(const Character &c, const ExactFrames &frame
   if (result.storesTracks())
     for (const auto &t : result.tracks)
       slack = std::max(slack, t.maxAnyTimeMm() / result.mmPerUnit);
-  radius = (radius + slack) * (1 + 1e-6) + 1e-6 * result.diagonal;
-  return {float(centre.x), float(centre.y), float(centre.z), float(radius)};
+  const double r = (radius.load() + slack) * (1 + 1e-6) + 1e-6 * result.diagonal;
+  return {float(centre.x), float(centre.y), float(centre.z), float(r)};
 }
 
 ClipTable layOutClips(const Character &c, const std::vector<const AnimationClip *> &sourceClips,

@@ -4,7 +4,6 @@
 #include <atomic>
 #include <cmath>
 #include <map>
-#include <optional>
 
 #include "crowd/bake/anim_frames.h"
 #include "crowd/bake/evaluate.h"
@@ -42,6 +41,10 @@ constexpr uint32_t kRaiseLookahead = 3;
 constexpr uint32_t kFloorBits = 16;
 // Rounds of tightening the joints' tolerance where the vertex measure misses the budget.
 constexpr int kTighteningRounds = 8;
+// Node or corner transforms a loop needs before it is shared between threads. A raise of
+// RecursiveSkeletons' 1,000 nodes at 3 samples took 3.5x longer on two threads than on one;
+// from 1,000 to 64,000 the bakes of the shared models took the same time within 10%.
+constexpr size_t kSharedWork = 8000;
 // Key times within this share of a step of a uniform grid are stored as the grid.
 constexpr double kUniformSlack = 1e-5;
 
@@ -611,6 +614,10 @@ private:
     return trsMatrix(r, tr, sc);
   }
 
+  // Threads for a loop of `work` node or corner transforms: a loop of fewer than kSharedWork
+  // runs on one thread, where waking helpers costs more than they share.
+  int threadsFor(size_t work) const { return work >= kSharedWork ? threads_ : 1; }
+
   void updateLocal(size_t k) {
     for (size_t s = 0; s < times_.size(); ++s)
       local_[s][k] = decodedLocal(k, s);
@@ -631,7 +638,10 @@ private:
       if (below[rig_.skeleton.jointNodes[j]])
         joints.push_back(j);
     std::vector<double> errors(times_.size() * joints.size()); // per sample, per joint
-    parallelFor(times_.size(), threads_, [&](size_t s) {
+    size_t changed = joints.size();
+    for (size_t k = from; k < nodes_; ++k)
+      changed += below[k];
+    parallelFor(times_.size(), threadsFor(times_.size() * changed), [&](size_t s) {
       for (size_t k = from; k < nodes_; ++k)
         if (below[k])
           global_[s][k] =
@@ -666,8 +676,10 @@ private:
   // How far joint j's box errs over `limit`, summed over the samples, with chain track t (of
   // chain node chain[at]) at `bits` and the rest as they are. A sum, not the largest: where two
   // tracks each make the worst error at a sample of their own, raising either lowers the sum.
+  // Every term is >= 0: once `enough` says the sum so far is too large, it is returned unfinished.
+  template <class Enough>
   double excessWith(size_t j, const std::vector<size_t> &chain, size_t at, size_t t, uint32_t bits,
-                    double limit, const ChainSamples &shared) const {
+                    double limit, const ChainSamples &shared, const Enough &enough) const {
     const Values values = valuesAt(t, bits);
     double excess = 0;
     const size_t k = chain[at];
@@ -683,6 +695,8 @@ private:
         worst =
             std::max(worst, glm::length(glm::dvec3(g * below[s][i]) - shared.exactCorners[s][i]));
       excess += std::max(0.0, worst - limit);
+      if (enough(excess))
+        return excess;
     }
     return excess;
   }
@@ -747,21 +761,37 @@ private:
         for (size_t i = 0; i < shells_[j].size(); ++i)
           corners[s][i] = below[s] * glm::dvec4(shells_[j][i], 1.0);
     }
-    // Each candidate measured on its own: the same figures in any order.
-    parallelFor(tried.size(), threads_, [&](size_t i) {
-      Candidate &c = tried[i];
-      c.excess = excessWith(j, chain, c.at, c.t, c.bits, limit, shared);
-    });
     std::reverse(tried.begin(), tried.end()); // root-down, each track's bits ascending
+    // The excess as it stands, measured on the first track's path.
+    double now = -1;
+    for (Candidate &c : tried)
+      if (c.bits == tracks_[c.t].bits)
+        now = c.excess =
+            excessWith(j, chain, c.at, c.t, c.bits, limit, shared, [](double) { return false; });
+    // Each raise measured on its own, and left unfinished (as infinite) once its gain cannot
+    // reach the best gain found so far: the best, and the first of equals, are the same in any
+    // order of measuring.
+    std::atomic<double> found{0.0}; // the best gain so far, at least 0
+    parallelFor(tried.size(), threadsFor(tried.size() * n * shells_[j].size()), [&](size_t i) {
+      Candidate &c = tried[i];
+      const double more = double(c.bits - tracks_[c.t].bits);
+      if (more == 0)
+        return;
+      bool unfinished = false;
+      const double e = excessWith(j, chain, c.at, c.t, c.bits, limit, shared, [&](double partial) {
+        return unfinished = (now - partial) / more < found.load(std::memory_order_relaxed);
+      });
+      c.excess = unfinished ? INFINITY : e;
+      const double gain = (now - c.excess) / more;
+      for (double was = found.load(); gain > was && !found.compare_exchange_weak(was, gain);) {
+      }
+    });
     size_t best = SIZE_MAX;
     uint32_t bestBits = 0;
     double bestGain = 0;
-    double now = -1; // the excess as it stands, measured on the first track's path
     for (const Candidate &c : tried) {
-      if (c.bits == tracks_[c.t].bits) {
-        now = c.excess;
+      if (c.bits == tracks_[c.t].bits)
         continue;
-      }
       const double gain = (now - c.excess) / double(c.bits - tracks_[c.t].bits);
       if (gain > bestGain)
         best = c.t, bestBits = c.bits, bestGain = gain;
@@ -848,23 +878,19 @@ double TrackClipFigures::maxAnyTimeMm() const {
 
 VertexErrors trackErrors(const Character &c, const TrackRig &rig, const pack::TrackClip &tracks,
                          const AnimationClip &clip, const std::vector<double> &seconds, int threads,
-                         const PlayedMorphs &played, bool withMean) {
+                         const PlayedMorphs &played, const SkinErrorBound *cull) {
   const SkinnedMesh &m = c.mesh;
+  const bool withMean = !cull;
   std::vector<float> inverseBind(c.jointCount() * 16);
   for (size_t j = 0; j < c.jointCount(); ++j)
     for (int k = 0; k < 16; ++k)
       inverseBind[j * 16 + size_t(k)] = float(c.inverseBind[j][k / 4][k % 4]);
   // Squared distances until the end: the root of the largest is the largest root, to the bit.
-  std::optional<pack::SkinTexture> skin;
-  std::optional<SkinErrorBound> bound;
-  if (!withMean) {
-    skin = buildSkinTexture(m, limits::kTextureSide);
-    bound.emplace(m, *skin, c.jointCount());
-  }
   // The largest found so far at any time of the set: where it rises first does not change it.
   std::atomic<double> found{0.0};
   const uint32_t vertices = uint32_t(m.vertexCount());
   std::vector<double> largest(seconds.size(), 0.0), sum(seconds.size(), 0.0);
+  const bool morphed = played.morphs || !m.morphs.empty();
   parallelFor(seconds.size(), threads, [&](size_t i) {
     const double t = clip.start + seconds[i];
     const auto palette = runtime::skinningPalette(
@@ -875,20 +901,19 @@ VertexErrors trackErrors(const Character &c, const TrackRig &rig, const pack::Tr
     const runtime::ClipTime at =
         played.morphs ? runtime::clipTimeAt(*played.clip, float(seconds[i])) : runtime::ClipTime{};
     SkinErrorBound::Terms terms;
-    if (bound) {
+    if (cull) {
       std::vector<runtime::JointRows> rows;
       for (const glm::mat4 &j : palette)
         rows.push_back(runtime::toRows(j));
-      terms = bound->terms(rows, exact);
+      terms = cull->terms(rows, exact);
     }
     double most = withMean ? 0.0 : found.load(), total = 0; // locals: slots share cache lines
     for (uint32_t v = 0; v < vertices; ++v) {
-      if (bound && bound->blocks() && v % SkinErrorBound::kBlock == 0 &&
-          bound->block(v / SkinErrorBound::kBlock, terms) <= most) {
+      if (cull && cull->blocks() && v % SkinErrorBound::kBlock == 0 &&
+          cull->block(v / SkinErrorBound::kBlock, terms) <= most) {
         v += SkinErrorBound::kBlock - 1;
         continue;
       }
-      const bool morphed = played.morphs || !m.morphs.empty();
       const glm::dvec3 exactBind =
           m.morphs.empty() ? glm::dvec3(m.positions[v]) : morphedPosition(m, weights, v);
       const glm::dvec3 bindD =
@@ -896,9 +921,8 @@ VertexErrors trackErrors(const Character &c, const TrackRig &rig, const pack::Tr
                                                           {m.positions[v], m.normals[v]})
                                          .position)
                         : exactBind;
-      if (bound &&
-          (morphed ? bound->morphedVertex(v, terms, glm::dvec3(glm::vec3(bindD)), exactBind)
-                   : bound->vertex(v, terms)) <= most)
+      if (cull && (morphed ? cull->morphedVertex(v, terms, glm::dvec3(glm::vec3(bindD)), exactBind)
+                           : cull->vertex(v, terms)) <= most)
         continue; // cannot raise the largest (a NaN bound can)
       const glm::vec4 bind(glm::vec3(bindD), 1.0f);
       glm::vec3 skinned(0.0f);
@@ -929,11 +953,19 @@ VertexErrors trackErrors(const Character &c, const TrackRig &rig, const pack::Tr
 
 namespace {
 
+// The times the mean is reported over: seeded by the clip's index, so a rebake measures the same.
+std::vector<double> randomTimes(const AnimationClip &clip, size_t clipIndex) {
+  const double duration = clip.end - clip.start;
+  return duration > 0 ? seededTimes(clipIndex, duration) : std::vector<double>{};
+}
+
 // One compression of a clip with samples dropped within `dropShare` (0: none); `uniformBefore`
-// tells whether its time table was one step before any were dropped.
+// tells whether its time table was one step before any were dropped. Its figures hold the
+// largest errors; the mean is left to the clip that is kept (reportMean).
 CompressedClip compressWith(const Character &c, const TrackRig &rig, const AnimationClip &clip,
                             size_t clipIndex, const TrackCompressionOptions &options,
-                            const PlayedMorphs &played, double dropShare, bool &uniformBefore) {
+                            const PlayedMorphs &played, const SkinErrorBound &bound,
+                            double dropShare, bool &uniformBefore) {
   const double budget = options.errorBudgetMm / options.mmPerUnit; // model units
   ClipCompressor compressor(c, rig, clip, budget, options.threads);
   compressor.refineCurves();
@@ -956,9 +988,7 @@ CompressedClip compressWith(const Character &c, const TrackRig &rig, const Anima
   for (size_t i = 0; i + 1 < times.size(); ++i)
     if (times[i + 1] > times[i])
       mids.push_back(0.5 * (times[i] + times[i + 1]));
-  const double duration = clip.end - clip.start;
-  const std::vector<double> random =
-      duration > 0 ? seededTimes(clipIndex, duration) : std::vector<double>{};
+  const std::vector<double> random = randomTimes(clip, clipIndex);
 
   CompressedClip out;
   TrackClipFigures &f = out.figures;
@@ -966,18 +996,16 @@ CompressedClip compressWith(const Character &c, const TrackRig &rig, const Anima
   for (int round = 0; round < kTighteningRounds; ++round) {
     compressor.allotBits(share);
     out.clip = compressor.build();
-    // Only the random times' mean is reported: the others skin only the vertices that may
-    // raise their largest.
-    const VertexErrors atSamples = trackErrors(c, rig, out.clip, clip, compressor.sampleTimes(),
-                                               options.threads, played, false);
-    const VertexErrors atMids =
-        trackErrors(c, rig, out.clip, clip, mids, options.threads, played, false);
-    const VertexErrors atRandom =
-        trackErrors(c, rig, out.clip, clip, random, options.threads, played);
-    f.maxAtSamplesMm = atSamples.max * options.mmPerUnit;
-    f.maxAtMidsMm = atMids.max * options.mmPerUnit;
-    f.maxAtRandomMm = atRandom.max * options.mmPerUnit;
-    f.meanAtRandomMm = atRandom.mean * options.mmPerUnit;
+    // Each set skins only the vertices that may raise its largest.
+    f.maxAtSamplesMm = trackErrors(c, rig, out.clip, clip, compressor.sampleTimes(),
+                                   options.threads, played, &bound)
+                           .max *
+                       options.mmPerUnit;
+    f.maxAtMidsMm = trackErrors(c, rig, out.clip, clip, mids, options.threads, played, &bound).max *
+                    options.mmPerUnit;
+    f.maxAtRandomMm =
+        trackErrors(c, rig, out.clip, clip, random, options.threads, played, &bound).max *
+        options.mmPerUnit;
     f.met = f.maxAnyTimeMm() <= options.errorBudgetMm;
     if (f.met)
       break;
@@ -1007,22 +1035,32 @@ CompressedClip compressClip(const Character &c, const TrackRig &rig, const Anima
                             size_t clipIndex, const TrackCompressionOptions &options,
                             const PlayedMorphs &played) {
   options.validate();
+  const pack::SkinTexture skin = buildSkinTexture(c.mesh, limits::kTextureSide);
+  const SkinErrorBound bound(c.mesh, skin, c.jointCount());
+  // The mean at the random times skins every vertex: measured once, on the clip kept.
+  const auto reportMean = [&](CompressedClip cc) {
+    cc.figures.meanAtRandomMm =
+        trackErrors(c, rig, cc.clip, clip, randomTimes(clip, clipIndex), options.threads, played)
+            .mean *
+        options.mmPerUnit;
+    return cc;
+  };
   bool uniform = false;
   CompressedClip dropped =
-      compressWith(c, rig, clip, clipIndex, options, played, kDropShare, uniform);
+      compressWith(c, rig, clip, clipIndex, options, played, bound, kDropShare, uniform);
   const TrackClipFigures &f = dropped.figures;
   if (f.samples == f.sampledKeys)
-    return dropped; // nothing was dropped
+    return reportMean(std::move(dropped)); // nothing was dropped
   // Every sample kept, where that can take fewer bytes: the drops missed the budget, or a
   // one-step time table became a list that costs more than the samples dropped save (at the
   // same bits).
   const double timeTable = pack::uniformTimes(dropped.clip.times) ? 0.0 : 4.0 * f.samples;
   const double saved = double(f.sampledKeys - f.samples) * f.animatedTracks * 3 * f.meanBits / 8;
   if (f.met && !(uniform && saved < timeTable))
-    return dropped;
-  CompressedClip kept = compressWith(c, rig, clip, clipIndex, options, played, 0.0, uniform);
+    return reportMean(std::move(dropped));
+  CompressedClip kept = compressWith(c, rig, clip, clipIndex, options, played, bound, 0.0, uniform);
   const bool keptWins = kept.figures.met != f.met ? kept.figures.met : kept.figures.bytes < f.bytes;
-  return keptWins ? kept : dropped;
+  return reportMean(keptWins ? std::move(kept) : std::move(dropped));
 }
 
 } // namespace crowd

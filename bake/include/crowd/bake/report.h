@@ -19,7 +19,8 @@ public:
   bool quiet = false;
 
   // Progress for a person watching: a line as each step of a long bake starts ("error budget:
-  // clip 3 of 90 (Run)"), from the thread that runs the bake; nothing where no one listens.
+  // clip 3 of 90 (Run)"), in order and one at a time (steps of clips baked side by side come
+  // from the thread that takes the clip); nothing where no one listens.
   using Listener = std::function<void(const std::string &)>;
   Listener onStep;
   void step(const std::string &line) const {

@@ -68,14 +68,15 @@ CompressedClip compressClip(const Character &c, const TrackRig &rig, const Anima
 
 // The largest and mean vertex errors (model units) of `tracks` against exact evaluation of
 // `clip`, at each of `seconds` (since the clip's start): the runtime decoder's palette skins
-// every vertex in single precision, over the morph weights `played` gives. Without `withMean`
-// only the vertices whose SkinErrorBound exceeds the largest error found so far are skinned (the
-// same largest, to the bit) and the mean is 0.
+// every vertex in single precision, over the morph weights `played` gives. With a `cull` bound
+// (of c's mesh) only the vertices whose bound exceeds the largest error found so far are skinned
+// (the same largest, to the bit) and the mean is 0.
 struct VertexErrors {
   double max = 0, mean = 0;
 };
+class SkinErrorBound;
 VertexErrors trackErrors(const Character &c, const TrackRig &rig, const pack::TrackClip &tracks,
                          const AnimationClip &clip, const std::vector<double> &seconds, int threads,
-                         const PlayedMorphs &played = {}, bool withMean = true);
+                         const PlayedMorphs &played = {}, const SkinErrorBound *cull = nullptr);
 
 } // namespace crowd
