@@ -1,6 +1,8 @@
 // What the animation bake stores (AnimBakeOptions::store): joint tracks alone make a pack
 // without an animation texture that reads back, poses and reports as the texture's does; "auto"
 // keeps the fewer bytes within the budget and says why.
+#include <cmath>
+#include <cstdio>
 #include <tuple>
 
 #include <gtest/gtest.h>
@@ -8,6 +10,7 @@
 #include "crowd/bake/anim_bake.h"
 #include "crowd/bake/anim_report.h"
 #include "crowd/bake/import.h"
+#include "crowd/bake/manifest.h"
 #include "crowd/formats/container.h"
 #include "crowd/formats/error.h"
 #include "crowd/runtime/pack_joints.h"
@@ -303,6 +306,48 @@ TEST(AnimStore, TheChoiceTakesTheFewerBytesOnlyWithinTheBudget) {
   EXPECT_EQ(neither.reason.rfind("neither meets the budget, tracks errs less", 0), 0u)
       << neither.reason;
   EXPECT_EQ(chooseStore(1.0, {1.0, 1000}, {1.0, 400}).stored, "tracks"); // at the budget: met
+}
+
+// One check of the error budget: the CLI's options, the tracks' options and a manifest refuse
+// the same budgets with the same words.
+TEST(AnimOptions, TheBudgetIsCheckedInOnePlace) {
+  const std::string manifest = std::string(CROWD_SOURCE_DIR) + "/tests/data/blender/t.json";
+  for (double mm : {0.0, -1.0, 2e6, double(NAN), double(INFINITY)}) {
+    const std::string problem = errorBudgetProblem(mm);
+    ASSERT_FALSE(problem.empty()) << mm;
+    AnimBakeOptions anim;
+    anim.errorBudgetMm = mm;
+    try {
+      anim.validate();
+      ADD_FAILURE() << mm;
+    } catch (const Error &e) {
+      EXPECT_EQ(std::string(e.what()), "error-budget: " + problem);
+    }
+    TrackCompressionOptions tracks;
+    tracks.errorBudgetMm = mm;
+    try {
+      tracks.validate();
+      ADD_FAILURE() << mm;
+    } catch (const Error &e) {
+      EXPECT_EQ(std::string(e.what()), "errorBudgetMm: " + problem);
+    }
+    if (!std::isfinite(mm))
+      continue; // JSON has no such number
+    char text[64];
+    std::snprintf(text, sizeof text, "%.17g", mm);
+    const std::string json =
+        std::string(R"({"name": "t", "body": "trooper_cm.glb", "anim": {"error_budget_mm": )") +
+        text + "}}";
+    try {
+      parseManifest(json, manifest);
+      ADD_FAILURE() << mm;
+    } catch (const Error &e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("/anim/error_budget_mm: " + problem), std::string::npos) << what;
+    }
+  }
+  for (double mm : {1e-6, 1.0, 1e6})
+    EXPECT_EQ(errorBudgetProblem(mm), "") << mm;
 }
 
 } // namespace

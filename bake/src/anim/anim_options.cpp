@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "crowd/bake/anim_frames.h"
@@ -22,6 +23,14 @@ const std::vector<Precision> &precisions() {
   return all;
 }
 
+std::string errorBudgetProblem(double mm) {
+  if (mm > 0 && mm <= kMaxErrorBudgetMm) // false for NaN
+    return "";
+  char text[96];
+  std::snprintf(text, sizeof text, "%g is outside (0, %.0f] millimetres", mm, kMaxErrorBudgetMm);
+  return text;
+}
+
 const Precision &precisionByName(const std::string &name) {
   for (const auto &p : precisions())
     if (p.name == name)
@@ -36,8 +45,8 @@ void AnimBakeOptions::validate() const {
     throw Error("max-width: must be in [2, " + std::to_string(limits::kTextureSide) + "]");
   if (threads < 0 || threads > 1024)
     throw Error("threads: must be in [0, 1024]");
-  if (!(errorBudgetMm > 0 && errorBudgetMm <= 1e6))
-    throw Error("error-budget: must be in (0, 1e6] millimetres");
+  if (const std::string problem = errorBudgetProblem(errorBudgetMm); !problem.empty())
+    throw Error("error-budget: " + problem);
   if (precision != "auto")
     try {
       precisionByName(precision);
@@ -77,8 +86,8 @@ const std::vector<std::string> &AnimBakeOptions::stores() {
 }
 
 void TrackCompressionOptions::validate() const {
-  if (!(errorBudgetMm > 0) || !std::isfinite(errorBudgetMm))
-    throw Error("errorBudgetMm: " + std::to_string(errorBudgetMm) + " is not a positive number");
+  if (const std::string problem = errorBudgetProblem(errorBudgetMm); !problem.empty())
+    throw Error("errorBudgetMm: " + problem);
   if (!(mmPerUnit > 0) || !std::isfinite(mmPerUnit))
     throw Error("mmPerUnit: " + std::to_string(mmPerUnit) + " is not a positive number");
   if (threads < 0)

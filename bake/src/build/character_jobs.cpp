@@ -101,7 +101,7 @@ Part meshJob(const Job &job, const std::vector<const Part *> &cloths, const JobC
       outfits.push_back({name, importFile(m, file, run.reporter), {}});
     addLoops(outfits, cloths);
     OutfitOptions oo = m.outfitOptions;
-    oo.anim = m.anim;
+    oo.setAnimation(m.anim);
     oo.anim.threads = oo.visibility.threads = run.threads;
     if (m.lod)
       oo.lod = m.lodOptions;

@@ -88,8 +88,12 @@ void parseAnim(const JsonChecker &c, const json &a, const Keys &k, AnimBakeOptio
   if (a.contains("fps"))
     anim.fps = a["fps"].is_string() ? fpsOf(c, c.string(a["fps"], below(k, "fps")), below(k, "fps"))
                                     : c.number(a["fps"], below(k, "fps"), 1e-3, 1000);
-  if (a.contains("error_budget_mm"))
-    anim.errorBudgetMm = c.number(a["error_budget_mm"], below(k, "error_budget_mm"), 1e-6, 1e6);
+  if (a.contains("error_budget_mm")) {
+    const Keys at = below(k, "error_budget_mm");
+    anim.errorBudgetMm = c.number(a["error_budget_mm"], at, -HUGE_VAL, HUGE_VAL);
+    if (const std::string problem = errorBudgetProblem(anim.errorBudgetMm); !problem.empty())
+      c.fail(at, problem);
+  }
   if (a.contains("max_width"))
     anim.maxWidth = whole(c, a["max_width"], below(k, "max_width"), 2, limits::kTextureSide);
   if (a.contains("precision"))
@@ -288,10 +292,7 @@ CharacterManifest parse(const JsonChecker &c, const json &j, const Keys &at,
     parseLod(c, j["lod"], key("lod"), m);
   if (j.contains("visibility"))
     parseVisibility(c, j["visibility"], key("visibility"), m);
-  auto &vis = m.outfitOptions.visibility;
-  // The outfit bake's animation texture is the character's.
-  m.outfitOptions.anim = m.anim;
-  vis.fps = m.anim.fps > 0 ? m.anim.fps : vis.fps;
+  m.outfitOptions.setAnimation(m.anim); // the outfit bake's animation is the character's
   validate(c, m.outfitOptions, key("visibility"));
   if (j.contains("impostor"))
     parseImpostor(c, j["impostor"], key("impostor"), m);

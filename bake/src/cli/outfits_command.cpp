@@ -65,14 +65,15 @@ int cmdOutfits(int argc, char **argv) {
                  "fails the bake, naming the body parts, the frame and the view. Sampled: a hole "
                  "between checked frames or texel centres goes unseen")
       ->capture_default_str();
-  addAnimOptions(app, opt.anim);
+  AnimBakeOptions anim;
+  addAnimOptions(app, anim);
   addThreads(app, vis.threads);
   if (!parseArgs(app, argc, argv))
     return 0;
   b.files.finish();
   vis.ground = !noGround;
-  vis.fps = opt.anim.fps > 0 ? opt.anim.fps : vis.fps;
-  opt.anim.threads = vis.threads;
+  anim.threads = vis.threads;
+  opt.setAnimation(anim);
   validated(opt);
   CharacterManifest m = b.manifest();
   for (const auto &arg : outfitArgs) {
@@ -82,7 +83,7 @@ int cmdOutfits(int argc, char **argv) {
         throw UsageError("two outfits are named '" + name + "' (use --outfit NAME=FILE)");
     m.outfits.emplace_back(name, file);
   }
-  m.anim = opt.anim;
+  m.anim = anim;
   m.outfitOptions = opt;
   m.lod = false;
   b.runJob(m, "outfits", "mesh", vis.threads);

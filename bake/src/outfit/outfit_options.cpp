@@ -5,6 +5,12 @@
 
 namespace crowd {
 
+void OutfitOptions::setAnimation(const AnimBakeOptions &a) {
+  anim = a;
+  if (a.fps > 0)
+    visibility.fps = a.fps;
+}
+
 void OutfitOptions::validate() const {
   const auto &v = visibility;
   if (regions != "material" && regions != "joint")

@@ -20,6 +20,12 @@ namespace crowd {
 inline constexpr std::array<double, 12> kRateLadder = {10, 15, 20, 24,  30,  40,
                                                        48, 60, 90, 120, 180, 240};
 
+// The error budgets a bake takes, millimetres at a 1.8 m character: above 0, at most this.
+inline constexpr double kMaxErrorBudgetMm = 1e6;
+// Empty where `mm` is such a budget, else what is wrong ("must be in (0, 1e6] millimetres"):
+// the one check of the CLI's --error-budget, a manifest's error_budget_mm and the bakes' options.
+std::string errorBudgetProblem(double mm);
+
 // One rate and precision tried for a clip.
 struct BudgetOption {
   double fps = 0; // as adjusted to land on the clip's end

@@ -99,6 +99,9 @@ struct OutfitOptions {
   // differing pixel fails the bake, naming the outfit and the body parts seen through.
   uint32_t check = 0;
   void validate() const; // throws crowd::Error naming the first field out of range
+  // The character's animation options, the one way an outfit bake takes them: the pack's
+  // animation, and the visibility's frame rate where the animation's is a number.
+  void setAnimation(const AnimBakeOptions &a);
 };
 
 struct SubMeshCoverage {
