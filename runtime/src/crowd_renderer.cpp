@@ -72,14 +72,60 @@ unsigned buildComputeProgram(const char *compute, const char *name) {
 
 constexpr size_t kInstanceFloats = 20;
 
+namespace {
+
+// A character's GL buffers, by what they hold and where the shaders read them (crowd.vert's
+// storage bindings and vertex attributes; impostor.vert's).
+struct CharacterBuffers {
+  unsigned positions = 0, normals = 0, uvs = 0; // attributes 0, 1, 2
+  unsigned lodIndices = 0;   // every LOD level's copy of the indices: the element buffer
+  unsigned clips = 0;        // the clip table (clipTable): binding 0
+  unsigned instances = 0;    // kInstanceFloats per instance: binding 1
+  unsigned colours = 0;      // per palette, per sub-mesh (paletteColours): binding 2
+  unsigned morphSlots = 0;   // binding 3
+  unsigned morphOffsets = 0; // binding 4
+  unsigned clothVertices = 0, clothLoops = 0, clothPositions = 0; // bindings 5, 6, 7
+  unsigned jointTexels = 0; // the animation texture's texels as words: binding 8
+  unsigned geometryIds = 0; // per queued instance, sorted by level: attribute 3, per instance
+  unsigned commands = 0;    // glMultiDrawElementsIndirect's, 5 words each
+  // Impostors (impostor.vert): the ids drawn (binding 3), views (4), region ids (5), spans (7).
+  unsigned impostorIds = 0, impostorViews = 0, impostorRegions = 0, impostorSpans = 0;
+  static constexpr unsigned CharacterBuffers::*kAll[] = {
+      &CharacterBuffers::positions,     &CharacterBuffers::normals,
+      &CharacterBuffers::uvs,           &CharacterBuffers::lodIndices,
+      &CharacterBuffers::clips,         &CharacterBuffers::instances,
+      &CharacterBuffers::colours,       &CharacterBuffers::morphSlots,
+      &CharacterBuffers::morphOffsets,  &CharacterBuffers::clothVertices,
+      &CharacterBuffers::clothLoops,    &CharacterBuffers::clothPositions,
+      &CharacterBuffers::jointTexels,   &CharacterBuffers::geometryIds,
+      &CharacterBuffers::commands,      &CharacterBuffers::impostorIds,
+      &CharacterBuffers::impostorViews, &CharacterBuffers::impostorRegions,
+      &CharacterBuffers::impostorSpans};
+};
+
+// Its textures: animation (units 0), skin weights (1), diffuse (2); the impostor's normal and
+// UV pools (units 0 and 1 of the impostor pass).
+struct CharacterTextures {
+  unsigned animation = 0, skin = 0, diffuse = 0, impostorNormals = 0, impostorUvs = 0;
+  static constexpr unsigned CharacterTextures::*kAll[] = {
+      &CharacterTextures::animation, &CharacterTextures::skin, &CharacterTextures::diffuse,
+      &CharacterTextures::impostorNormals, &CharacterTextures::impostorUvs};
+};
+
+unsigned newTexture(GLenum target) {
+  unsigned t = 0;
+  glCreateTextures(target, 1, &t);
+  return t;
+}
+
+} // namespace
+
 struct CrowdRenderer::Character {
   const pack::AnimationPack *pack = nullptr;
   const pack::Impostor *impostor = nullptr;
-  // Mesh, normals, indices of every LOD level, clips, instances, palettes, UVs, geometry ids
-  // (sorted by level), impostor ids, views, draw commands, morph slots and offsets, cloth
-  // vertices, loops and positions, impostor spans and region ids. Textures: animation, skin
-  // weights, diffuse, impostor normal and UV pools.
-  unsigned vao = 0, buffers[19] = {}, textures[5] = {};
+  unsigned vao = 0;
+  CharacterBuffers buffers;
+  CharacterTextures textures;
   ClothBuffers cloth;
   // Per instance: 3 rows, params (clip, time offset, speed, palette) and fade (clip faded from
   // or -1, its time offset, fade start, fade length): kInstanceFloats floats.
@@ -91,7 +137,8 @@ struct CrowdRenderer::Character {
   std::vector<uint8_t> outfitFits;  // per instance: the impostor shows its outfit
   ImpostorGpu impostorGpu;
   double diffuseTexelsPerUnit = 0; // of the mesh's surface (runtime::diffuseTexelsPerUnit)
-  // Per LOD level, per sub-mesh and one past the last: where its triangles start in buffers[2].
+  // Per LOD level, per sub-mesh and one past the last: where its triangles start in
+  // buffers.lodIndices.
   std::vector<uint32_t> levelStarts;
   std::vector<uint32_t> commands;        // glMultiDrawElementsIndirect's, 5 words each, by sub-mesh
   std::vector<GLsizei> perSubMesh;       // how many of them each sub-mesh has
@@ -102,8 +149,10 @@ struct CrowdRenderer::Character {
 
   ~Character() {
     glDeleteVertexArrays(1, &vao);
-    glDeleteBuffers(GLsizei(std::size(buffers)), buffers);
-    glDeleteTextures(GLsizei(std::size(textures)), textures);
+    for (auto b : CharacterBuffers::kAll)
+      glDeleteBuffers(1, &(buffers.*b));
+    for (auto t : CharacterTextures::kAll)
+      glDeleteTextures(1, &(textures.*t));
   }
 };
 
@@ -316,90 +365,97 @@ void CrowdRenderer::uploadGeometry(Character &c, const std::vector<uint32_t> &in
   const pack::AnimationPack &p = *c.pack;
   const std::vector<float> clips = clipTable(p), colours = paletteColours(p, scene);
   glCreateVertexArrays(1, &c.vao);
-  glCreateBuffers(GLsizei(std::size(c.buffers)), c.buffers);
+  for (auto b : CharacterBuffers::kAll)
+    glCreateBuffers(1, &(c.buffers.*b));
   auto upload = [](unsigned b, const auto &v) {
     glNamedBufferStorage(b, GLsizeiptr(v.size() * sizeof(v[0])), v.data(), 0);
   };
-  upload(c.buffers[0], p.mesh.positions);
-  upload(c.buffers[1], p.mesh.normals);
-  upload(c.buffers[2], indices);
-  upload(c.buffers[3], clips);
+  upload(c.buffers.positions, p.mesh.positions);
+  upload(c.buffers.normals, p.mesh.normals);
+  upload(c.buffers.lodIndices, indices);
+  upload(c.buffers.clips, clips);
   if (c.instanceData.empty())
     c.instanceData.assign(kInstanceFloats, 0.0f);
-  glNamedBufferStorage(c.buffers[4], GLsizeiptr(c.instanceData.size() * sizeof(float)),
+  glNamedBufferStorage(c.buffers.instances, GLsizeiptr(c.instanceData.size() * sizeof(float)),
                        c.instanceData.data(),
                        schedule_.dynamic() || scene.world.enabled() ? GL_DYNAMIC_STORAGE_BIT : 0);
-  upload(c.buffers[5], colours);
-  upload(c.buffers[16], p.hasTexture() ? jointTexelWords(p.animation)
-                                       : std::vector<int32_t>(2, 0)); // unread, but bound
-  upload(c.buffers[11], morphSlotWords(p.morphs ? &*p.morphs : nullptr));
-  upload(c.buffers[12], p.morphs ? p.morphs->offsets : std::vector<float>(8, 0.0f));
+  upload(c.buffers.colours, colours);
+  upload(c.buffers.jointTexels, p.hasTexture() ? jointTexelWords(p.animation)
+                                               : std::vector<int32_t>(2, 0)); // unread, but bound
+  upload(c.buffers.morphSlots, morphSlotWords(p.morphs ? &*p.morphs : nullptr));
+  upload(c.buffers.morphOffsets, p.morphs ? p.morphs->offsets : std::vector<float>(8, 0.0f));
   if (c.cloth.empty()) { // unread, but bound
-    upload(c.buffers[13], std::vector<int32_t>(2, -1));
-    upload(c.buffers[14], std::vector<GpuClothLoop>(1));
-    upload(c.buffers[15], std::vector<uint32_t>(2, 0));
+    upload(c.buffers.clothVertices, std::vector<int32_t>(2, -1));
+    upload(c.buffers.clothLoops, std::vector<GpuClothLoop>(1));
+    upload(c.buffers.clothPositions, std::vector<uint32_t>(2, 0));
   } else {
-    upload(c.buffers[13], c.cloth.vertices);
-    upload(c.buffers[14], c.cloth.loops);
-    upload(c.buffers[15], c.cloth.positions);
+    upload(c.buffers.clothVertices, c.cloth.vertices);
+    upload(c.buffers.clothLoops, c.cloth.loops);
+    upload(c.buffers.clothPositions, c.cloth.positions);
   }
   // Which instances draw as geometry, and which as impostors: rewritten every frame.
   const size_t queued =
       std::max(c.queues[0].capacity(c.instanceCount), c.queues[1].capacity(c.instanceCount));
-  glNamedBufferStorage(c.buffers[7], GLsizeiptr(std::max<size_t>(queued, 1) * 4), nullptr,
+  glNamedBufferStorage(c.buffers.geometryIds, GLsizeiptr(std::max<size_t>(queued, 1) * 4), nullptr,
                        GL_DYNAMIC_STORAGE_BIT);
-  glNamedBufferStorage(c.buffers[8], GLsizeiptr(std::max(c.instanceCount, 1u) * 4), nullptr,
-                       GL_DYNAMIC_STORAGE_BIT);
-  glNamedBufferStorage(c.buffers[10], GLsizeiptr(c.levelStarts.size() * 5 * sizeof(uint32_t)),
+  glNamedBufferStorage(c.buffers.impostorIds, GLsizeiptr(std::max(c.instanceCount, 1u) * 4),
+                       nullptr, GL_DYNAMIC_STORAGE_BIT);
+  glNamedBufferStorage(c.buffers.commands, GLsizeiptr(c.levelStarts.size() * 5 * sizeof(uint32_t)),
                        nullptr, GL_DYNAMIC_STORAGE_BIT);
   // Attribute 3: the instance's id, one per instance; a command's baseInstance picks its run.
-  glVertexArrayVertexBuffer(c.vao, 3, c.buffers[7], 0, 4);
+  glVertexArrayVertexBuffer(c.vao, 3, c.buffers.geometryIds, 0, 4);
   glVertexArrayBindingDivisor(c.vao, 3, 1);
   glEnableVertexArrayAttrib(c.vao, 3);
   glVertexArrayAttribIFormat(c.vao, 3, 1, GL_UNSIGNED_INT, 0);
   glVertexArrayAttribBinding(c.vao, 3, 3);
-  glVertexArrayVertexBuffer(c.vao, 0, c.buffers[0], 0, 12);
-  glVertexArrayVertexBuffer(c.vao, 1, c.buffers[1], 0, 12);
+  glVertexArrayVertexBuffer(c.vao, 0, c.buffers.positions, 0, 12);
+  glVertexArrayVertexBuffer(c.vao, 1, c.buffers.normals, 0, 12);
   for (unsigned a = 0; a < 2; ++a) {
     glEnableVertexArrayAttrib(c.vao, a);
     glVertexArrayAttribFormat(c.vao, a, 3, GL_FLOAT, GL_FALSE, 0);
     glVertexArrayAttribBinding(c.vao, a, a);
   }
   if (!p.mesh.uvs.empty()) { // otherwise attribute 2 reads its default (0, 0)
-    upload(c.buffers[6], p.mesh.uvs);
-    glVertexArrayVertexBuffer(c.vao, 2, c.buffers[6], 0, 8);
+    upload(c.buffers.uvs, p.mesh.uvs);
+    glVertexArrayVertexBuffer(c.vao, 2, c.buffers.uvs, 0, 8);
     glEnableVertexArrayAttrib(c.vao, 2);
     glVertexArrayAttribFormat(c.vao, 2, 2, GL_FLOAT, GL_FALSE, 0);
     glVertexArrayAttribBinding(c.vao, 2, 2);
   }
-  glVertexArrayElementBuffer(c.vao, c.buffers[2]);
+  glVertexArrayElementBuffer(c.vao, c.buffers.lodIndices);
 }
 
 // Its textures: animation (or a bound placeholder), skin weights, diffuse with mipmaps, impostor.
 void CrowdRenderer::uploadTextures(Character &c) {
   const pack::AnimationPack &p = *c.pack;
-  glCreateTextures(GL_TEXTURE_2D, 3, c.textures);
+  auto &t = c.textures;
+  t.animation = newTexture(GL_TEXTURE_2D);
+  t.skin = newTexture(GL_TEXTURE_2D);
+  t.diffuse = newTexture(GL_TEXTURE_2D);
   if (c.impostor) {
-    glCreateTextures(GL_TEXTURE_2D_ARRAY, 2, c.textures + 3);
-    const unsigned buffers[3] = {c.buffers[9], c.buffers[17], c.buffers[18]};
-    c.impostorGpu = uploadImpostor(*c.impostor, c.textures + 3, buffers);
+    t.impostorNormals = newTexture(GL_TEXTURE_2D_ARRAY);
+    t.impostorUvs = newTexture(GL_TEXTURE_2D_ARRAY);
+    const unsigned pools[2] = {t.impostorNormals, t.impostorUvs};
+    const unsigned buffers[3] = {c.buffers.impostorViews, c.buffers.impostorSpans,
+                                 c.buffers.impostorRegions};
+    c.impostorGpu = uploadImpostor(*c.impostor, pools, buffers);
   }
   if (p.hasTexture()) {
-    const auto &t = p.animation;
-    bool half = t.format == pack::TexelFormat::RGBA16F;
-    glTextureStorage2D(c.textures[0], 1, half ? GL_RGBA16F : GL_RGBA32F, GLsizei(t.width),
-                       GLsizei(t.height));
-    glTextureSubImage2D(c.textures[0], 0, 0, 0, GLsizei(t.width), GLsizei(t.height), GL_RGBA,
-                        half ? GL_HALF_FLOAT : GL_FLOAT, t.texels.data());
+    const auto &a = p.animation;
+    bool half = a.format == pack::TexelFormat::RGBA16F;
+    glTextureStorage2D(t.animation, 1, half ? GL_RGBA16F : GL_RGBA32F, GLsizei(a.width),
+                       GLsizei(a.height));
+    glTextureSubImage2D(t.animation, 0, 0, 0, GLsizei(a.width), GLsizei(a.height), GL_RGBA,
+                        half ? GL_HALF_FLOAT : GL_FLOAT, a.texels.data());
   } else { // joint tracks alone: unread (the palettes skin), but bound
     const float zero[4] = {0, 0, 0, 0};
-    glTextureStorage2D(c.textures[0], 1, GL_RGBA32F, 1, 1);
-    glTextureSubImage2D(c.textures[0], 0, 0, 0, 1, 1, GL_RGBA, GL_FLOAT, zero);
+    glTextureStorage2D(c.textures.animation, 1, GL_RGBA32F, 1, 1);
+    glTextureSubImage2D(c.textures.animation, 0, 0, 0, 1, 1, GL_RGBA, GL_FLOAT, zero);
   }
-  glTextureStorage2D(c.textures[1], 1, GL_RGBA32F, GLsizei(p.skin.width), GLsizei(p.skin.height));
-  glTextureSubImage2D(c.textures[1], 0, 0, 0, GLsizei(p.skin.width), GLsizei(p.skin.height),
+  glTextureStorage2D(c.textures.skin, 1, GL_RGBA32F, GLsizei(p.skin.width), GLsizei(p.skin.height));
+  glTextureSubImage2D(c.textures.skin, 0, 0, 0, GLsizei(p.skin.width), GLsizei(p.skin.height),
                       GL_RGBA, GL_FLOAT, p.skin.texels.data());
-  for (unsigned tex : {c.textures[0], c.textures[1]}) {
+  for (unsigned tex : {c.textures.animation, c.textures.skin}) {
     glTextureParameteri(tex, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTextureParameteri(tex, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
   }
@@ -409,12 +465,12 @@ void CrowdRenderer::uploadTextures(Character &c) {
     int levels = 1;
     while ((std::max(d.width, d.height) >> levels) > 0)
       ++levels;
-    glTextureStorage2D(c.textures[2], levels, GL_RGBA8, GLsizei(d.width), GLsizei(d.height));
-    glTextureSubImage2D(c.textures[2], 0, 0, 0, GLsizei(d.width), GLsizei(d.height), GL_RGBA,
+    glTextureStorage2D(c.textures.diffuse, levels, GL_RGBA8, GLsizei(d.width), GLsizei(d.height));
+    glTextureSubImage2D(c.textures.diffuse, 0, 0, 0, GLsizei(d.width), GLsizei(d.height), GL_RGBA,
                         GL_UNSIGNED_BYTE, d.rgba.data());
-    glGenerateTextureMipmap(c.textures[2]);
-    glTextureParameteri(c.textures[2], GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
-    glTextureParameteri(c.textures[2], GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glGenerateTextureMipmap(c.textures.diffuse);
+    glTextureParameteri(c.textures.diffuse, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glTextureParameteri(c.textures.diffuse, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
   }
 }
 
@@ -494,34 +550,32 @@ void CrowdRenderer::moveInstances(Character &c, size_t ci, double seconds) {
   }
 }
 
-void CrowdRenderer::drawCharacter(const Character &c, const CrowdSelection::Character &chosen,
-                                  const RenderQueues &queues, const FrameView &view, float seconds,
-                                  bool naive, bool shadow, DrawStats &stats) {
+// The geometry pass's state for character c: its uniforms, vertex array, textures and
+// storage buffers (crowd.vert's bindings), and its palettes where it skins from them.
+void CrowdRenderer::bindGeometry(const Character &c) {
   auto loc = [&](const char *name) { return glGetUniformLocation(program_, name); };
-  const int subMeshLoc = loc("u_subMesh"), rowsLoc = loc("u_rows"), paramsLoc = loc("u_params");
-  static_assert(kInstanceFloats == 20); // u_params[2]: an instance's params and fade
   const auto &p = *c.pack;
-  const size_t subMeshes = p.mesh.subMeshes.size(), levels = chosen.runEnds.size();
+  const size_t subMeshes = p.mesh.subMeshes.size();
   glUseProgram(program_);
   glUniform1i(loc("u_frameTexels"), int(p.animation.frameTexels()));
   glUniform1i(loc("u_framesPerRow"), int(p.animation.framesPerRow));
   glUniform1i(loc("u_skinWidth"), int(p.skin.width));
   glUniform1i(loc("u_subMeshCount"), int(subMeshes));
   glBindVertexArray(c.vao);
-  glBindTextureUnit(0, c.textures[0]);
-  glBindTextureUnit(1, c.textures[1]);
-  glBindTextureUnit(2, c.textures[2]);
+  glBindTextureUnit(0, c.textures.animation);
+  glBindTextureUnit(1, c.textures.skin);
+  glBindTextureUnit(2, c.textures.diffuse);
   glUniform1i(loc("u_hasTexture"), p.diffuse ? 1 : 0);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, c.buffers[3]);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, c.buffers[4]);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, c.buffers[5]);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, c.buffers[11]);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, c.buffers[12]);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, c.buffers.clips);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, c.buffers.instances);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, c.buffers.colours);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, c.buffers.morphSlots);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, c.buffers.morphOffsets);
   glUniform1i(loc("u_morphs"), p.morphs ? 1 : 0);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, c.buffers[13]);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, c.buffers[14]);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, c.buffers[15]);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, c.buffers[16]);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, c.buffers.clothVertices);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, c.buffers.clothLoops);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, c.buffers.clothPositions);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, c.buffers.jointTexels);
   glUniform1i(loc("u_cloth"), c.cloth.empty() ? 0 : 1);
   glUniform1i(loc("u_clothClips"), int(c.cloth.clips));
   glUniform1i(loc("u_rootJoint"), int(c.cloth.rootJoint));
@@ -531,7 +585,17 @@ void CrowdRenderer::drawCharacter(const Character &c, const CrowdSelection::Char
     glUniform1i(loc("u_joints"), int(c.palettes->joints()));
     c.palettes->bind();
   }
-  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, c.buffers[10]);
+}
+
+// Character c's geometry instances: by sub-mesh through the queues' indirect commands, or on
+// the naive path one draw per instance and sub-mesh at full detail.
+void CrowdRenderer::drawGeometry(const Character &c, const CrowdSelection::Character &chosen,
+                                 const RenderQueues &queues, bool naive, DrawStats &stats) {
+  auto loc = [&](const char *name) { return glGetUniformLocation(program_, name); };
+  const int subMeshLoc = loc("u_subMesh"), rowsLoc = loc("u_rows"), paramsLoc = loc("u_params");
+  static_assert(kInstanceFloats == 20); // u_params[2]: an instance's params and fade
+  const size_t subMeshes = c.pack->mesh.subMeshes.size(), levels = chosen.runEnds.size();
+  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, c.buffers.commands);
   size_t command = 0;
   for (size_t s = 0; s < subMeshes; ++s) {
     glUniform1i(subMeshLoc, int(s));
@@ -560,50 +624,65 @@ void CrowdRenderer::drawCharacter(const Character &c, const CrowdSelection::Char
     }
     command += size_t(c.perSubMesh[s]);
   }
-  if (!chosen.impostorIds.empty()) {
-    const pack::Impostor &m = *c.impostor;
-    glUseProgram(impostorProgram_);
-    auto iloc = [&](const char *name) { return glGetUniformLocation(impostorProgram_, name); };
-    glUniformMatrix4fv(iloc("u_viewProjection"), 1, GL_FALSE, glm::value_ptr(view.viewProjection));
-    glUniform1f(iloc("u_time"), seconds);
-    glUniform3fv(iloc("u_eye"), 1, glm::value_ptr(view.eye));
-    glUniform4fv(iloc("u_sphere"), 1, m.sphere.data());
-    glUniform4i(iloc("u_layout"), int(m.azimuths), int(m.elevations), int(m.storedAzimuths()),
-                int(m.frames));
-    glUniform1i(iloc("u_mirrored"), m.mirrored);
-    glUniform1f(iloc("u_frameStep"), m.frameStep > 0 ? m.frameStep : 1.0f);
-    glUniform1f(iloc("u_texelSize"), 2.0f * m.sphere[3] / float(m.texels));
-    glUniform1f(iloc("u_diffusePerTexel"),
-                float(c.diffuseTexelsPerUnit * 2.0 * m.sphere[3] / double(m.texels)));
-    glUniform1f(iloc("u_oneToOne"), float(oneToOneDistance(m, view.fovY, view.viewportHeight)));
-    const ImpostorGpu &g = c.impostorGpu;
-    glUniform1i(iloc("u_maxLevel"), int(g.levels) - 1);
-    glUniform1i(iloc("u_regionBits"), int(g.regionBits));
-    glUniform1i(iloc("u_regionFrameWords"), int(g.regionFrameWords));
-    glUniform1iv(iloc("u_regionLevelWord"), kImpostorMaxMipLevels, g.regionLevelWord.data());
-    glUniform1iv(iloc("u_regionRowWords"), kImpostorMaxMipLevels, g.regionRowWords.data());
-    glUniform1i(iloc("u_poolShift"), int(g.poolShift));
-    glUniform1i(iloc("u_viewCount"), int(m.views.size()));
-    glUniform1i(iloc("u_hasTexture"), p.diffuse ? 1 : 0);
-    glUniform1i(iloc("u_hasUvs"), !m.uvs.empty());
-    glUniform1i(iloc("u_subMeshCount"), int(p.mesh.subMeshes.size()));
-    glUniform3fv(iloc("u_lightDirection"), 1, glm::value_ptr(light_));
-    glBindTextureUnit(0, c.textures[3]);
-    glBindTextureUnit(1, c.textures[4]);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, c.buffers[8]);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, c.buffers[9]);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, c.buffers[18]);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, c.buffers[17]);
-    glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, GLsizei(chosen.impostorIds.size()));
-    ++stats.drawCalls;
-    if (!shadow)
-      stats.triangles += 2 * uint64_t(chosen.impostorIds.size());
-  }
 }
 
-DrawStats CrowdRenderer::draw(const FrameView &view, float seconds, const DrawOptions &options) {
-  DrawStats stats;
-  const bool naive = options.path == DrawPath::Naive;
+// Character c's impostors, one instanced strip: the impostor program's uniforms and bindings.
+void CrowdRenderer::drawImpostors(const Character &c, const CrowdSelection::Character &chosen,
+                                  const FrameView &view, float seconds, bool shadow,
+                                  DrawStats &stats) {
+  const auto &p = *c.pack;
+  const pack::Impostor &m = *c.impostor;
+  glUseProgram(impostorProgram_);
+  auto iloc = [&](const char *name) { return glGetUniformLocation(impostorProgram_, name); };
+  glUniformMatrix4fv(iloc("u_viewProjection"), 1, GL_FALSE, glm::value_ptr(view.viewProjection));
+  glUniform1f(iloc("u_time"), seconds);
+  glUniform3fv(iloc("u_eye"), 1, glm::value_ptr(view.eye));
+  glUniform4fv(iloc("u_sphere"), 1, m.sphere.data());
+  glUniform4i(iloc("u_layout"), int(m.azimuths), int(m.elevations), int(m.storedAzimuths()),
+              int(m.frames));
+  glUniform1i(iloc("u_mirrored"), m.mirrored);
+  glUniform1f(iloc("u_frameStep"), m.frameStep > 0 ? m.frameStep : 1.0f);
+  glUniform1f(iloc("u_texelSize"), 2.0f * m.sphere[3] / float(m.texels));
+  glUniform1f(iloc("u_diffusePerTexel"),
+              float(c.diffuseTexelsPerUnit * 2.0 * m.sphere[3] / double(m.texels)));
+  glUniform1f(iloc("u_oneToOne"), float(oneToOneDistance(m, view.fovY, view.viewportHeight)));
+  const ImpostorGpu &g = c.impostorGpu;
+  glUniform1i(iloc("u_maxLevel"), int(g.levels) - 1);
+  glUniform1i(iloc("u_regionBits"), int(g.regionBits));
+  glUniform1i(iloc("u_regionFrameWords"), int(g.regionFrameWords));
+  glUniform1iv(iloc("u_regionLevelWord"), kImpostorMaxMipLevels, g.regionLevelWord.data());
+  glUniform1iv(iloc("u_regionRowWords"), kImpostorMaxMipLevels, g.regionRowWords.data());
+  glUniform1i(iloc("u_poolShift"), int(g.poolShift));
+  glUniform1i(iloc("u_viewCount"), int(m.views.size()));
+  glUniform1i(iloc("u_hasTexture"), p.diffuse ? 1 : 0);
+  glUniform1i(iloc("u_hasUvs"), !m.uvs.empty());
+  glUniform1i(iloc("u_subMeshCount"), int(p.mesh.subMeshes.size()));
+  glUniform3fv(iloc("u_lightDirection"), 1, glm::value_ptr(light_));
+  glBindTextureUnit(0, c.textures.impostorNormals);
+  glBindTextureUnit(1, c.textures.impostorUvs);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, c.buffers.impostorIds);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, c.buffers.impostorViews);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, c.buffers.impostorRegions);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, c.buffers.impostorSpans);
+  glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, GLsizei(chosen.impostorIds.size()));
+  ++stats.drawCalls;
+  if (!shadow)
+    stats.triangles += 2 * uint64_t(chosen.impostorIds.size());
+}
+
+void CrowdRenderer::drawCharacter(const Character &c, const CrowdSelection::Character &chosen,
+                                  const RenderQueues &queues, const FrameView &view, float seconds,
+                                  bool naive, bool shadow, DrawStats &stats) {
+  bindGeometry(c);
+  drawGeometry(c, chosen, queues, naive, stats);
+  if (!chosen.impostorIds.empty())
+    drawImpostors(c, chosen, view, seconds, shadow, stats);
+}
+
+// A frame's start at `seconds`: the world's agents move the instances and the environment is
+// drawn (its grid and shadows bound for the characters), or the schedule's clips are written.
+// Returns the time the clips took, in ms (the agents' is stats.agentsMs).
+double CrowdRenderer::beginFrame(const FrameView &view, double seconds, DrawStats &stats) {
   double clipsMs = 0;
   if (world_) { // the agents move the instances; the environment is drawn first
     const auto t0 = std::chrono::steady_clock::now();
@@ -611,7 +690,8 @@ DrawStats CrowdRenderer::draw(const FrameView &view, float seconds, const DrawOp
     for (size_t ci = 0; ci < characters_.size(); ++ci) {
       Character &c = *characters_[ci];
       moveInstances(c, ci, seconds);
-      glNamedBufferSubData(c.buffers[4], 0, GLsizeiptr(c.instanceData.size() * sizeof(float)),
+      glNamedBufferSubData(c.buffers.instances, 0,
+                           GLsizeiptr(c.instanceData.size() * sizeof(float)),
                            c.instanceData.data());
     }
     stats.agentsMs =
@@ -630,10 +710,77 @@ DrawStats CrowdRenderer::draw(const FrameView &view, float seconds, const DrawOp
       updateClips(c, ci, seconds);
       clipsMs +=
           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-      glNamedBufferSubData(c.buffers[4], 0, GLsizeiptr(c.instanceData.size() * sizeof(float)),
+      glNamedBufferSubData(c.buffers.instances, 0,
+                           GLsizeiptr(c.instanceData.size() * sizeof(float)),
                            c.instanceData.data());
     }
+  return clipsMs;
+}
 
+// Character c's queues for this frame (the instances chosen as geometry, by sub-mesh and
+// level), its indirect commands and impostor ids uploaded.
+RenderQueues &CrowdRenderer::queueCharacter(Character &c, const CrowdSelection::Character &chosen,
+                                            bool wholeBody, DrawStats &stats) {
+  const size_t subMeshes = c.pack->mesh.subMeshes.size();
+  RenderQueues &queues = c.queues[wholeBody];
+  const auto t0 = std::chrono::steady_clock::now();
+  queues.build(chosen.ids, chosen.runEnds, c.outfitOf);
+  stats.cullSelectMs +=
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  c.commands.clear();
+  c.perSubMesh.assign(subMeshes, 0);
+  for (const auto &q : queues.queues) { // by sub-mesh, then level
+    const uint32_t *starts = &c.levelStarts[q.level * (subMeshes + 1)];
+    const uint32_t indices = starts[q.subMesh + 1] - starts[q.subMesh];
+    if (indices) {
+      c.commands.insert(c.commands.end(), {indices, q.count, starts[q.subMesh], 0u, q.first});
+      ++c.perSubMesh[q.subMesh];
+      stats.triangles += uint64_t(indices / 3) * q.count;
+    }
+  }
+  glNamedBufferSubData(c.buffers.geometryIds, 0, GLsizeiptr(queues.queueIds.size() * 4),
+                       queues.queueIds.data());
+  glNamedBufferSubData(c.buffers.impostorIds, 0, GLsizeiptr(chosen.impostorIds.size() * 4),
+                       chosen.impostorIds.data());
+  glNamedBufferSubData(c.buffers.commands, 0, GLsizeiptr(c.commands.size() * 4), c.commands.data());
+  return queues;
+}
+
+// Skinning palettes for the instances drawn as geometry (all of them on the naive path) where
+// character ci skins from joint tracks this frame: a pack of tracks alone always does.
+void CrowdRenderer::runPalettes(Character &c, size_t ci, const CrowdSelection::Character &chosen,
+                                float seconds, const DrawOptions &options, DrawStats &stats) {
+  const auto &p = *c.pack;
+  const bool naive = options.path == DrawPath::Naive;
+  c.skinFromPalettes = p.tracks && (options.trackSkinning || !p.hasTexture());
+  if (c.skinFromPalettes && !c.palettes) { // built on first use: most frames draw textures
+    if (!paletteProgram_)
+      paletteProgram_ = buildComputeProgram(kPaletteComp, "palette");
+    try {
+      c.palettes = std::make_unique<PalettePass>(p, c.instanceCount);
+    } catch (const Error &e) {
+      throw Error("pack '" + scene_.packNames[ci] + "': " + e.what());
+    }
+  }
+  if (c.skinFromPalettes) {
+    const auto t1 = std::chrono::steady_clock::now();
+    std::vector<uint32_t> all;
+    if (naive)
+      for (uint32_t i = 0; i < c.instanceCount; ++i)
+        all.push_back(i);
+    stats.palettes += c.palettes->run(paletteProgram_, c.instanceData, kInstanceFloats,
+                                      naive ? all : chosen.ids, seconds, options.timePalettes);
+    stats.paletteGpuMs += c.palettes->gpuMilliseconds();
+    stats.paletteMs +=
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count();
+    glUseProgram(program_);
+  }
+}
+
+DrawStats CrowdRenderer::draw(const FrameView &view, float seconds, const DrawOptions &options) {
+  DrawStats stats;
+  const bool naive = options.path == DrawPath::Naive;
+  const double clipsMs = beginFrame(view, seconds, stats);
   const auto chosen = selection_.select(view, options);
   stats.visible = chosen.visible;
   stats.impostors = chosen.impostors;
@@ -646,66 +793,19 @@ DrawStats CrowdRenderer::draw(const FrameView &view, float seconds, const DrawOp
   glUniform3fv(loc("u_lightDirection"), 1, glm::value_ptr(light_));
   glUniform1i(loc("u_naive"), naive);
   for (size_t ci = 0; ci < characters_.size(); ++ci) {
-    Character *c = characters_[ci].get();
-    const auto &chosen = selection_.characters[ci];
-    stats.instances += c->instanceCount;
-    if (c->instanceCount == 0)
+    Character &c = *characters_[ci];
+    const auto &picked = selection_.characters[ci];
+    stats.instances += c.instanceCount;
+    if (c.instanceCount == 0)
       continue;
-    const auto &p = *c->pack;
-    const size_t subMeshes = p.mesh.subMeshes.size();
-    RenderQueues &queues = c->queues[options.wholeBody];
-    const auto t0 = std::chrono::steady_clock::now();
-    queues.build(chosen.ids, chosen.runEnds, c->outfitOf);
-    stats.cullSelectMs +=
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    c->commands.clear();
-    c->perSubMesh.assign(subMeshes, 0);
-    for (const auto &q : queues.queues) { // by sub-mesh, then level
-      const uint32_t *starts = &c->levelStarts[q.level * (subMeshes + 1)];
-      const uint32_t indices = starts[q.subMesh + 1] - starts[q.subMesh];
-      if (indices) {
-        c->commands.insert(c->commands.end(), {indices, q.count, starts[q.subMesh], 0u, q.first});
-        ++c->perSubMesh[q.subMesh];
-        stats.triangles += uint64_t(indices / 3) * q.count;
-      }
-    }
-    glNamedBufferSubData(c->buffers[7], 0, GLsizeiptr(queues.queueIds.size() * 4),
-                         queues.queueIds.data());
-    glNamedBufferSubData(c->buffers[8], 0, GLsizeiptr(chosen.impostorIds.size() * 4),
-                         chosen.impostorIds.data());
-    glNamedBufferSubData(c->buffers[10], 0, GLsizeiptr(c->commands.size() * 4), c->commands.data());
-
-    // Skinning palettes for the instances drawn as geometry (all of them on the naive path).
-    // A pack of joint tracks alone skins from palettes whatever the option.
-    c->skinFromPalettes = p.tracks && (options.trackSkinning || !p.hasTexture());
-    if (c->skinFromPalettes && !c->palettes) { // built on first use: most frames draw textures
-      if (!paletteProgram_)
-        paletteProgram_ = buildComputeProgram(kPaletteComp, "palette");
-      try {
-        c->palettes = std::make_unique<PalettePass>(p, c->instanceCount);
-      } catch (const Error &e) {
-        throw Error("pack '" + scene_.packNames[ci] + "': " + e.what());
-      }
-    }
-    if (c->skinFromPalettes) {
-      const auto t1 = std::chrono::steady_clock::now();
-      std::vector<uint32_t> all;
-      if (naive)
-        for (uint32_t i = 0; i < c->instanceCount; ++i)
-          all.push_back(i);
-      stats.palettes += c->palettes->run(paletteProgram_, c->instanceData, kInstanceFloats,
-                                         naive ? all : chosen.ids, seconds, options.timePalettes);
-      stats.paletteGpuMs += c->palettes->gpuMilliseconds();
-      stats.paletteMs +=
-          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count();
-      glUseProgram(program_);
-    }
+    const RenderQueues &queues = queueCharacter(c, picked, options.wholeBody, stats);
+    runPalettes(c, ci, picked, seconds, options, stats);
     // With a world, a shadow pass first (Tecchia, Loscos & Chrysanthou §4.5): every character flat
     // on its ground along the light, each pixel darkened once (stencil), behind what is nearer
     // (depth).
     for (int pass = world_ && !naive ? 0 : 1; pass < 2; ++pass) {
       setShadowPass(pass == 0);
-      drawCharacter(*c, chosen, queues, view, seconds, naive, pass == 0, stats);
+      drawCharacter(c, picked, queues, view, seconds, naive, pass == 0, stats);
     }
   }
   setShadowPass(false);

@@ -85,6 +85,19 @@ private:
   void moveInstances(Character &c, size_t ci, double seconds);
   // With a world: the shadow pass's state and uniforms (on) or the normal pass's (off).
   void setShadowPass(bool on);
+  // draw's passes: the frame's start (instances moved or their clips written, the environment
+  // drawn), then per character its queues and palettes and, per pass, its geometry and
+  // impostors.
+  double beginFrame(const FrameView &view, double seconds, DrawStats &stats);
+  RenderQueues &queueCharacter(Character &c, const CrowdSelection::Character &chosen,
+                               bool wholeBody, DrawStats &stats);
+  void runPalettes(Character &c, size_t ci, const CrowdSelection::Character &chosen, float seconds,
+                   const DrawOptions &options, DrawStats &stats);
+  void bindGeometry(const Character &c);
+  void drawGeometry(const Character &c, const CrowdSelection::Character &chosen,
+                    const RenderQueues &queues, bool naive, DrawStats &stats);
+  void drawImpostors(const Character &c, const CrowdSelection::Character &chosen,
+                     const FrameView &view, float seconds, bool shadow, DrawStats &stats);
   // One pass of character c: its geometry instances through their queues (or one by one on the
   // naive path) and its impostors; in the shadow pass, flat on the ground.
   void drawCharacter(const Character &c, const CrowdSelection::Character &chosen,
