@@ -18,7 +18,7 @@
 #include <map>
 #include <random>
 
-#include "crowd/bake/point_cache.h"
+#include "crowd/support/point_cache.h"
 #include "crowd/formats/container.h"
 #include "rig.h"
 

@@ -16,7 +16,7 @@
 
 #include "crowd/bake/cloth_loop.h"
 #include "crowd/bake/loop_search.h"
-#include "crowd/bake/point_cache.h"
+#include "crowd/support/point_cache.h"
 #include "crowd/samples/cloth_caches.h"
 
 using namespace crowd;

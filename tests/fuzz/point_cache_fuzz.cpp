@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "crowd/bake/point_cache.h"
+#include "crowd/support/point_cache.h"
 #include "crowd/formats/error.h"
 #include "fuzz_folder.h"
 
@@ -29,7 +29,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     std::ofstream(path, std::ios::binary | std::ios::trunc)
         .write(reinterpret_cast<const char *>(data), std::streamsize(size));
     try {
-      crowd::PointCacheReader reader(path, crowd::InputPolicy{});
+      crowd::PointCacheReader reader(path);
       std::vector<glm::vec3> frame;
       for (uint32_t f = 0; f < reader.info().frameCount && f < 64; ++f)
         reader.readFrame(f, frame);

@@ -23,7 +23,7 @@
 #include "crowd/bake/fade_accuracy.h"
 #include "crowd/bake/import.h"
 #include "crowd/bake/outfit_bake.h"
-#include "crowd/bake/point_cache.h"
+#include "crowd/support/point_cache.h"
 #include "crowd/runtime/clip_switch.h"
 #include "crowd/runtime/cloth_playback.h"
 #include "crowd/runtime/crowd_renderer.h"

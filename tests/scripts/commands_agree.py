@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The command list is in one place (kCommands in bake/src/cli/crowdbake.cpp): `crowdbake
+"""The command list is in one place (kCommands in apps/crowdbake/crowdbake.cpp): `crowdbake
 --help` lists it, and README.md's table and docs/commands.md must name the same commands, each
 of which answers its own --help.
 

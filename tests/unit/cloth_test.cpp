@@ -12,7 +12,7 @@
 #include "crowd/bake/cloth_loop.h"
 #include "crowd/bake/edge_match.h"
 #include "crowd/bake/loop_search.h"
-#include "crowd/bake/point_cache.h"
+#include "crowd/support/point_cache.h"
 #include "crowd/formats/error.h"
 #include "crowd/samples/cloth_caches.h"
 #include "gltf_writer.h"

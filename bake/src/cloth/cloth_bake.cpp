@@ -209,7 +209,7 @@ ClothBakeResult bakeClothLoop(const Character &body, const Character &outfit,
   if (!(clip.end > clip.start))
     throw Error("clip '" + clipName + "' has no duration: a cloth loop needs a cycle");
   const std::vector<uint32_t> garmentIds = garmentVertices(outfit, garment);
-  PointCacheReader cache(cachePath, policy);
+  PointCacheReader cache(cachePath, policy.bound());
   const double fps = cacheFps(cache, options.cache);
   checkGarment(cache, outfit, garmentIds, clip, options.cache);
   r.mmPerUnit = millimetresPerUnit(body);

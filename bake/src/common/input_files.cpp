@@ -95,11 +95,11 @@ std::string resolveNamedInput(const std::string &name, const std::string &naming
 }
 
 uint64_t checkInputFile(const std::string &path, const InputPolicy &policy) {
-  return checkRegularFile(path, {policy.maxFileBytes, "--max-file-size raises it"});
+  return checkRegularFile(path, policy.bound());
 }
 
 std::vector<uint8_t> readInputFile(const std::string &path, const InputPolicy &policy) {
-  return readRegularFile(path, {policy.maxFileBytes, "--max-file-size raises it"});
+  return readRegularFile(path, policy.bound());
 }
 
 std::string readInputText(const std::string &path, const InputPolicy &policy) {

@@ -15,7 +15,7 @@
 
 #include "crowd/bake/character.h"
 #include "crowd/bake/loop_search.h"
-#include "crowd/bake/point_cache.h"
+#include "crowd/support/point_cache.h"
 
 namespace crowd {
 

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "crowd/formats/file_read.h"
 #include "crowd/formats/limits.h"
 
 namespace crowd {
@@ -20,6 +21,8 @@ struct InputPolicy {
   // Largest input file read, in bytes (--max-file-size).
   uint64_t maxFileBytes = limits::kInputFileBytes;
   void validate() const;
+  // The bound a file read under this policy is checked against.
+  FileBound bound() const { return {maxFileBytes, "--max-file-size raises it"}; }
 };
 
 // The path `name` (as written in `namingFile`, relative to its folder) resolves to, after the

@@ -7,11 +7,13 @@
 #include <string>
 #include <vector>
 
+#include "crowd/formats/limits.h"
+
 namespace crowd {
 
 // What a file over its bound is told, after the figures: how to raise the bound, or nothing.
 struct FileBound {
-  uint64_t maxBytes;
+  uint64_t maxBytes = limits::kInputFileBytes;
   std::string raise; // e.g. "--max-file-size raises it"
 };
 

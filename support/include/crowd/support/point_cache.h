@@ -17,7 +17,7 @@
 
 #include <glm/glm.hpp>
 
-#include "crowd/bake/input_files.h"
+#include "crowd/formats/file_read.h"
 
 namespace crowd {
 
@@ -34,9 +34,9 @@ struct PointCacheInfo {
 
 class PointCacheReader {
 public:
-  // Opens and checks `path` (a regular file within the policy's byte bound; ".pc2" or ".mdd",
-  // else by its magic).
-  PointCacheReader(const std::string &path, const InputPolicy &policy);
+  // Opens and checks `path` (a regular file within `bound`; ".pc2" or ".mdd", else by its
+  // magic).
+  PointCacheReader(const std::string &path, const FileBound &bound = {});
   const PointCacheInfo &info() const { return info_; }
   const std::string &path() const { return path_; }
   // Positions of vertices [first, first + count) at `frame` into out (resized to count).

@@ -8,7 +8,7 @@
 
 #include "commands.h"
 #include "crowd/bake/mesh_files.h"
-#include "crowd/bake/point_cache.h"
+#include "crowd/support/point_cache.h"
 #include "crowd/formats/character_pack.h"
 #include "crowd/formats/container.h"
 #include "crowd/runtime/pose.h"

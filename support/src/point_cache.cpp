@@ -1,4 +1,4 @@
-#include "crowd/bake/point_cache.h"
+#include "crowd/support/point_cache.h"
 
 #include <algorithm>
 #include <bit>
@@ -34,9 +34,8 @@ bool endsWith(const std::string &s, const char *tail) {
 
 } // namespace
 
-PointCacheReader::PointCacheReader(const std::string &path, const InputPolicy &policy)
-    : path_(path) {
-  const uint64_t size = checkInputFile(path, policy);
+PointCacheReader::PointCacheReader(const std::string &path, const FileBound &bound) : path_(path) {
+  const uint64_t size = checkRegularFile(path, bound);
   in_.open(path, std::ios::binary);
   if (!in_)
     throw Error(path + ": cannot open the point cache");
