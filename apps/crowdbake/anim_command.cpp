@@ -28,7 +28,8 @@ more than 75 degrees from its full-detail normal. No new vertices. Non-manifold 
 open (a vertex where several fans meet becomes one per fan); duplicate and zero-area triangles
 are dropped; each repair is reported. Exact copies of a vertex (a mesh written without indices)
 are welded; a flat-shaded mesh's copies that differ only by their normal are welded and drawn
-with their face's normal (stored as zero). Where the LOD stops above the floor, a warning says
+with their face's normal (stored as zero). An untextured sub-mesh draws its material's colour
+whatever its UVs, so there UVs part no copies. Where the LOD stops above the floor, a warning says
 what blocks it.)";
 
 } // namespace

@@ -79,6 +79,13 @@ std::set<std::string> codes(const Reporter &r) {
   return s;
 }
 
+std::string warningText(const Reporter &r, const std::string &code) {
+  for (const auto &w : r.warnings())
+    if (w.code == code)
+      return w.message;
+  return {};
+}
+
 TEST(Lod, TheHumanoidWalksCleanlyToTheFloor) {
   const auto &m = test::sampleHumanoid().mesh;
   Reporter rep;
@@ -349,8 +356,8 @@ TEST(Lod, CopiesBoundToOtherJointsStaySeparate) {
 }
 
 // A 12x12 grid's triangles `idx` on `p` written without indices, each corner its own vertex with
-// the normal normalOf(corner) and its position's UV, in one sub-mesh; so written, every edge is a
-// seam and it does not simplify (checked).
+// the normal normalOf(corner) and its position's UV, in one textured sub-mesh; so written, every
+// edge is a seam and it does not simplify (checked).
 SkinnedMesh cornerMesh(const std::vector<glm::vec3> &p, const std::vector<uint32_t> &idx,
                        const std::function<glm::vec3(uint32_t)> &normalOf) {
   SkinnedMesh m;
@@ -363,6 +370,7 @@ SkinnedMesh cornerMesh(const std::vector<glm::vec3> &p, const std::vector<uint32
     m.indices.push_back(i);
   }
   m.parts.push_back({"grid", 0, uint32_t(idx.size())});
+  m.parts[0].textured = true;
   Reporter rep;
   rep.quiet = true;
   const LodResult unwelded = bakeLod(m.positions, m.indices, {}, rep);
@@ -477,6 +485,49 @@ TEST(Lod, ExactCopiesWeldAndSimplify) {
   SkinnedMesh once = m;
   EXPECT_EQ(weldExactCopies(once, silent).size(), m.positions.size());
   EXPECT_TRUE(silent.warnings().empty());
+}
+
+// Low-poly characters' sub-meshes often have UVs and no texture (KayKitRigMedium: 616 copies
+// differing in their UVs alone, 2136 in UVs and normal). Such a sub-mesh draws its material's
+// colour whatever its UVs, so copies differing in UVs alone weld (and the LOD simplifies), and
+// those differing in UVs and normal weld as flat shading; textured, both stay seams.
+TEST(Lod, AnUntexturedSubMeshsUvSeamsWeld) {
+  std::vector<glm::vec3> p;
+  std::vector<uint32_t> idx;
+  grid(12, 12, p, idx);
+  const std::function<glm::vec3(uint32_t)> smooth = [&](uint32_t i) {
+    const glm::vec3 q = p[idx[i]];
+    return glm::normalize(glm::vec3(0.1f * q.y, 1, 0.05f * q.x));
+  };
+  const std::function<glm::vec3(uint32_t)> faceted = [&](uint32_t i) {
+    const uint32_t *t = &idx[i - i % 3];
+    return glm::normalize(glm::cross(p[t[1]] - p[t[0]], p[t[2]] - p[t[0]]));
+  };
+  const size_t T = idx.size() / 3;
+  for (bool flat : {false, true}) {
+    SCOPED_TRACE(flat ? "faceted" : "smooth");
+    SkinnedMesh textured = cornerMesh(p, idx, flat ? faceted : smooth);
+    for (size_t i = 0; i < textured.uvs.size(); ++i)
+      textured.uvs[i] = {float(i), 0}; // every corner its own UV
+    SkinnedMesh untextured = textured;
+    untextured.parts[0].textured = false;
+    Reporter rep;
+    rep.quiet = true;
+    auto weld = [&](SkinnedMesh &m) {
+      weldExactCopies(m, rep);
+      weldFlatShading(m, rep);
+    };
+    weld(textured);
+    EXPECT_EQ(textured.positions.size(), idx.size()) << "textured: every UV seam kept";
+    weld(untextured);
+    ASSERT_EQ(untextured.positions.size(), p.size()) << "one vertex per position";
+    if (!flat) {
+      EXPECT_NE(warningText(rep, "exact_copies").find("differ in their UVs alone"),
+                std::string::npos);
+    }
+    LodResult r = bakeLod(untextured.positions, untextured.indices, {}, rep);
+    EXPECT_LE(walk(r, untextured.positions, LodOptions{}.maxNormalDeviationDeg), T / 10);
+  }
 }
 
 // A ring of n vertices at height y, radius r, appended to p; returns its first index.

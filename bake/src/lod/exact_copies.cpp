@@ -21,13 +21,14 @@ std::vector<uint32_t> weldExactCopies(SkinnedMesh &m, Reporter &reporter,
       part[v] = kMixed;
   lod::CopyFinder finder(m, true);
   std::vector<uint32_t> into(V);
-  size_t copies = 0;
+  size_t copies = 0, uvOnly = 0; // uvOnly: copies whose UV differs (an untextured sub-mesh)
   for (uint32_t v = 0; v < V; ++v) {
     into[v] = v;
     if (part[v] == kNone || part[v] == kMixed)
       continue;
     into[v] = finder.firstOf(v, part[v]);
     copies += into[v] != v;
+    uvOnly += into[v] != v && !m.uvs.empty() && m.uvs[v] != m.uvs[into[v]];
   }
   if (copies == 0)
     return into; // the identity
@@ -37,7 +38,11 @@ std::vector<uint32_t> weldExactCopies(SkinnedMesh &m, Reporter &reporter,
                 std::to_string(copies) +
                     " vertices repeat another exactly (every attribute the same, as a mesh "
                     "written without shared vertices has them): welded, so the LOD can collapse "
-                    "across them; the drawn mesh is the same",
+                    "across them; the drawn mesh is the same" +
+                    (uvOnly ? " (" + std::to_string(uvOnly) +
+                                  " of them differ in their UVs alone, in an untextured sub-mesh, "
+                                  "which draws its material's colour whatever its UVs)"
+                            : std::string()),
                 copies);
   return was;
 }

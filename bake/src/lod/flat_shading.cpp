@@ -40,9 +40,10 @@ std::vector<uint32_t> weldFlatShading(SkinnedMesh &m, Reporter &reporter, double
   for (uint32_t v : keep)
     if (v < V)
       faceted[v] = 2;
-  // Faceted vertices differing only by their normal (same sub-mesh, position, UV, skin and morph
-  // offsets) weld into their first. A sub-mesh where any do is flat-shaded: all its faceted
-  // vertices are then shaded by their faces. A smooth mesh's planar patch is left as it is.
+  // Faceted vertices differing only by their normal (same sub-mesh, position, skin, morph offsets
+  // and, where the sub-mesh is textured, UV) weld into their first. A sub-mesh where any do is
+  // flat-shaded: all its faceted vertices are then shaded by their faces. A smooth mesh's planar
+  // patch is left as it is.
   lod::CopyFinder finder(m, false); // every attribute but the normal
   std::vector<uint8_t> flatPart(m.parts.size() + 1, 0), byFace(V, 0);
   for (uint32_t v = 0; v < V; ++v)

@@ -12,7 +12,7 @@ void CopyFinder::key(uint32_t v, uint32_t part, std::vector<uint32_t> &key) cons
   if (normals_)
     for (int k = 0; k < 3; ++k)
       putBits(key, m_.normals[v][k]);
-  if (!m_.uvs.empty())
+  if (!m_.uvs.empty() && (part >= m_.parts.size() || m_.parts[part].textured))
     putBits(key, m_.uvs[v].x), putBits(key, m_.uvs[v].y);
   for (int k = 0; k < 4; ++k)
     key.push_back(m_.joints[v][size_t(k)]), putBits(key, m_.weights[v][k]);

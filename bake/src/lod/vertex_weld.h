@@ -10,7 +10,8 @@
 namespace crowd::lod {
 
 // Finds each vertex's first copy: the first vertex asked about with the same sub-mesh and the
-// same attributes, as exact bits (-0 as +0): position, UV, skin, morph offsets, and with
+// same attributes, as exact bits (-0 as +0): position, UV (where the sub-mesh is textured: an
+// untextured one draws its material's colour whatever its UVs), skin, morph offsets, and with
 // `normals` its normal and its morphs' normals. Hashed, comparing the attributes themselves on a
 // hash match, with no allocation per vertex: a std::map of per-vertex key vectors took 3.4 s
 // for a 1M-triangle grid written without indices.
