@@ -22,8 +22,9 @@ continuous LOD: the full edge-collapse sequence down to a floor, so a renderer c
 vertex count v by taking each sub-mesh's first triangles (their count for v is stored) and
 following indices through the collapse map until they are below v. Collapses run on a welded
 mesh, cheapest quadric cost first, the cost the largest over the rest pose and poses sampled from
-every clip, each as drawn (skinning-aware); a UV or normal seam vertex collapses only along its
-seam, a boundary vertex only along its boundary; no cut has a degenerate triangle or one turned
+every clip, each as drawn (skinning-aware); a UV seam vertex collapses only along its seam, a
+boundary vertex only along its boundary, a hard edge's (a normal seam's) also across it where the
+drawn colour changes by no more than --seam-budget; no cut has a degenerate triangle or one turned
 more than 75 degrees from its full-detail normal. No new vertices. Non-manifold edges are cut
 open (a vertex where several fans meet becomes one per fan); duplicate and zero-area triangles
 are dropped; each repair is reported. Exact copies of a vertex (a mesh written without indices)
@@ -67,9 +68,18 @@ int animOrLod(int argc, char **argv, const std::string &command) {
                                   "the rest pose alone")
                        ->capture_default_str()
                        ->group(lodGroup);
+  auto *seamOpt =
+      app.add_option("--seam-budget", lodOpt.seamBudget,
+                     "the most a collapse that closes a hard edge (a normal seam) may change the "
+                     "drawn colour, 8-bit RGB distance under the player's light at its worst "
+                     "direction, against the full-detail mesh; 0: hard edges hold. UV seams of "
+                     "a textured sub-mesh always hold")
+          ->capture_default_str()
+          ->group(lodGroup);
   if (lodOption) {
     floorOpt->needs(lodOption);
     posesOpt->needs(lodOption);
+    seamOpt->needs(lodOption);
   }
   if (!parseArgs(app, argc, argv))
     return 0;

@@ -108,9 +108,11 @@ void parseLod(const JsonChecker &c, const json &l, const Keys &k, CharacterManif
   if (l.is_boolean()) {
     m.lod = l.get<bool>();
   } else {
-    c.onlyKeys(l, k, {"floor", "poses"});
+    c.onlyKeys(l, k, {"floor", "poses", "seam_budget"});
     if (l.contains("floor"))
       m.lodOptions.floorFraction = c.number(l["floor"], below(k, "floor"), 0, 1);
+    if (l.contains("seam_budget"))
+      m.lodOptions.seamBudget = c.number(l["seam_budget"], below(k, "seam_budget"), 0, 442);
     if (l.contains("poses"))
       m.lodOptions.poses = whole(c, l["poses"], below(k, "poses"), 0, 1024);
     validate(c, m.lodOptions, k);
@@ -331,7 +333,9 @@ nlohmann::ordered_json CharacterManifest::canonical() const {
   if (anim.store != "texture") // absent for what every earlier key meant: those stay valid
     j["anim"]["store"] = anim.store;
   if (lod)
-    j["lod"] = {{"floor", lodOptions.floorFraction}, {"poses", lodOptions.poses}};
+    j["lod"] = {{"floor", lodOptions.floorFraction},
+                {"poses", lodOptions.poses},
+                {"seam_budget", lodOptions.seamBudget}};
   else
     j["lod"] = false;
   for (const auto &[outfit, file] : outfits)

@@ -96,9 +96,10 @@ void queueEveryEdge(const CollapseMesh &mesh, const Refusals &refusals, bool fir
 }
 
 // a goes into b: the edge's faces die, a's other faces take b in its place, each render vertex
-// of a going into the render vertex of b on the same side, and the quadrics and face lists
-// follow.
-void collapse(CollapseMesh &mesh, uint32_t a, uint32_t b, const EdgeFaces &edge, float cost,
+// of a going into the render vertex of b on the same side, or where a hard edge closes into the
+// one `closing` names (CollapseRules), and the quadrics and face lists follow.
+void collapse(CollapseMesh &mesh, uint32_t a, uint32_t b, const EdgeFaces &edge,
+              const std::vector<std::pair<uint32_t, uint32_t>> &closing, float cost,
               Removals &out) {
   std::array<std::pair<uint32_t, uint32_t>, 2> pairs;
   size_t pairCount = 0;
@@ -112,22 +113,36 @@ void collapse(CollapseMesh &mesh, uint32_t a, uint32_t b, const EdgeFaces &edge,
     mesh.alive[f] = 0;
     --mesh.aliveFaces;
   }
+  auto partner = [&](uint32_t rv) {
+    for (size_t q = 0; q < pairCount; ++q)
+      if (pairs[q].first == rv)
+        return pairs[q].second;
+    for (const auto &[ra, rb] : closing)
+      if (ra == rv)
+        return rb;
+    // Cannot happen: the rules keep seams to their lines or close them.
+    throw Error("lod: internal error, a render vertex has no partner");
+  };
   for (uint32_t f : mesh.facesOf[a]) {
     if (!mesh.alive[f])
       continue;
-    const uint32_t k = mesh.corner(f, a), rv = mesh.fan.render[f][k];
-    size_t q = 0;
-    while (q < pairCount && pairs[q].first != rv)
-      ++q;
-    if (q == pairCount) // cannot happen: the rules keep seams to their lines
-      throw Error("lod: internal error, a render vertex has no partner");
+    const uint32_t k = mesh.corner(f, a);
+    mesh.fan.render[f][k] = partner(mesh.fan.render[f][k]);
     mesh.fan.vertex[f][k] = b;
-    mesh.fan.render[f][k] = pairs[q].second;
   }
+  auto removed = [&](uint32_t ra, uint32_t rb) {
+    out.removed.push_back(ra);
+    out.target[ra] = rb;
+    out.cost[ra] = cost;
+  };
   for (size_t q = 0; q < pairCount; ++q) {
-    out.removed.push_back(pairs[q].first);
-    out.target[pairs[q].first] = pairs[q].second;
-    out.cost[pairs[q].first] = cost;
+    if (mesh.shading.active())
+      mesh.shading.carried(pairs[q].first, pairs[q].second);
+    removed(pairs[q].first, pairs[q].second);
+  }
+  for (const auto &[ra, rb] : closing) {
+    mesh.shading.closed(ra, rb);
+    removed(ra, rb);
   }
   mesh.quadric.merge(b, a);
   mesh.facesOf.handOn(a, b, [&](uint32_t f) { return mesh.alive[f] != 0; });
@@ -161,7 +176,7 @@ Removals collapseToFloor(CollapseMesh &mesh, CollapseRules &rules, Refusals &ref
           refusals.refuse(rules.slotOf(a, b, edge), why);
         continue;
       }
-      collapse(mesh, a, b, edge, c.cost, out);
+      collapse(mesh, a, b, edge, rules.closing, c.cost, out);
       queue.collapsed(a, b);
       progress = true;
       mesh.ringOf(b, rules.ringB);

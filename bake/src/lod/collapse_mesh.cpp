@@ -1,5 +1,7 @@
 #include "collapse_mesh.h"
 
+#include <algorithm>
+
 namespace crowd::lod {
 namespace {
 
@@ -55,6 +57,15 @@ void CollapseMesh::ringOf(uint32_t v, Ring &ring) const {
   }
   for (Neighbour &n : ring.around)
     n.special |= n.faces == 1;
+}
+
+void CollapseMesh::renderVerticesOf(uint32_t v, std::vector<uint32_t> &out) const {
+  out.clear();
+  for (uint32_t f : facesOf[v])
+    if (alive[f])
+      if (const uint32_t r = fan.render[f][corner(f, v)];
+          std::find(out.begin(), out.end(), r) == out.end())
+        out.push_back(r);
 }
 
 void CollapseMesh::fillFaceLists() {

@@ -12,6 +12,7 @@
 #include "face_lists.h"
 #include "fan_mesh.h"
 #include "pose_quadrics.h"
+#include "seam_shading.h"
 
 namespace crowd::lod {
 
@@ -67,6 +68,7 @@ public:
   // Per face, a bit for each of its open (special: open or seam) edges, from corner e to e + 1,
   // as the mesh was built.
   std::vector<uint8_t> open, special;
+  SeamShading shading; // which hard edges may close (none unless set)
 
   size_t vertices() const { return fan.position.size(); }
   size_t faces() const { return fan.vertex.size(); }
@@ -83,6 +85,8 @@ public:
   EdgeFaces edgeFaces(uint32_t a, uint32_t b) const;
   // v's neighbours, each edge to them open or a seam or neither, from one pass over v's faces.
   void ringOf(uint32_t v, Ring &ring) const;
+  // v's render vertices in its live faces, each once, in the order its faces list them.
+  void renderVerticesOf(uint32_t v, std::vector<uint32_t> &out) const;
 
 private:
   void fillFaceLists();

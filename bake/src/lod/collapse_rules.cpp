@@ -15,7 +15,7 @@ Block CollapseRules::check(uint32_t a, uint32_t b, EdgeFaces &edge) {
   if (!n)
     return Block::kNoEdge; // no longer an edge
   edge.sides = std::min(n->faces, 2u), edge.face[0] = n->first, edge.face[1] = n->second;
-  if (const Block why = seam(b); why != Block::kNone)
+  if (const Block why = seam(a, b, edge); why != Block::kNone)
     return why;
   mesh_.ringOf(b, ringB); // only past the seam test: of Fox's 994 checks, 625 stop there
   uint32_t apex[2] = {UINT32_MAX, UINT32_MAX};
@@ -25,8 +25,9 @@ Block CollapseRules::check(uint32_t a, uint32_t b, EdgeFaces &edge) {
 }
 
 // A seam or boundary vertex a slides only along its line: exactly two special edges, and the
-// one to b of them.
-Block CollapseRules::seam(uint32_t b) const {
+// one to b of them; or it closes its hard edges (closes()).
+Block CollapseRules::seam(uint32_t a, uint32_t b, const EdgeFaces &edge) {
+  closing.clear();
   int specials = 0;
   bool along = false;
   for (const Neighbour &n : ringA.around)
@@ -34,7 +35,46 @@ Block CollapseRules::seam(uint32_t b) const {
       ++specials;
       along |= n.v == b;
     }
-  return specials != 0 && !(specials == 2 && along) ? Block::kSeam : Block::kNone;
+  if (specials == 0 || (specials == 2 && along))
+    return Block::kNone;
+  return closes(a, b, edge) ? Block::kNone : Block::kSeam;
+}
+
+// a's seams are all hard edges (no open edge; its render vertices, and b's, differ in their
+// normal alone), and each render vertex of a on no face of the edge has one of b's whose normal
+// keeps the colour change within the budget: the nearest such normal is taken. Where every render
+// vertex of a lies on the edge's faces (a seam's end, or where two seam lines meet), none
+// closes: each face keeps its side's attributes, and only the seam's shape moves, at the cost
+// of its border planes (CollapseMesh::fillBorderQuadrics).
+bool CollapseRules::closes(uint32_t a, uint32_t b, const EdgeFaces &edge) {
+  const SeamShading &shading = mesh_.shading;
+  if (!shading.active())
+    return false;
+  for (const Neighbour &n : ringA.around)
+    if (n.faces == 1)
+      return false; // a boundary holds its shape
+  mesh_.renderVerticesOf(a, renderA);
+  mesh_.renderVerticesOf(b, renderB);
+  for (const auto *rs : {&renderA, &renderB})
+    for (uint32_t r : *rs)
+      if (!shading.normalOnly(r, rs->front()))
+        return false; // a UV seam: the far side's faces would sample another island
+  for (uint32_t ra : renderA) {
+    bool paired = false;
+    for (uint32_t s = 0; s < edge.sides; ++s)
+      paired |= mesh_.fan.render[edge.face[s]][mesh_.corner(edge.face[s], a)] == ra;
+    if (paired)
+      continue;
+    uint32_t best = UINT32_MAX;
+    double least = 0;
+    for (uint32_t rb : renderB)
+      if (const double c = shading.change(ra, rb); best == UINT32_MAX || c < least)
+        best = rb, least = c;
+    if (best == UINT32_MAX || !shading.within(least))
+      return false;
+    closing.emplace_back(ra, best);
+  }
+  return true;
 }
 
 // The link condition: the vertices next to both ends are exactly the faces' apexes (which are

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdio>
 #include <map>
 
 #include "crowd/bake/character.h"
@@ -73,6 +74,31 @@ std::vector<std::vector<glm::vec3>> samplePoses(const Character &c, uint32_t cou
 
 namespace {
 
+// What the seam budget weighs (LodAppearance), from each vertex's normal and sub-mesh: the
+// colour scale under crowd.frag's light (albedo x (0.25 + 0.75 max(n.l, 0)): a normal change d
+// changes it by at most 0.75 |albedo| d; a texel is at most 1, so the material's colour bounds a
+// textured sub-mesh's), and the key: its UV where the sub-mesh is textured, one key where not.
+LodAppearance appearanceOf(const SkinnedMesh &in) {
+  const std::vector<uint32_t> partOf = triangleParts(in);
+  const size_t V = in.positions.size();
+  LodAppearance a;
+  a.normals = in.normals;
+  a.colourScale.assign(V, 0.0f);
+  a.key.assign(V, 0);
+  std::map<std::pair<float, float>, uint32_t> uvKey;
+  for (size_t i = 0; i < in.indices.size(); ++i) {
+    const uint32_t v = in.indices[i];
+    const SkinnedMesh::Part *part = in.parts.empty() ? nullptr : &in.parts[partOf[i / 3]];
+    const glm::vec3 albedo = part ? glm::vec3(part->colour) : glm::vec3(1.0f);
+    a.colourScale[v] = 255.0f * 0.75f * glm::length(albedo);
+    if (part && part->textured && !in.uvs.empty()) {
+      const std::pair<float, float> uv{in.uvs[v].x + 0.0f, in.uvs[v].y + 0.0f}; // -0 as +0
+      a.key[v] = uvKey.try_emplace(uv, uint32_t(uvKey.size() + 1)).first->second;
+    }
+  }
+  return a;
+}
+
 // Each repeat goes with its first: the same new indices, the same vertex removal deleting it, so
 // an outfit's copy simplifies exactly as the part it copies (see lodTriangles). Returns bakeLod's
 // result with the repeats listed after their first (r.source: input triangles).
@@ -85,8 +111,20 @@ LodResult bakeWithRepeats(const Character &c, const LodOptions &o, Reporter &rep
   // armature carries a scale (a trooper modelled in cm under a 0.01 armature: its bind-pose cost
   // outweighed every other pose's 10^7 times), and a rigid part's sit in its node's frame.
   const std::vector<glm::dvec3> rest = posedPositions(c, nullptr, 0);
+  const LodAppearance appearance = appearanceOf(in);
   LodResult r = bakeLod(std::vector<glm::vec3>(rest.begin(), rest.end()), lt.indices, o, reporter,
-                        lt.group, samplePoses(c, o.poses));
+                        lt.group, samplePoses(c, o.poses), &appearance);
+  if (r.seamClosings) {
+    char text[128];
+    std::snprintf(text, sizeof text, "%.1f of 255 under the player's light (--seam-budget %g)",
+                  r.seamColourChange, o.seamBudget);
+    reporter.warn("hard_edges_closed",
+                  std::to_string(r.seamClosings) +
+                      " render vertices are drawn across a hard edge by the floor (a collapse "
+                      "closed it): the drawn colour changes by at most " +
+                      text,
+                  r.seamClosings);
+  }
   const std::vector<uint32_t> source = std::move(r.source), killedBy = std::move(r.killedBy),
                               indices = std::move(r.indices);
   r.source.clear(), r.killedBy.clear(), r.indices.clear();

@@ -1,6 +1,7 @@
 #include "crowd/bake/lod_bake.h"
 
 #include <cmath>
+#include <cstdio>
 
 #include "collapse_loop.h"
 #include "collapse_mesh.h"
@@ -71,13 +72,19 @@ void reportFloorNotReached(const lod::CollapseMesh &mesh, lod::CollapseRules &ru
       manifold += ab == Block::kManifold || ba == Block::kManifold;
     }
   auto pct = [](double x) { return std::to_string(int(std::lround(100 * x))) + "%"; };
+  auto budget = [](double b) {
+    char text[64];
+    std::snprintf(text, sizeof text, "%g of 255", b);
+    return std::string(text);
+  };
   reporter.warn("lod_floor_not_reached",
                 "the LOD stops at " + std::to_string(mesh.aliveFaces) + " of " + std::to_string(F) +
                     " triangles (" + pct(double(mesh.aliveFaces) / double(F)) + ", the floor is " +
                     pct(o.floorFraction) + "): no legal collapse is left. Of its " +
                     std::to_string(edges) + " edges, " + std::to_string(seam) +
-                    " join two seam or boundary corners (UV seams, hard edges, open borders: "
-                    "each moves only along its line), " +
+                    " join two seam or boundary corners (UV seams, open borders, and hard "
+                    "edges whose closing would change the colour by more than the seam budget, " +
+                    budget(o.seamBudget) + ": each moves only along its line), " +
                     std::to_string(manifold) +
                     " would make the mesh non-manifold (a piece down to its last faces), " +
                     std::to_string(normal) + " would turn a face more than " +
@@ -90,7 +97,8 @@ void reportFloorNotReached(const lod::CollapseMesh &mesh, lod::CollapseRules &ru
 // loop, then the pack's order of vertices and triangles.
 LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uint32_t> &indices,
                   const LodOptions &o, Reporter &reporter, const std::vector<uint32_t> &group,
-                  const std::vector<std::vector<glm::vec3>> &poses) {
+                  const std::vector<std::vector<glm::vec3>> &poses,
+                  const LodAppearance *appearance) {
   checkInput(positions, indices, poses);
   LodResult r;
   r.inputTriangles = uint32_t(indices.size() / 3);
@@ -100,12 +108,16 @@ LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uin
     throw Error("lod: the mesh has no triangle with an area");
   const std::vector<std::array<uint32_t, 3>> initialCorner = fan.render;
   lod::CollapseMesh mesh(std::move(fan), poses);
+  if (appearance && o.seamBudget > 0)
+    mesh.shading = lod::SeamShading(*appearance, mesh.fan.source, o.seamBudget);
   lod::CollapseRules rules(mesh, o.maxNormalDeviationDeg);
   lod::Refusals refusals(mesh.vertices(), mesh.faces());
   const size_t floorFaces = size_t(std::ceil(o.floorFraction * double(mesh.faces())));
   const lod::Removals removals = lod::collapseToFloor(mesh, rules, refusals, floorFaces);
   if (mesh.aliveFaces > floorFaces)
     reportFloorNotReached(mesh, rules, refusals, o, reporter);
+  r.seamClosings = mesh.shading.closings();
+  r.seamColourChange = mesh.shading.largestChange();
   size_t isolated = 0;
   const std::vector<uint32_t> newIndex =
       lod::numberVertices(mesh.fan, removals, indices, r, isolated);

@@ -10,6 +10,8 @@ void LodOptions::validate() const {
     throw Error("floor: must be in [0, 1]");
   if (poses > 1024)
     throw Error("poses: must be an integer in [0, 1024]");
+  if (!(seamBudget >= 0 && seamBudget <= 442)) // 442: 255 x sqrt(3), black to white
+    throw Error("seam budget: must be in [0, 442] (8-bit RGB distance)");
   if (!(maxNormalDeviationDeg > 0 && maxNormalDeviationDeg <= 180))
     throw Error("max normal deviation: must be in (0, 180] degrees");
 }

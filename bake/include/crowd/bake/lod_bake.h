@@ -1,10 +1,12 @@
 // Continuous LOD: the full edge-collapse sequence of a mesh, from all its
 // triangles down to a floor, as arrays a renderer can cut at any vertex count. Collapses run on
 // a welded mesh of flat arrays (lod/fan_mesh.h), cheapest quadric cost first (the largest over
-// the bind pose and any poses given, lod/cost_queue.h); a UV or normal seam vertex only collapses
-// along its seam, a boundary vertex only along its boundary, and no collapse leaves a triangle
-// degenerate or turned more than `maxNormalDeviationDeg` from its full-detail normal, or the
-// mesh non-manifold. No new vertices: every LOD vertex is an original one.
+// the bind pose and any poses given, lod/cost_queue.h); a UV seam vertex only collapses along its
+// seam, a boundary vertex only along its boundary, a hard edge's (a normal seam's) also across it
+// where the drawn colour changes by no more than the seam budget (lod/seam_shading.h), and no
+// collapse leaves a triangle degenerate or turned more than `maxNormalDeviationDeg` from its
+// full-detail normal, or the mesh non-manifold. No new vertices: every LOD vertex is an original
+// one.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -19,8 +21,21 @@ namespace crowd {
 struct LodOptions {
   double floorFraction = 0.02; // stop at this share of the triangles (or no legal collapse)
   double maxNormalDeviationDeg = 75;
-  uint32_t poses = 16;   // applyLod: poses sampled evenly over all clips (0: the bind pose only)
+  uint32_t poses = 16; // applyLod: poses sampled evenly over all clips (0: the bind pose only)
+  // The most a closed hard edge may change the drawn colour, 8-bit RGB distance under the
+  // player's light at its worst direction (0: hard edges hold, as UV seams do).
+  double seamBudget = 4;
   void validate() const; // throws crowd::Error naming the first field out of range
+};
+
+// What the seam budget weighs, per input vertex: its shading normal (zero: shaded by its face),
+// the drawn colour's change per unit of normal change (255 x 0.75 x |albedo|, crowd.frag's light),
+// and a key that two vertices at one position share where they differ in their normal alone (the
+// same UV, or an untextured sub-mesh).
+struct LodAppearance {
+  std::vector<glm::vec3> normals;
+  std::vector<float> colourScale;
+  std::vector<uint32_t> key;
 };
 
 // Cut at v vertices: take the first triangleCount[v] triangles and follow each index through
@@ -36,6 +51,8 @@ struct LodResult {
                                        // (UINT32_MAX: none, it lasts to the floor)
   uint32_t floorVertices = 0;          // the fewest vertices the sequence reaches
   uint32_t inputTriangles = 0;         // before repairs (dropped faces are reported)
+  size_t seamClosings = 0;             // render vertices drawn across a hard edge at the floor
+  double seamColourChange = 0;         // the largest colour change that made, 8-bit RGB
 };
 
 struct Character;
@@ -88,10 +105,12 @@ pack::Lod applyLod(Character &character, const LodOptions &options, Reporter &re
 // `positions`: the rest pose, in the poses' units (applyLod gives the character as drawn without
 // a clip). `poses` (optional): the vertices skinned into other poses; a collapse then costs its
 // quadric error in the worst of the rest pose and every pose, so the order suits the animation,
-// not just the rest.
+// not just the rest. `appearance` (optional, per input vertex): hard edges may close within
+// options.seamBudget; without it every seam holds.
 LodResult bakeLod(const std::vector<glm::vec3> &positions, const std::vector<uint32_t> &indices,
                   const LodOptions &options, Reporter &reporter,
                   const std::vector<uint32_t> &group = {},
-                  const std::vector<std::vector<glm::vec3>> &poses = {});
+                  const std::vector<std::vector<glm::vec3>> &poses = {},
+                  const LodAppearance *appearance = nullptr);
 
 } // namespace crowd
