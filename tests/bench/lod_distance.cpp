@@ -94,6 +94,7 @@ LodInput loadLodInput(const char *path, Reporter &reporter) {
   weldExactCopies(in.character.mesh, reporter);
   weldFlatShading(in.character.mesh, reporter);
   in.triangles = lodTriangles(in.character.mesh);
+  in.appearance = lodAppearance(in.character.mesh);
   in.poses = samplePoses(in.character, LodOptions{}.poses);
   for (const auto &p : posedPositions(in.character, nullptr, 0.0))
     in.rest.push_back(glm::vec3(p));

@@ -51,6 +51,7 @@ struct LodInput {
   LodTriangles triangles;
   std::vector<std::vector<glm::vec3>> poses;
   std::vector<glm::vec3> rest;
+  LodAppearance appearance; // what the seam budget weighs, as applyLod gives it
 };
 LodInput loadLodInput(const char *path, Reporter &reporter);
 

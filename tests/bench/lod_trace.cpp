@@ -48,8 +48,10 @@ int main(int argc, char **argv) {
   const crowd::bench::LodInput in = crowd::bench::loadLodInput(argv[1], rep);
   const crowd::bench::LodDistanceMeasure d(in.character);
   const auto &lt = in.triangles;
-  const crowd::LodResult ours = crowd::bakeLod(in.rest, lt.indices, {}, rep, lt.group, in.poses);
-  const crowd::LodResult bind = crowd::bakeLod(in.rest, lt.indices, {}, rep, lt.group, {});
+  const crowd::LodResult ours =
+      crowd::bakeLod(in.rest, lt.indices, {}, rep, lt.group, in.poses, &in.appearance);
+  const crowd::LodResult bind =
+      crowd::bakeLod(in.rest, lt.indices, {}, rep, lt.group, {}, &in.appearance);
   walk("skinning-aware (16 poses)", ours, d, from, to);
   walk("bind pose only", bind, d, from, to);
   return 0;

@@ -72,13 +72,10 @@ std::vector<std::vector<glm::vec3>> samplePoses(const Character &c, uint32_t cou
   return poses;
 }
 
-namespace {
-
-// What the seam budget weighs (LodAppearance), from each vertex's normal and sub-mesh: the
-// colour scale under crowd.frag's light (albedo x (0.25 + 0.75 max(n.l, 0)): a normal change d
+// The colour scale is crowd.frag's light (albedo x (0.25 + 0.75 max(n.l, 0)): a normal change d
 // changes it by at most 0.75 |albedo| d; a texel is at most 1, so the material's colour bounds a
-// textured sub-mesh's), and the key: its UV where the sub-mesh is textured, one key where not.
-LodAppearance appearanceOf(const SkinnedMesh &in) {
+// textured sub-mesh's).
+LodAppearance lodAppearance(const SkinnedMesh &in) {
   const std::vector<uint32_t> partOf = triangleParts(in);
   const size_t V = in.positions.size();
   LodAppearance a;
@@ -99,6 +96,8 @@ LodAppearance appearanceOf(const SkinnedMesh &in) {
   return a;
 }
 
+namespace {
+
 // Each repeat goes with its first: the same new indices, the same vertex removal deleting it, so
 // an outfit's copy simplifies exactly as the part it copies (see lodTriangles). Returns bakeLod's
 // result with the repeats listed after their first (r.source: input triangles).
@@ -111,7 +110,7 @@ LodResult bakeWithRepeats(const Character &c, const LodOptions &o, Reporter &rep
   // armature carries a scale (a trooper modelled in cm under a 0.01 armature: its bind-pose cost
   // outweighed every other pose's 10^7 times), and a rigid part's sit in its node's frame.
   const std::vector<glm::dvec3> rest = posedPositions(c, nullptr, 0);
-  const LodAppearance appearance = appearanceOf(in);
+  const LodAppearance appearance = lodAppearance(in);
   LodResult r = bakeLod(std::vector<glm::vec3>(rest.begin(), rest.end()), lt.indices, o, reporter,
                         lt.group, samplePoses(c, o.poses), &appearance);
   if (r.seamClosings) {

@@ -70,6 +70,9 @@ struct LodTriangles {
   std::vector<uint32_t> group;                 // per vertex: its sub-mesh and skin binding
 };
 LodTriangles lodTriangles(const SkinnedMesh &mesh);
+// What the seam budget weighs for a mesh, per vertex (LodAppearance): its normal, its sub-mesh's
+// colour scale, and its UV as the key where the sub-mesh is textured (one key where not).
+LodAppearance lodAppearance(const SkinnedMesh &mesh);
 // Per triangle, the sub-mesh holding it (0 for a triangle in none).
 std::vector<uint32_t> triangleParts(const SkinnedMesh &mesh);
 // `count` poses of the mesh, round robin over every clip at mid-interval times (none without
