@@ -559,21 +559,26 @@ SkinnedMesh hardEdgedCube(int n) {
   return m;
 }
 
-// The largest change of the drawn colour at any corner at any level, 8-bit RGB under the
-// player's light: 255 x 0.75 x |albedo| x |n - n'|, n the corner's normal at full detail, n' the
-// normal of the vertex it is drawn with at the level (the cube's faces are flat: only a closed
-// hard edge changes a corner's normal).
-double largestColourChange(const LodResult &r, const SkinnedMesh &m, float albedo) {
-  double largest = 0;
+// The largest change of the drawn colour at any corner, per level (index: the cut's vertex
+// count, from the floor up), 8-bit RGB under the player's light: 255 x 0.75 x |albedo| x |n - n'|,
+// n the corner's normal at full detail, n' the normal of the vertex it is drawn with at the level
+// (the cube's faces are flat: only a closed hard edge changes a corner's normal).
+std::vector<double> colourChangeByLevel(const LodResult &r, const SkinnedMesh &m, float albedo) {
   const uint32_t V = uint32_t(r.order.size());
+  std::vector<double> largest(V + 1, 0.0);
   for (uint32_t v = r.floorVertices; v <= V; ++v)
     for (uint32_t t = 0; t < r.triangleCount[v]; ++t)
       for (uint32_t c = 0; c < 3; ++c) {
         const glm::vec3 before = m.normals[m.indices[3 * r.source[t] + c]];
         const glm::vec3 after = m.normals[r.order[cornerAt(r, t, c, v)]];
-        largest = std::max(largest, 255.0 * 0.75 * albedo * glm::length(before - after));
+        largest[v] = std::max(largest[v], 255.0 * 0.75 * albedo * glm::length(before - after));
       }
   return largest;
+}
+
+double largestColourChange(const LodResult &r, const SkinnedMesh &m, float albedo) {
+  const std::vector<double> byLevel = colourChangeByLevel(r, m, albedo);
+  return *std::max_element(byLevel.begin(), byLevel.end());
 }
 
 // A hard edge closes where the colour it changes stays within the seam budget, measured at every
@@ -608,6 +613,14 @@ TEST(Lod, HardEdgesCloseWithinTheSeamBudget) {
   EXPECT_GT(darkChange, 0);
   EXPECT_LE(darkChange, o.seamBudget + 1e-3);
   EXPECT_NEAR(darkCut.seamColourChange, darkChange, 1e-3);
+  // Each level's change as the bake records it (LodResult::colourChange, the report's
+  // colour_change): the largest over the removals the cut has taken, as measured.
+  const std::vector<double> byLevel = colourChangeByLevel(darkCut, cube, 0.01f);
+  for (uint32_t v = darkCut.floorVertices; v < darkCut.order.size(); ++v) {
+    const float recorded =
+        *std::max_element(darkCut.colourChange.begin() + v, darkCut.colourChange.end());
+    EXPECT_NEAR(recorded, byLevel[v], 1e-3) << "at " << v << " vertices";
+  }
   for (const LodAppearance *a : {&bright, &dark}) {
     LodOptions none = o;
     if (a == &dark)

@@ -8,7 +8,8 @@ namespace crowd {
 
 using nlohmann::ordered_json;
 
-ordered_json lodFigures(const pack::Lod &l, size_t inputTriangles) {
+ordered_json lodFigures(const pack::Lod &l, size_t inputTriangles,
+                        const std::vector<float> *colourChange) {
   const uint32_t n = uint32_t(l.collapse.size());
   auto triangles = [&](uint32_t v) { return l.totalTriangles(v); };
   ordered_json f;
@@ -25,6 +26,12 @@ ordered_json lodFigures(const pack::Lod &l, size_t inputTriangles) {
                            {"vertices", v},
                            {"triangles", triangles(v)},
                            {"quadric_error", n ? l.error[std::min(v, n - 1)] : 0.0f}});
+    if (colourChange && colourChange->size() == n) {
+      float largest = 0; // over the removals the cut has taken: vertices v and above
+      for (uint32_t k = v; k < n; ++k)
+        largest = std::max(largest, (*colourChange)[k]);
+      f["levels"].back()["colour_change"] = largest;
+    }
   }
   return f;
 }

@@ -87,8 +87,9 @@ Part meshJob(const Job &job, const std::vector<const Part *> &cloths, const JobC
     std::optional<pack::Lod> lod;
     if (m.lod) {
       const auto t1 = Clock::now();
-      lod = applyLod(body, m.lodOptions, run.reporter);
-      f["lod"] = lodFigures(*lod, f["input_triangles"]);
+      LodResult details;
+      lod = applyLod(body, m.lodOptions, run.reporter, &details);
+      f["lod"] = lodFigures(*lod, f["input_triangles"], &details.colourChange);
       f["lod"]["time_s"] = since(t1);
     }
     AnimBakeOptions ao = m.anim;
@@ -108,7 +109,7 @@ Part meshJob(const Job &job, const std::vector<const Part *> &cloths, const JobC
     OutfitBakeResult r = bakeOutfits(body, outfits, oo, run.reporter);
     f.update(outfitFigures(r, oo));
     if (r.anim.pack.lod)
-      f["lod"] = lodFigures(*r.anim.pack.lod, r.taggedFaces);
+      f["lod"] = lodFigures(*r.anim.pack.lod, r.taggedFaces, &r.lodColourChange);
     anim = std::move(r.anim);
   }
   const auto &mesh = anim.pack.mesh;

@@ -141,7 +141,7 @@ void collapse(CollapseMesh &mesh, uint32_t a, uint32_t b, const EdgeFaces &edge,
     removed(pairs[q].first, pairs[q].second);
   }
   for (const auto &[ra, rb] : closing) {
-    mesh.shading.closed(ra, rb);
+    out.colour[ra] = float(mesh.shading.closed(ra, rb));
     removed(ra, rb);
   }
   mesh.quadric.merge(b, a);
@@ -159,6 +159,7 @@ Removals collapseToFloor(CollapseMesh &mesh, CollapseRules &rules, Refusals &ref
   out.removed.reserve(V); // each render vertex goes at most once
   out.target.assign(V, UINT32_MAX);
   out.cost.assign(V, 0.0f);
+  out.colour.assign(V, 0.0f);
   out.killer.assign(mesh.faces(), -1);
   Candidates queue(mesh.quadric, mesh.vertices(), mesh.faces());
   bool progress = true, first = true;

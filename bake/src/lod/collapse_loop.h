@@ -11,11 +11,12 @@
 
 namespace crowd::lod {
 
-// What the collapses did, in render vertices: who went, in order, into whom, at what cost; and
-// for each face the render vertex whose removal deleted it (-1: it lasts).
+// What the collapses did, in render vertices: who went, in order, into whom, at what cost and
+// what colour change (a hard edge's closing, 8-bit RGB; 0: none); and for each face the render
+// vertex whose removal deleted it (-1: it lasts).
 struct Removals {
   std::vector<uint32_t> removed, target;
-  std::vector<float> cost;
+  std::vector<float> cost, colour;
   std::vector<int64_t> killer;
 };
 

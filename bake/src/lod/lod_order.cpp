@@ -27,10 +27,12 @@ std::vector<uint32_t> numberVertices(const FanMesh &fan, const Removals &removal
     }
   r.collapse.resize(r.order.size());
   r.error.assign(r.order.size(), 0.0f);
+  r.colourChange.assign(r.order.size(), 0.0f);
   for (uint32_t v = 0; v < V; ++v) {
     const uint32_t k = newIndex[v], target = removals.target[v];
     r.collapse[k] = target != UINT32_MAX ? newIndex[target] : (k < r.floorVertices ? k : 0);
     r.error[k] = removals.cost[v];
+    r.colourChange[k] = removals.colour[v];
   }
   return newIndex;
 }

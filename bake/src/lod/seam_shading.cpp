@@ -31,10 +31,12 @@ double SeamShading::jump(uint32_t r, uint32_t s) const {
   return glm::length(normal_[r] - normal_[s]);
 }
 
-void SeamShading::closed(uint32_t r, uint32_t s) {
-  largest_ = std::max(largest_, change(r, s));
+double SeamShading::closed(uint32_t r, uint32_t s) {
+  const double c = change(r, s);
+  largest_ = std::max(largest_, c);
   moved_[s] = std::max(moved_[s], float(moved_[r] + jump(r, s)));
   ++closings_;
+  return c;
 }
 
 void SeamShading::carried(uint32_t r, uint32_t s) { moved_[s] = std::max(moved_[s], moved_[r]); }

@@ -30,8 +30,9 @@ public:
   // The colour change, 8-bit RGB, where the corners r stands for are drawn with s instead.
   double change(uint32_t r, uint32_t s) const { return scale_[r] * (moved_[r] + jump(r, s)); }
   bool within(double change) const { return change <= budget_; }
-  // r's corners are drawn with s from now on: across the seam (closed) or along it.
-  void closed(uint32_t r, uint32_t s);
+  // r's corners are drawn with s from now on: across the seam (closed: returns the colour change
+  // that makes) or along it.
+  double closed(uint32_t r, uint32_t s);
   void carried(uint32_t r, uint32_t s);
   size_t closings() const { return closings_; }
   double largestChange() const { return largest_; }

@@ -285,6 +285,7 @@ pack::Lod applyOutfitLod(OutfitBakeResult &r, const Character &joined, const Out
       if (partOf[t] == p)
         source.push_back(r.sourceTriangle[t]);
   r.sourceTriangle = std::move(source);
+  r.lodColourChange = details.colourChange;
   // The loops' vertices follow the LOD's order (and its flat-shading weld), or the hole check
   // would pose the loops onto other vertices of the reordered mesh.
   std::vector<uint32_t> newOf(joined.mesh.vertexCount(), UINT32_MAX);

@@ -2,6 +2,7 @@
 // same keys reach every --report and the build report.
 #pragma once
 #include <cstddef>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -14,7 +15,10 @@ namespace crowd {
 
 // Continuous LOD: triangles in and stored, the floor and the fewest vertices that keep 50%, 25%,
 // 10% and 5% of the triangles, with their quadric error.
-nlohmann::ordered_json lodFigures(const pack::Lod &lod, size_t inputTriangles);
+// `colourChange` (optional, LodResult::colourChange): each level's largest colour change from
+// closed hard edges, 8-bit RGB, beside its quadric error.
+nlohmann::ordered_json lodFigures(const pack::Lod &lod, size_t inputTriangles,
+                                  const std::vector<float> *colourChange = nullptr);
 
 // Outfits: per outfit its garments, hidden and removed body faces and each body sub-mesh's
 // coverage; faces stored by the naive, pre-fitted and tagged methods (and extrapolated to 10

@@ -53,6 +53,9 @@ struct LodResult {
   uint32_t inputTriangles = 0;         // before repairs (dropped faces are reported)
   size_t seamClosings = 0;             // render vertices drawn across a hard edge at the floor
   double seamColourChange = 0;         // the largest colour change that made, 8-bit RGB
+  // The colour change (8-bit RGB) vertex k's removal made closing a hard edge (0: none): a cut
+  // at v vertices shows the largest of k >= v.
+  std::vector<float> colourChange;
 };
 
 struct Character;

@@ -158,6 +158,7 @@ struct OutfitBakeResult {
   uint32_t bareHiddenFaces = 0; // body faces hidden with no outfit (by the body, the ground)
   // Per triangle of `merged`: the body triangle it copies, or itself (garments, body).
   std::vector<uint32_t> sourceTriangle;
+  std::vector<float> lodColourChange; // with options.lod: LodResult::colourChange
   std::vector<OutfitFigures> outfits;
   uint32_t framesTested = 0;     // per outfit, over every clip (loop frames apart)
   std::vector<PlacedLoop> loops; // every outfit's cloth loops, on `merged`
