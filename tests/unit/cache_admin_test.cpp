@@ -14,7 +14,12 @@ namespace fs = std::filesystem;
 namespace {
 
 struct Cache : ::testing::Test {
-  const std::string folder = (fs::temp_directory_path() / "crowd_cache_admin_test").string();
+  // One folder a test: ctest runs the tests of one fixture side by side.
+  const std::string folder =
+      (fs::temp_directory_path() /
+       ("crowd_cache_admin_" +
+        std::string(::testing::UnitTest::GetInstance()->current_test_info()->name())))
+          .string();
   ContentCache cache{folder};
   void SetUp() override { fs::remove_all(folder); }
   void TearDown() override { fs::remove_all(folder); }
