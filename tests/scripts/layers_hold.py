@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """A layer includes only the ones below it (docs/architecture.md, "Layers"): every
-`#include "crowd/<layer>/..."` in a folder's sources names a layer that folder may use. The
-samples link no bake code; no library includes an application.
+`#include "crowd/<layer>/..."` in a folder's sources names a layer that folder may use, and none
+reaches into another folder by relative path (`#include "../..."`: what a folder offers others
+is in its public headers). The samples link no bake code; no library includes an application.
 
 usage: layers_hold.py SOURCE_DIR"""
 import pathlib
@@ -19,6 +20,7 @@ ALLOWED = {
     "apps/crowdbake": {"formats", "support", "runtime", "bake", "samples"},
 }
 INCLUDE = re.compile(r'^\s*#\s*include\s*[<"]crowd/([a-z_]+)/', re.M)
+RELATIVE = re.compile(r'^\s*#\s*include\s*"(\.\./[^"]*)"', re.M)
 
 
 def main():
@@ -29,7 +31,11 @@ def main():
             if path.suffix not in (".cpp", ".h"):
                 continue
             files += 1
-            for layer in INCLUDE.findall(path.read_text()):
+            text = path.read_text()
+            for header in RELATIVE.findall(text):
+                problems.append(f"{path.relative_to(source)} includes {header} by relative "
+                                f"path (include another folder's public header)")
+            for layer in INCLUDE.findall(text):
                 if layer not in allowed:
                     problems.append(f"{path.relative_to(source)} includes crowd/{layer}/, "
                                     f"which {folder}/ may not use")

@@ -11,10 +11,10 @@
 #include "crowd/bake/content_cache.h"
 #include "crowd/bake/import.h"
 #include "crowd/bake/job.h"
+#include "crowd/bake/job_inputs.h"
 #include "crowd/bake/provenance.h"
 #include "crowd/formats/character_pack.h"
 #include "crowd/formats/error.h"
-#include "job_inputs.h"
 
 namespace crowd {
 

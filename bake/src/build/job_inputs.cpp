@@ -1,4 +1,4 @@
-#include "job_inputs.h"
+#include "crowd/bake/job_inputs.h"
 
 #include <algorithm>
 

@@ -1,7 +1,7 @@
 // The cloth job of a character build: one garment's loop found in its cloth cache.
-#include "../build/job_inputs.h"
 #include "crowd/bake/bake_figures.h"
 #include "crowd/bake/cloth_bake.h"
+#include "crowd/bake/job_inputs.h"
 #include "crowd/formats/chunks.h"
 #include "crowd/formats/cloth.h"
 

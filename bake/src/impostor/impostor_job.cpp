@@ -1,8 +1,8 @@
 // The impostor job of a character build: one (clip, outfit) pair's atlas, and where the manifest
 // asks, its accuracy against the mesh drawn.
-#include "../build/job_inputs.h"
 #include "crowd/bake/bake_figures.h"
 #include "crowd/bake/impostor_bake.h"
+#include "crowd/bake/job_inputs.h"
 #include "crowd/bake/outfit_bake.h"
 #include "crowd/formats/chunks.h"
 #include "crowd/formats/impostor.h"

@@ -1,5 +1,5 @@
 // The terrain job of an environment build: its one job, the walkable grid of the environment.
-#include "../build/job_inputs.h"
+#include "crowd/bake/job_inputs.h"
 #include "crowd/bake/terrain_bake.h"
 #include "crowd/formats/chunks.h"
 #include "crowd/formats/terrain.h"
