@@ -10,6 +10,21 @@ namespace crowd::pack {
 
 namespace {
 constexpr int kTickShares = 4; // a tick is looked for at the smallest gap over 1 .. 4
+
+// A node's rest flags (version 4; versions 1-3 hold the matrix bit alone): the identity's
+// rotation, translation or scale left out, and the values stored as halves where all are.
+constexpr uint8_t kRestMatrix = 1, kRestHalves = 2, kRestNoRotation = 4, kRestNoTranslation = 8,
+                  kRestNoScale = 16;
+constexpr uint8_t kRestFlags = 31;
+// Where each part of a non-matrix rest lies in TrackSkeleton::rest, and its identity value.
+struct RestPart {
+  uint8_t flag;
+  size_t first, count;
+  float identity[4];
+};
+constexpr RestPart kRestParts[3] = {{kRestNoRotation, 0, 4, {0, 0, 0, 1}},
+                                    {kRestNoTranslation, 4, 3, {0, 0, 0, 0}},
+                                    {kRestNoScale, 7, 3, {1, 1, 1, 0}}};
 } // namespace
 
 uint32_t readBits(const std::vector<uint32_t> &stream, uint64_t at, uint32_t bits) {
@@ -103,6 +118,13 @@ bool halfExtents(const Track &track) {
   return true;
 }
 
+bool halfValues(std::span<const float> values) {
+  for (float v : values)
+    if (!(std::abs(v) <= 65504.0f) || halfToFloat(floatToHalf(v)) != v)
+      return false;
+  return true;
+}
+
 TimeTable timeTable(const std::vector<float> &times) {
   if (uniformTimes(times))
     return TimeTable::Step;
@@ -151,15 +173,25 @@ void putClip(ByteWriter &w, const TrackClip &clip) {
       kinds = uint8_t(kinds | storedKind(clip.tracks[t + k]) << (2 * k));
     w.put<uint8_t>(kinds);
   }
+  std::vector<uint32_t> halves; // per stored track, whether its value or min is halves
+  uint64_t stored = 0;
+  for (const Track &t : clip.tracks)
+    if (t.kind != TrackKind::Default)
+      writeBits(halves, stored++, 1, halfValues(t.min));
+  for (uint64_t b = 0; b < (stored + 7) / 8; ++b)
+    w.put<uint8_t>(uint8_t(halves[b / 4] >> (8 * (b % 4))));
+  const auto putValues = [&](const std::array<float, 3> &values) {
+    const bool half = halfValues(values);
+    for (float v : values)
+      half ? w.put<uint16_t>(floatToHalf(v)) : w.put<float>(v);
+  };
   for (const Track &t : clip.tracks) {
     if (t.kind == TrackKind::Constant)
-      for (float v : t.min)
-        w.put<float>(v);
+      putValues(t.min);
     if (t.kind != TrackKind::Animated)
       continue;
     w.put<uint8_t>(uint8_t(t.bits | t.dropped << 5 | (t.step ? 0x80 : 0)));
-    for (float v : t.min)
-      w.put<float>(v);
+    putValues(t.min);
     const bool half = halfExtents(t);
     for (float v : t.extent)
       half ? w.put<uint16_t>(floatToHalf(v)) : w.put<float>(v);
@@ -173,9 +205,26 @@ void putSkeleton(ByteWriter &w, const TrackSkeleton &s) {
   w.put<uint32_t>(uint32_t(s.nodeCount()));
   for (size_t n = 0; n < s.nodeCount(); ++n) {
     w.put<int32_t>(s.parents[n]);
-    w.put<uint8_t>(s.restIsMatrix[n]);
-    for (size_t k = 0; k < (s.restIsMatrix[n] ? 12u : 10u); ++k)
-      w.put<float>(s.rest[n][k]);
+    const std::array<float, 12> &rest = s.rest[n];
+    std::vector<float> values; // what is stored, in order
+    uint8_t flags = s.restIsMatrix[n] ? kRestMatrix : 0;
+    if (flags)
+      values.assign(rest.begin(), rest.end());
+    else
+      for (const RestPart &part : kRestParts) {
+        bool identity = true;
+        for (size_t k = 0; k < part.count; ++k)
+          identity &= rest[part.first + k] == part.identity[k];
+        if (identity)
+          flags |= part.flag;
+        else
+          values.insert(values.end(), rest.begin() + long(part.first),
+                        rest.begin() + long(part.first + part.count));
+      }
+    const bool half = !values.empty() && halfValues(values);
+    w.put<uint8_t>(uint8_t(flags | (half ? kRestHalves : 0)));
+    for (float v : values)
+      half ? w.put<uint16_t>(floatToHalf(v)) : w.put<float>(v);
   }
   w.put<uint32_t>(uint32_t(s.jointNodes.size()));
   for (uint32_t node : s.jointNodes)
@@ -189,7 +238,14 @@ float finiteFloat(ByteReader &r, const char *field) {
   return v;
 }
 
-TrackSkeleton getSkeleton(ByteReader &r) {
+float finiteHalf(ByteReader &r, const char *field) {
+  const float v = halfToFloat(r.get<uint16_t>(field));
+  if (!std::isfinite(v))
+    r.fail(field, "a value is NaN or infinite");
+  return v;
+}
+
+TrackSkeleton getSkeleton(ByteReader &r, uint32_t version) {
   TrackSkeleton s;
   const uint32_t nodes = r.get<uint32_t>("node count");
   if (nodes == 0 || nodes > limits::kJoints * 2u)
@@ -200,12 +256,19 @@ TrackSkeleton getSkeleton(ByteReader &r) {
     if (parent < -1 || parent >= int32_t(n))
       r.fail("parents", "node " + std::to_string(n) + " has parent " + std::to_string(parent) +
                             " (a parent comes before its children)");
-    const uint8_t matrix = r.get<uint8_t>("rest is matrix");
-    if (matrix > 1)
-      r.fail("rest is matrix", "node " + std::to_string(n) + ": " + std::to_string(matrix));
+    const uint8_t flags = r.get<uint8_t>("rest flags");
+    const bool matrix = flags & kRestMatrix, half = flags & kRestHalves;
+    if (flags > (version < 4 ? kRestMatrix : kRestFlags) || (matrix && flags > 3))
+      r.fail("rest flags", "node " + std::to_string(n) + ": " + std::to_string(flags));
     std::array<float, 12> rest{};
-    for (size_t k = 0; k < (matrix ? 12u : 10u); ++k)
-      rest[k] = finiteFloat(r, "rest");
+    const auto get = [&] { return half ? finiteHalf(r, "rest") : finiteFloat(r, "rest"); };
+    if (matrix)
+      for (float &v : rest)
+        v = get();
+    else
+      for (const RestPart &part : kRestParts)
+        for (size_t k = 0; k < part.count; ++k)
+          rest[part.first + k] = flags & part.flag ? part.identity[k] : get();
     s.parents.push_back(parent);
     s.restIsMatrix.push_back(matrix);
     s.rest.push_back(rest);
@@ -275,12 +338,32 @@ TrackClip getClip(ByteReader &r, size_t nodes, uint32_t version) {
       clip.tracks[t + k].kind = kind == 3 ? TrackKind::Animated : TrackKind(kind);
     }
   }
+  std::vector<uint8_t> halves(tracks, 0); // version 4: a stored track's value or min as halves
+  if (version >= 4) {
+    std::vector<size_t> stored;
+    for (size_t t = 0; t < tracks; ++t)
+      if (clip.tracks[t].kind != TrackKind::Default)
+        stored.push_back(t);
+    for (size_t b = 0; b < (stored.size() + 7) / 8; ++b) {
+      const uint8_t byte = r.get<uint8_t>("half values");
+      for (size_t k = 0; k < 8; ++k)
+        if (byte >> k & 1) {
+          if (b * 8 + k >= stored.size())
+            r.fail("half values", where + "a bit past the " + std::to_string(stored.size()) +
+                                      " stored tracks is set");
+          halves[stored[b * 8 + k]] = 1;
+        }
+    }
+  }
+  const auto getValues = [&](std::array<float, 3> &values, size_t t, const char *field) {
+    for (float &v : values)
+      v = halves[t] ? finiteHalf(r, field) : finiteFloat(r, field);
+  };
   uint64_t bits = 0;
   for (size_t t = 0; t < tracks; ++t) {
     Track &track = clip.tracks[t];
     if (track.kind == TrackKind::Constant)
-      for (float &v : track.min)
-        v = finiteFloat(r, "constant value");
+      getValues(track.min, t, "constant value");
     if (track.kind != TrackKind::Animated)
       continue;
     const uint8_t b = r.get<uint8_t>("bits");
@@ -294,8 +377,7 @@ TrackClip getClip(ByteReader &r, size_t nodes, uint32_t version) {
     if (track.bits == 0 || track.bits > kMaxTrackBits)
       r.fail("bits", where + "track " + std::to_string(t) + " has " + std::to_string(track.bits) +
                          " bits (1.." + std::to_string(kMaxTrackBits) + ")");
-    for (float &v : track.min)
-      v = finiteFloat(r, "range");
+    getValues(track.min, t, "range");
     for (float &v : track.extent) {
       v = halfExtent[t] ? halfToFloat(r.get<uint16_t>("range")) : finiteFloat(r, "range");
       if (!std::isfinite(v))
@@ -331,7 +413,7 @@ JointTracks decodeJointTracks(std::span<const uint8_t> bytes, const std::string 
                               uint32_t version) {
   ByteReader r(bytes, context);
   JointTracks out;
-  out.skeleton = getSkeleton(r);
+  out.skeleton = getSkeleton(r, version);
   const uint32_t clips = r.get<uint32_t>("clip count");
   if (clips > bytes.size()) // a clip takes at least 10 bytes
     r.fail("clip count",

@@ -200,26 +200,35 @@ TEST(AnimStore, AReportNamesOnlyWhatThePackHolds) {
 }
 
 // A two-joint quad whose second joint turns about z from rest to (0, 0, z, w) over `seconds`, on
-// two keys (one clip, "turn"), imported from test::tempDir(folder).
-Character turningQuad(const std::string &folder, float seconds, float z, float w, Reporter &rep) {
+// two keys (one clip, "turn"), imported from test::tempDir(folder). With `floatRest`, both joints'
+// rest values are no half floats: the skeleton takes 10 floats a joint in the tracks.
+Character turningQuad(const std::string &folder, float seconds, float z, float w, Reporter &rep,
+                      bool floatRest = false) {
   test::GltfBuilder g;
   g.skinnedQuad();
+  if (floatRest)
+    for (size_t n : {0, 1}) {
+      g.j["nodes"][n]["rotation"] = {0, 0.0099998f, 0, 0.99995f};
+      g.j["nodes"][n]["scale"] = {1.001f, 1.001f, 1.001f};
+      g.j["nodes"][n]["translation"] = {0.001f, n ? 0.5f : 0.001f, 0};
+    }
   g.animation("turn", 1, "rotation", {0, seconds}, {0, 0, 0, 1, 0, 0, z, w});
   return importGltf(g.write(test::tempDir(folder), "turn"), {}, rep);
 }
 
-// Tracks that may take more than a texture (a two-joint quad turning over one second: the tracks'
-// skeleton alone outweighs two texture frames): the texture is searched, measured and compared.
+// Tracks that may take more than a texture (a two-joint quad turning over one second, its rest
+// values floats: the tracks' skeleton alone outweighs two texture frames): the texture is
+// searched, measured and compared.
 TEST(AnimStore, AutoSearchesTheTextureWhereTracksMayTakeMore) {
   Reporter rep;
   rep.quiet = true;
-  const Character c = turningQuad("store_fallback", 1, 0.38268343f, 0.92387953f, rep);
+  const Character c = turningQuad("store_fallback", 1, 0.38268343f, 0.92387953f, rep, true);
   const AnimBakeResult r = bakeAnimation(c, {}, rep);
   BudgetSearch all;
   for (const auto &p : precisions())
     all.tried.push_back(&p);
   all.matrixJoints = r.budget.matrixJoints;
-  ASSERT_FALSE(r.accuracy.empty()); // searched and measured
+  ASSERT_FALSE(r.accuracy.empty()) << r.storeReason; // searched and measured
   EXPECT_EQ(r.stored, "texture") << r.storeReason;
   EXPECT_NE(r.storeReason.find("both meet the budget, texture in fewer bytes"), std::string::npos)
       << r.storeReason;

@@ -152,7 +152,8 @@ TEST(JointTracks, TimesOnAGridAreStoredAsTicks) {
 
   pack::JointTracks t; // one node at rest: a clip of times alone
   t.skeleton.parents = {-1};
-  t.skeleton.rest = {{0, 0, 0, 1, 0, 0, 0, 1, 1, 1}};
+  t.skeleton.rest = {
+      {0.1f, 0, 0, 0.99498744f, 0.1f, 0, 0, 1.1f, 1, 1}}; // no identity part, no halves
   t.skeleton.restIsMatrix = {0};
   t.skeleton.jointNodes = {0};
   t.clips.resize(1);
@@ -293,6 +294,76 @@ TEST(JointTracks, DamagedChunksAreClearErrors) {
   const auto bytes = pack::encode(good);
   for (size_t n = 0; n < bytes.size(); n += 7)
     EXPECT_THROW(pack::decodeJointTracks(std::span(bytes.data(), n), "TRAK"), Error) << n;
+}
+
+// Version 4: the identity's rest values left out, rest values, constants and mins stored as
+// halves where they are halves; read back as written, fewer bytes, damage a clear error.
+TEST(JointTracks, HalvesAndTheIdentityTakeFewerBytes) {
+  pack::JointTracks t;
+  t.skeleton.parents = {-1, 0, 1, 2};
+  t.skeleton.rest = {{0, 0, 0, 1, 0, 0, 0, 1, 1, 1},              // the identity: nothing stored
+                     {0, 0, 0, 1, 0, 10, 0, 1, 1, 1},             // a translation of halves
+                     {0.1f, 0, 0, 0.99498744f, 0, 0, 0, 1, 1, 1}, // a rotation of floats
+                     {1, 0, 0, 0.5f, 0, 1, 0, 0, 0, 0, 1, 0}};    // a matrix of halves
+  t.skeleton.restIsMatrix = {0, 0, 0, 1};
+  t.skeleton.jointNodes = {1, 2};
+  EXPECT_EQ(pack::skeletonBytes(t.skeleton), 4 + 5 + (5 + 6) + (5 + 16) + (5 + 24) + 4 + 8);
+  pack::TrackClip &clip = t.clips.emplace_back();
+  clip.name = "c";
+  clip.times = {0, 0.5f};
+  clip.tracks.resize(4 * pack::kTracksPerNode);
+  clip.tracks[1].kind = pack::TrackKind::Constant; // node 0's translation: halves
+  clip.tracks[1].min = {0.25f, -2, 1024};
+  clip.tracks[2].kind = pack::TrackKind::Constant; // its scale: floats
+  clip.tracks[2].min = {1.1f, 1, 1};
+  pack::Track &moving = clip.tracks[4]; // node 1's translation: its min halves
+  moving.kind = pack::TrackKind::Animated;
+  moving.bits = 3;
+  moving.min = {-0.5f, 9.75f, 0};
+  moving.extent = {1, 0.5f, 0.25f};
+  for (uint32_t k = 0; k < 6; ++k)
+    pack::writeBits(clip.stream, 3 * k, 3, k);
+  const uint64_t bytes = pack::clipBytes(clip);
+  const auto encoded = pack::encode(t);
+  const pack::JointTracks back = pack::decodeJointTracks(encoded, "TRAK");
+  EXPECT_EQ(pack::encode(back), encoded);
+  EXPECT_EQ(back.skeleton.rest, t.skeleton.rest);
+  EXPECT_EQ(back.skeleton.restIsMatrix, t.skeleton.restIsMatrix);
+  for (size_t k : {1, 2, 4})
+    EXPECT_EQ(back.clips[0].tracks[k].min, clip.tracks[k].min) << k;
+  EXPECT_EQ(back.clips[0].stream, clip.stream);
+  // 3 halves for the constant, 3 for the min, 3 floats for the other constant, the bitmap's byte.
+  EXPECT_EQ(bytes, 4 + 1 + 4 + 5 + 3 + 1 + 6 + 12 + (1 + 6 + 6) + 4 + 4);
+  clip.tracks[1].min[0] = 0.1f; // not a half: floats, 6 bytes more
+  EXPECT_EQ(pack::clipBytes(clip), bytes + 6);
+  clip.tracks[1].min[0] = 0.25f;
+
+  const auto expectError = [&](std::vector<uint8_t> b, uint32_t version, const std::string &field) {
+    try {
+      pack::decodeJointTracks(b, "TRAK", version);
+      ADD_FAILURE() << "no error for " << field;
+    } catch (const Error &e) {
+      EXPECT_NE(std::string(e.what()).find("field '" + field + "'"), std::string::npos) << e.what();
+    }
+  };
+  const size_t node1Flags = 4 + 5 + 4;
+  ASSERT_EQ(encoded.at(node1Flags), 2 | 4 | 16); // halves, no rotation, no scale
+  expectError(encoded, 3, "rest flags");
+  auto b = encoded;
+  b[node1Flags] |= 32; // no such flag
+  expectError(b, 4, "rest flags");
+  b = encoded;
+  b[4 + 5 + 11 + 21 + 4] |= 4; // a matrix without a rotation
+  expectError(b, 4, "rest flags");
+  const size_t clipAt = size_t(pack::skeletonBytes(t.skeleton)) + 4;
+  const size_t bitmap = clipAt + 4 + 1 + 4 + 5 + 3;
+  ASSERT_EQ(encoded.at(bitmap), 1 | 4); // stored tracks 0 and 2 of 3 are halves
+  b = encoded;
+  b[bitmap] |= 8; // a bit past the stored tracks
+  expectError(b, 4, "half values");
+  b = encoded;
+  b[bitmap + 1] = 0x00, b[bitmap + 2] = 0x7e; // the constant's first half: NaN
+  expectError(b, 4, "constant value");
 }
 
 // A clip whose samples pass the 32-bit bit offsets of the palette pass: one clear error at load

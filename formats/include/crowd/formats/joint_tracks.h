@@ -15,8 +15,9 @@ namespace crowd::pack {
 inline constexpr uint32_t kMaxTrackBits = 24; // a float's mantissa: more would not be stored
 inline constexpr uint32_t kTracksPerNode = 3; // rotation, translation, scale, in that order
 // TRAK's version: 2 adds the dropped rotation component (version 1: always w); 3 the time
-// table of ticks and extents as halves.
-inline constexpr uint32_t kJointTracksVersion = 3;
+// table of ticks and extents as halves; 4 constants, ranges' mins and rest values as halves
+// where they are halves, and the identity's rest values left out.
+inline constexpr uint32_t kJointTracksVersion = 4;
 inline constexpr uint32_t kMaxTickBits = 24; // a time table's ticks: a float holds them exactly
 
 enum class TrackKind : uint8_t {
@@ -76,12 +77,13 @@ void writeBits(std::vector<uint32_t> &stream, uint64_t at, uint32_t bits, uint32
 // An Animated track's sample (its 3 components, dequantized).
 std::array<float, 3> trackSample(const TrackClip &clip, const Track &track, uint32_t sample);
 
-// The chunk (TRAK): the skeleton (per node its parent, a matrix flag and its rest values; per
+// The chunk (TRAK): the skeleton (per node its parent, its rest flags and rest values; per
 // joint its node), then per clip its name, sample count, time table (one step where uniformTimes
 // holds, else each time's ticks where timeTicks finds a tick and they take fewer bytes, else
-// every time as a float), the tracks' kinds (2 bits each), each Constant track's value, each
-// Animated track's bits (low 5 bits; bits 5-6 the dropped rotation component; the top bit: step)
-// and range, and the sample stream. Little-endian,
+// every time as a float), the tracks' kinds (2 bits each), one bit per stored track (its values
+// as halves: halfValues), each Constant track's value, each Animated track's bits (low 5 bits;
+// bits 5-6 the dropped rotation component; the top bit: step) and range, and the sample stream.
+// Little-endian,
 // unaligned: docs-grade byte counts, not GPU layout (the player uploads what it decodes).
 std::vector<uint8_t> encode(const JointTracks &tracks);
 // Checks everything local to the chunk (parents before children, joints' nodes, times
@@ -111,5 +113,9 @@ TimeTable timeTable(const std::vector<float> &times);
 // bytes (kind 3 in the chunk's kinds). The bake rounds extents up to halves (a step at most
 // 2^-10 coarser).
 bool halfExtents(const Track &track);
+// Whether every value is a binary16 value (finite, |v| <= 65504, exact): version 4 stores a
+// Constant track's value, an Animated track's min, or a node's rest values in 2 bytes each
+// where they are. The bake rounds constants and mins to halves where the budget allows.
+bool halfValues(std::span<const float> values);
 
 } // namespace crowd::pack
