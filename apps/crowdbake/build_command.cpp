@@ -5,7 +5,6 @@
 #include <fstream>
 #include <iostream>
 #include <string>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -138,33 +137,6 @@ void printSummary(const nlohmann::ordered_json &r, const std::string &reportPath
                reportPath.empty() ? "" : "; report ", reportPath.c_str());
 }
 
-// Runs submit.sh and waits for the collect job. The script's messages (an array's id,
-// sbatch's errors) pass to stderr unless quiet; reading them to their end also waits for the
-// script's tee into logs/submit.log, which may still be writing when the script has exited.
-struct Submitted {
-  int status = -1;
-  std::string lastMessage;
-};
-Submitted submitAndWait(const std::filesystem::path &script, bool quiet) {
-  const std::string command = "WAIT=1 '" + script.string() + "' 2>&1 >/dev/null";
-  Submitted result;
-  FILE *messages = popen(command.c_str(), "r");
-  if (!messages)
-    return result;
-  char buffer[4096];
-  while (std::fgets(buffer, sizeof buffer, messages)) {
-    if (!quiet)
-      std::fputs(buffer, stderr);
-    std::string line(buffer);
-    while (!line.empty() && (line.back() == '\n' || line.back() == '\r'))
-      line.pop_back();
-    if (!line.empty())
-      result.lastMessage = line;
-  }
-  result.status = pclose(messages);
-  return result;
-}
-
 // Writes the Slurm scripts and, with `submit`, runs them and waits for the collect job.
 // The guard bounds the planning here, not the wait for the cluster.
 int slurmBuild(const BuildOptions &o, const SlurmOptions &slurm, const ResourceLimits &limits,
@@ -179,18 +151,8 @@ int slurmBuild(const BuildOptions &o, const SlurmOptions &slurm, const ResourceL
     std::fprintf(stderr, "%s", summary.c_str());
   if (!submit)
     return 0;
-  fs::remove(o.report);
+  const nlohmann::ordered_json report = submitSlurmBuild(o, slurm, quiet);
   const fs::path folder = fs::absolute(slurm.folder);
-  const Submitted run = submitAndWait(folder / "submit.sh", quiet);
-  std::ifstream f(o.report);
-  if (!f) {
-    if (run.status == -1 || !WIFEXITED(run.status) || WEXITSTATUS(run.status) == 127)
-      throw Error("cannot run sbatch (Debian: slurm-client): " + (folder / "submit.sh").string());
-    const std::string &last = run.lastMessage;
-    throw Error("the Slurm build wrote no report: " + (last.empty() ? "see" : last + "; see") +
-                " " + (folder / "logs").string());
-  }
-  const auto report = nlohmann::ordered_json::parse(f);
   if (!quiet)
     std::fprintf(stderr,
                  "crowdbake: on Slurm, 'cached' counts the parts the array tasks wrote "

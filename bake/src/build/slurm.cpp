@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <sys/wait.h>
 
 #include "build_inputs_json.h"
 #include "crowd/bake/cache_admin.h"
@@ -239,6 +240,52 @@ std::string writeSlurmScripts(const BuildOptions &build, const SlurmOptions &slu
   summary << "collect.sbatch: writes the packs and the report " << o.report
           << "\nsubmit.sh: submits them in order (afterok)\n";
   return summary.str();
+}
+
+namespace {
+
+// Runs submit.sh and waits for the collect job. The script's messages pass to stderr unless
+// quiet; reading them to their end also waits for the script's tee into logs/submit.log, which
+// may still be writing when the script has exited.
+struct Submitted {
+  int status = -1;
+  std::string lastMessage;
+};
+Submitted submitAndWait(const fs::path &script, bool quiet) {
+  const std::string command = "WAIT=1 '" + script.string() + "' 2>&1 >/dev/null";
+  Submitted result;
+  FILE *messages = popen(command.c_str(), "r");
+  if (!messages)
+    return result;
+  char buffer[4096];
+  while (std::fgets(buffer, sizeof buffer, messages)) {
+    if (!quiet)
+      std::fputs(buffer, stderr);
+    std::string line(buffer);
+    while (!line.empty() && (line.back() == '\n' || line.back() == '\r'))
+      line.pop_back();
+    if (!line.empty())
+      result.lastMessage = line;
+  }
+  result.status = pclose(messages);
+  return result;
+}
+
+} // namespace
+
+ordered_json submitSlurmBuild(const BuildOptions &build, const SlurmOptions &slurm, bool quiet) {
+  fs::remove(build.report);
+  const fs::path folder = fs::absolute(slurm.folder);
+  const Submitted run = submitAndWait(folder / "submit.sh", quiet);
+  std::ifstream f(build.report);
+  if (!f) {
+    if (run.status == -1 || !WIFEXITED(run.status) || WEXITSTATUS(run.status) == 127)
+      throw Error("cannot run sbatch (Debian: slurm-client): " + (folder / "submit.sh").string());
+    const std::string &last = run.lastMessage;
+    throw Error("the Slurm build wrote no report: " + (last.empty() ? "see" : last + "; see") +
+                " " + (folder / "logs").string());
+  }
+  return ordered_json::parse(f);
 }
 
 void runSlurmTask(const std::string &planPath, int stage, int task) {

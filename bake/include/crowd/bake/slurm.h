@@ -13,6 +13,8 @@
 #pragma once
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "crowd/bake/build.h"
 
 namespace crowd {
@@ -36,6 +38,13 @@ int clusterMaxArraySize();
 // submits them in order with afterok dependencies; with WAIT=1 it waits for the collect job
 // and exits with its status). Returns a summary line per script.
 std::string writeSlurmScripts(const BuildOptions &build, const SlurmOptions &slurm);
+
+// Runs the scripts writeSlurmScripts wrote (FOLDER/submit.sh, WAIT=1) and waits for the collect
+// job; the scripts' messages (an array's id, sbatch's errors) pass to stderr unless `quiet`.
+// Returns the build report the collect job wrote (build.report). Throws naming what failed:
+// sbatch not runnable, or no report written (with the script's last message and the logs).
+nlohmann::ordered_json submitSlurmBuild(const BuildOptions &build, const SlurmOptions &slurm,
+                                        bool quiet);
 
 // Inside an array task: runs task `task` of stage `stage` of the plan, one line per job on
 // stdout (the task's log).
