@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -65,7 +66,8 @@ struct Options {
   std::string scene, screenshot, stats, clip, outfit;
   bool headless = false;
   crowd::runtime::DrawOptions draw;
-  long budget = -1; // -1: the scene's
+  long budget = -1;        // -1: the scene's
+  std::string paletteSlot; // "": the scene's
   int frames = 60, width = 1280, height = 720;
   size_t instances = 0;
   double startTime = 0, step = 1.0 / 30.0;
@@ -130,6 +132,19 @@ bool parse(int argc, char **argv, Options &o) {
          "decodes each frame. Packs of joint tracks alone skin from palettes either way")
       ->check(CLI::IsMember({"texture", "tracks"}))
       ->default_str("texture");
+  app.add_option("--palette-slot", o.paletteSlot,
+                 "instances whose clip times fall in one slot share a palette (joint tracks): "
+                 "'clip' (each clip's own sample step) or seconds, 0 for exact times; "
+                 "overrides the scene's \"palette_slot\"")
+      ->check([](const std::string &v) {
+        char *end = nullptr;
+        const double x = std::strtod(v.c_str(), &end);
+        const double most = crowd::runtime::kMaxPaletteSlot;
+        return v == "clip" || (!v.empty() && *end == 0 && x >= 0 && x <= most)
+                   ? std::string()
+                   : "'clip' or seconds in 0.." + std::to_string(int(most));
+      })
+      ->default_str("the scene's, else clip");
   app.add_option("--clip", o.clip, "pack previews: show this clip only");
   app.add_option("--outfit", o.outfit, "pack previews: show this outfit only");
   app.add_option("--time", o.startTime, "scene time of the first frame, in seconds")
@@ -332,6 +347,8 @@ int headless(const Options &o, crowd::runtime::CrowdRenderer &renderer,
   if (o.draw.trackSkinning ||
       palettes > 0) { // per frame: palettes decoded, their CPU and GPU milliseconds
     summary["palettes"] = palettes / o.frames;
+    summary["palette_slot"] = scene.paletteSlot < 0 ? nlohmann::ordered_json("clip")
+                                                    : nlohmann::ordered_json(scene.paletteSlot);
     summary["palette_cpu_ms"] = paletteMs / o.frames;
     summary["palette_gpu_ms"] = paletteGpuMs / o.frames;
   }
@@ -592,6 +609,13 @@ int interactive(GLFWwindow *win, Options o, const Crowd &crowd, crowd::runtime::
   return 0;
 }
 
+// --palette-slot over the scene's.
+void overrideSlot(const Options &o, crowd::runtime::Scene &scene) {
+  if (!o.paletteSlot.empty())
+    scene.paletteSlot =
+        o.paletteSlot == "clip" ? crowd::runtime::kClipSampleSlot : std::stof(o.paletteSlot);
+}
+
 } // namespace
 
 int main(int argc, char **argv) {
@@ -607,13 +631,16 @@ int main(int argc, char **argv) {
       crowd.packs.push_back(crowd::pack::loadCharacterPack(crowd::pack::Reader::open(o.scene)));
       crowd.impostors = {nullptr};
       preview = [&](const crowd::runtime::PreviewChoice &c) {
-        return crowd::runtime::previewScene(o.scene, crowd.packs[0], c);
+        crowd::runtime::Scene s = crowd::runtime::previewScene(o.scene, crowd.packs[0], c);
+        overrideSlot(o, s);
+        return s;
       };
       const auto all = preview({});
       choice = {pick(all.clipNames, o.clip, "clip"), pick(all.outfitNames, o.outfit, "outfit")};
       scene = preview(choice);
     } else {
       scene = crowd::runtime::loadScene(o.scene, o.instances);
+      overrideSlot(o, scene);
       for (const auto &path : scene.packPaths) {
         if (!std::filesystem::exists(path))
           throw crowd::Error(o.scene + ": pack '" + path +

@@ -757,7 +757,7 @@ void CrowdRenderer::runPalettes(Character &c, size_t ci, const CrowdSelection::C
     if (!paletteProgram_)
       paletteProgram_ = buildComputeProgram(kPaletteComp, "palette");
     try {
-      c.palettes = std::make_unique<PalettePass>(p, c.instanceCount);
+      c.palettes = std::make_unique<PalettePass>(p, c.instanceCount, scene_.paletteSlot);
     } catch (const Error &e) {
       throw Error("pack '" + scene_.packNames[ci] + "': " + e.what());
     }

@@ -28,7 +28,8 @@ struct RequestHash {
 
 } // namespace
 
-PalettePass::PalettePass(const pack::AnimationPack &p, uint32_t instances) : pack_(&p) {
+PalettePass::PalettePass(const pack::AnimationPack &p, uint32_t instances, float slot)
+    : pack_(&p), slots_(paletteSlots(p, slot)) {
   const TrackWords w = trackWords(p);
   nodes_ = w.nodes, joints_ = w.joints, clips_ = w.clips;
   glCreateBuffers(GLsizei(std::size(buffers_)), buffers_);
@@ -58,7 +59,7 @@ uint32_t PalettePass::run(unsigned program, const std::vector<float> &instanceDa
   for (uint32_t i : ids) {
     const float *d = &instanceData[size_t(i) * stride + 12];
     const PaletteRequest r =
-        paletteRequest(*pack_, {d[0], d[1], d[2], d[3]}, {d[4], d[5], d[6], d[7]}, seconds);
+        paletteRequest(*pack_, {d[0], d[1], d[2], d[3]}, {d[4], d[5], d[6], d[7]}, seconds, slots_);
     auto [it, added] = index.try_emplace(r, int32_t(requests_.size()));
     if (added)
       requests_.push_back(r);

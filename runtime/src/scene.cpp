@@ -400,7 +400,8 @@ Scene parseSceneText(const std::string &text, const std::string &path, size_t in
   Scene s;
   s.path = path;
   c.onlyKeys(j, {},
-             {"packs", "instances", "palettes", "camera", "light", "budget", "world", "comment"});
+             {"packs", "instances", "palettes", "camera", "light", "budget", "palette_slot",
+              "world", "comment"});
   auto dir = std::filesystem::path(path).parent_path();
   if (j.contains("world"))
     parseWorld(c, j["world"], dir, s);
@@ -458,6 +459,13 @@ Scene parseSceneText(const std::string &text, const std::string &path, size_t in
   }
   if (j.contains("budget"))
     s.budget = uint64_t(c.number(j["budget"], {"budget"}, 0, 1e12));
+  if (j.contains("palette_slot")) {
+    const json &slot = j["palette_slot"];
+    if (slot.is_string() && slot != "clip")
+      c.fail({"palette_slot"}, "is \"clip\" or seconds, not " + slot.dump());
+    if (!slot.is_string())
+      s.paletteSlot = float(c.number(slot, {"palette_slot"}, 0, kMaxPaletteSlot));
+  }
   return s;
 }
 

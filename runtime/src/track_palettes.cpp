@@ -30,6 +30,13 @@ float clipSeconds(float t, float duration, bool loop) {
   return std::clamp(t, 0.0f, duration);
 }
 
+// A clip time on its slot, clamped into the clip; slot 0 leaves it.
+float onSlot(float t, float duration, float slot) {
+  if (!(slot > 0))
+    return t;
+  return std::clamp(slot * std::round(t / slot), 0.0f, duration);
+}
+
 } // namespace
 
 TrackWords trackWords(const pack::AnimationPack &p) {
@@ -79,12 +86,28 @@ TrackWords trackWords(const pack::AnimationPack &p) {
   return w;
 }
 
+std::vector<float> paletteSlots(const pack::AnimationPack &p, float slot) {
+  const pack::JointTracks &t = tracksOf(p);
+  std::vector<float> out;
+  for (size_t c = 0; c < t.clips.size(); ++c) {
+    float s = slot;
+    if (s < 0) {
+      const pack::TimeTicks ticks = pack::timeTicks(t.clips[c].times);
+      s = ticks.bits ? ticks.tick : 1.0f / p.clips[c].fps;
+    }
+    out.push_back(s);
+  }
+  return out;
+}
+
 PaletteRequest paletteRequest(const pack::AnimationPack &p, const glm::vec4 &params,
-                              const glm::vec4 &fade, float seconds) {
+                              const glm::vec4 &fade, float seconds, std::span<const float> slots) {
   const pack::JointTracks &t = tracksOf(p);
   const auto at = [&](float clip, float offset) {
     const size_t c = size_t(clip);
-    return clipSeconds(seconds * params.z + offset, t.clips[c].duration(), p.clips[c].loop);
+    const float duration = t.clips[c].duration();
+    return onSlot(clipSeconds(seconds * params.z + offset, duration, p.clips[c].loop), duration,
+                  slots.empty() ? 0.0f : slots[c]);
   };
   PaletteRequest r;
   r.clip = params.x;

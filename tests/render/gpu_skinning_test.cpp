@@ -23,7 +23,6 @@
 #include "crowd/bake/fade_accuracy.h"
 #include "crowd/bake/import.h"
 #include "crowd/bake/outfit_bake.h"
-#include "crowd/support/point_cache.h"
 #include "crowd/runtime/clip_switch.h"
 #include "crowd/runtime/cloth_playback.h"
 #include "crowd/runtime/crowd_renderer.h"
@@ -33,6 +32,7 @@
 #include "crowd/runtime/texture_skinning.h"
 #include "crowd/samples/cloth_caches.h"
 #include "crowd/samples/samples.h"
+#include "crowd/support/point_cache.h"
 #include "crowd_shaders.h"
 
 using namespace crowd;
@@ -355,7 +355,8 @@ TEST_F(Gl, PalettesSkinAsTheirCpuMirrorAndTheSource) {
     std::copy(&k.fade.x, &k.fade.x + 4, &data[16]);
     ASSERT_EQ(pass.run(program, data, 20, {0}, k.seconds), 1u);
     const auto gpu = shaderPositions(p, k.params, k.fade, k.seconds, {}, &pass);
-    const runtime::PaletteRequest r = runtime::paletteRequest(p, k.params, k.fade, k.seconds);
+    const runtime::PaletteRequest r =
+        runtime::paletteRequest(p, k.params, k.fade, k.seconds, pass.slots());
     const auto palette = runtime::decodePalette(p, r);
     const bool fading = r.from >= 0;
     std::vector<glm::dvec3> reference;
@@ -454,7 +455,8 @@ TEST_F(Gl, PalettesRebuildEveryDroppedComponentAsTheirCpuMirror) {
     std::copy(&fade.x, &fade.x + 4, &data[16]);
     ASSERT_EQ(pass.run(program, data, 20, {0}, t), 1u);
     const auto gpu = shaderPositions(p, params, fade, t, {}, &pass);
-    const auto palette = runtime::decodePalette(p, runtime::paletteRequest(p, params, fade, t));
+    const auto palette =
+        runtime::decodePalette(p, runtime::paletteRequest(p, params, fade, t, pass.slots()));
     for (size_t v = 0; v < gpu.size(); ++v) {
       glm::vec3 cpu(0.0f);
       for (int i = 0; i < 4; ++i) {

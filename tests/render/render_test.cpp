@@ -308,7 +308,8 @@ TEST(Player, CullingChangesNoPixel) {
 // Skinning from compressed joint tracks (palettes decoded by a compute pass) draws what the
 // animation texture draws: 16 walkers changing clip every 0.5-1.5 s with 0.3 s crossfades, at
 // three times; every instance gets a palette, and only as many as differ. A pack of joint
-// tracks alone (--store tracks) draws the same with the player's default option.
+// tracks alone (--store tracks) draws the same with the player's default skinning. At exact
+// times (--palette-slot 0) and with the default slots (each clip's sample step: fewer palettes).
 TEST(Player, TrackSkinningDrawsWhatTheTextureDraws) {
   for (const char *store : {"both", "tracks"})
     ASSERT_EQ(run(std::string(CROWDBAKE) + " anim " + work() + "/humanoid.glb --store " + store +
@@ -322,11 +323,12 @@ TEST(Player, TrackSkinningDrawsWhatTheTextureDraws) {
   scene["packs"][0]["path"] = "humanoid_tracks.crowdpack";
   const std::string alone = writeScene("tracks_alone", scene);
   const std::string common = " --headless --frames 3 --step 0.7 --time 1 --size 320x180";
+  const std::string exact = " --palette-slot 0";
   std::map<std::string, Image> shots;
   for (const std::string skinning : {"texture", "tracks"}) {
     const std::string png = work() + "/skinning_" + skinning + ".png",
                       stats = work() + "/skinning_" + skinning + ".json";
-    ASSERT_EQ(run(std::string(CROWDPLAY) + " " + path + common + " --skinning " + skinning +
+    ASSERT_EQ(run(std::string(CROWDPLAY) + " " + path + common + exact + " --skinning " + skinning +
                   " --screenshot " + png + " --stats " + stats)
                   .code,
               0);
@@ -338,14 +340,24 @@ TEST(Player, TrackSkinningDrawsWhatTheTextureDraws) {
       EXPECT_LE(s["palettes"].get<double>(), s["visible"].get<double>());
     }
   }
-  const std::string png = work() + "/skinning_alone.png", stats = work() + "/skinning_alone.json";
-  ASSERT_EQ(run(std::string(CROWDPLAY) + " " + alone + common + " --screenshot " + png +
-                " --stats " + stats)
-                .code,
-            0);
-  shots["tracks alone"] = readPng(png);
-  EXPECT_GT(summaryOf(stats)["summary"]["palettes"].get<double>(), 0.0);
-  for (const char *against : {"tracks", "tracks alone"}) {
+  std::map<std::string, double> palettes;
+  for (const std::string slot : {"0", "clip"}) {
+    const std::string png = work() + "/skinning_alone_" + slot + ".png",
+                      stats = work() + "/skinning_alone_" + slot + ".json";
+    ASSERT_EQ(run(std::string(CROWDPLAY) + " " + alone + common + " --palette-slot " + slot +
+                  " --screenshot " + png + " --stats " + stats)
+                  .code,
+              0);
+    shots[slot == "0" ? "tracks alone" : "tracks alone, slotted"] = readPng(png);
+    const auto s = summaryOf(stats)["summary"];
+    palettes[slot] = s["palettes"].get<double>();
+    EXPECT_EQ(s["palette_slot"], slot == "0" ? nlohmann::json(0.0) : nlohmann::json("clip"));
+  }
+  std::printf("palettes a frame: %.1f at exact times, %.1f slotted\n", palettes["0"],
+              palettes["clip"]);
+  EXPECT_GT(palettes["clip"], 0.0);
+  EXPECT_LT(palettes["clip"], palettes["0"]);
+  for (const char *against : {"tracks", "tracks alone", "tracks alone, slotted"}) {
     const Comparison c = compare(shots["texture"], shots[against]);
     std::printf("%s against texture skinning: silhouette IoU %.4f, mean difference %.3f/255 "
                 "(%.3f where both cover)\n",

@@ -56,6 +56,25 @@ TEST(Scene, TriangleBudget) {
       std::string::npos);
 }
 
+TEST(Scene, PaletteSlot) {
+  EXPECT_EQ(parseScene(kMinimal, "s.json").paletteSlot, runtime::kClipSampleSlot);
+  const auto slot = [](const std::string &v) {
+    return parseScene(R"({"packs": [{"path": "a"}], "instances": {}, "palette_slot": )" + v + "}",
+                      "s.json")
+        .paletteSlot;
+  };
+  EXPECT_EQ(slot("\"clip\""), runtime::kClipSampleSlot);
+  EXPECT_EQ(slot("0"), 0.0f);
+  EXPECT_EQ(slot("0.05"), 0.05f);
+  for (const char *bad : {"-1", "11", "\"frame\"", "[1]"})
+    EXPECT_NE(
+        errorOf(std::string(R"({"packs": [{"path": "a"}], "instances": {}, "palette_slot": )") +
+                bad + "}")
+            .find("palette_slot"),
+        std::string::npos)
+        << bad;
+}
+
 TEST(Scene, GridRandomAndListPlacements) {
   auto grid = parseScene(R"({"packs": [{"path": "a"}], "instances": {"count": 9,
       "placement": {"type": "grid", "spacing": 2}}})",

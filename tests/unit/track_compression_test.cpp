@@ -4,6 +4,7 @@
 #include <cmath>
 #include <map>
 #include <random>
+#include <set>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
@@ -364,6 +365,51 @@ TEST(JointTracks, HalvesAndTheIdentityTakeFewerBytes) {
   b = encoded;
   b[bitmap + 1] = 0x00, b[bitmap + 2] = 0x7e; // the constant's first half: NaN
   expectError(b, 4, "constant value");
+}
+
+// Palette slots: 3,000 walkers of the humanoid at random offsets and speeds share one palette
+// per sample step of the clip (the player's default), each time within half a step of its own;
+// no slots give each its exact time; a fixed slot rounds to its multiples; a crossfade's weight
+// is the same with slots as without, both clips' times on their slots.
+TEST(TrackPalettes, InstancesInOneSlotShareAPalette) {
+  const pack::AnimationPack &p = humanoidWithTracks();
+  ASSERT_TRUE(p.tracks);
+  const std::vector<float> slots = runtime::paletteSlots(p);
+  ASSERT_EQ(slots.size(), p.clips.size());
+  const pack::TrackClip &walk = p.tracks->clips[0];
+  ASSERT_TRUE(pack::uniformTimes(walk.times));
+  EXPECT_EQ(slots[0], walk.times[1]); // a uniform table's step
+  const float step = slots[0], duration = walk.duration();
+  std::mt19937 random(5);
+  std::uniform_real_distribution<float> offset(0, 10), speed(0.85f, 1.15f);
+  const glm::vec4 noFade(-1, 0, 0, 0);
+  std::set<float> slotted, exact;
+  for (int i = 0; i < 3000; ++i) {
+    const glm::vec4 params(0, offset(random), speed(random), 0);
+    const runtime::PaletteRequest r = runtime::paletteRequest(p, params, noFade, 12.3f, slots);
+    const runtime::PaletteRequest e = runtime::paletteRequest(p, params, noFade, 12.3f);
+    EXPECT_LE(std::abs(r.seconds - e.seconds), 0.5f * step + 1e-5f);
+    EXPECT_NEAR(r.seconds / step, std::round(r.seconds / step), 1e-3);
+    EXPECT_LE(r.seconds, duration);
+    slotted.insert(r.seconds);
+    exact.insert(e.seconds);
+  }
+  EXPECT_LE(slotted.size(), walk.times.size());
+  EXPECT_GT(exact.size(), 2990u);
+  ASSERT_GT(duration, 0.3f);
+  EXPECT_EQ(
+      runtime::paletteRequest(p, {0, 0.2f, 1, 0}, noFade, 0.1f, runtime::paletteSlots(p, 0.25f))
+          .seconds,
+      0.25f);
+  EXPECT_EQ(runtime::paletteSlots(p, 0), std::vector<float>(p.clips.size(), 0.0f));
+  const glm::vec4 fade(1, 0.3f, 0.0f, 0.3f); // from clip 1, over 0.3 s from scene time 0
+  const auto f = runtime::paletteRequest(p, {0, 0.1f, 1, 0}, fade, 0.137f, slots);
+  const auto fe = runtime::paletteRequest(p, {0, 0.1f, 1, 0}, fade, 0.137f);
+  EXPECT_EQ(f.weight, fe.weight);
+  EXPECT_LT(f.weight, 1.0f);
+  EXPECT_EQ(f.from, 1.0f);
+  EXPECT_NEAR(f.fromSeconds / slots[1], std::round(f.fromSeconds / slots[1]), 1e-3);
+  EXPECT_LE(std::abs(f.fromSeconds - fe.fromSeconds), 0.5f * slots[1] + 1e-5f);
 }
 
 // A clip whose samples pass the 32-bit bit offsets of the palette pass: one clear error at load

@@ -13,8 +13,8 @@ namespace crowd::runtime {
 
 class PalettePass {
 public:
-  // Throws crowd::Error when the pack has no joint tracks.
-  PalettePass(const pack::AnimationPack &p, uint32_t instances);
+  // Throws crowd::Error when the pack has no joint tracks. `slot`: paletteSlots'.
+  PalettePass(const pack::AnimationPack &p, uint32_t instances, float slot = kClipSampleSlot);
   ~PalettePass();
   PalettePass(const PalettePass &) = delete;
   PalettePass &operator=(const PalettePass &) = delete;
@@ -29,9 +29,11 @@ public:
   void bind() const; // the palettes and each instance's palette: bindings 9 and 10
   uint32_t joints() const { return joints_; }
   int32_t paletteOf(uint32_t instance) const { return paletteOf_[instance]; }
+  const std::vector<float> &slots() const { return slots_; } // per clip: paletteSlots'
 
 private:
   const pack::AnimationPack *pack_;
+  std::vector<float> slots_;
   uint32_t nodes_ = 0, joints_ = 0, clips_ = 0, capacity_ = 0;
   unsigned buffers_[8] = {}; // rig, tracks, times, stream, requests, palettes, globals, paletteOf
   unsigned queries_[2] = {}; // timestamps before and after the last timed dispatch

@@ -10,6 +10,7 @@
 #include <glm/glm.hpp>
 
 #include "crowd/runtime/agents.h"
+#include "crowd/runtime/track_palettes.h"
 
 namespace crowd::runtime {
 
@@ -96,6 +97,9 @@ struct Scene {
   WorldSettings world;
   // Triangles the player may draw a frame (LOD chooses each instance's detail to fit); 0: none.
   uint64_t budget = 0;
+  // Seconds of clip time whose instances share a palette (track_palettes.h: kClipSampleSlot,
+  // each clip's sample step; 0, exact times).
+  float paletteSlot = kClipSampleSlot;
 };
 
 // Parses and validates SCENE.json. `instanceOverride` > 0 replaces the scene's count (the

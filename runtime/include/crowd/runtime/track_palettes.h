@@ -5,6 +5,7 @@
 // clips' local poses (slerp, lerp) before the hierarchy, as engines fade.
 #pragma once
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -32,6 +33,17 @@ inline constexpr uint64_t kMaxClipStreamBits = uint64_t(UINT32_MAX);
 // Throws crowd::Error when the pack has no tracks or a clip's samples pass kMaxClipStreamBits.
 TrackWords trackWords(const pack::AnimationPack &p);
 
+// Instances whose clip times fall in one slot share a palette: each time is taken to the nearest
+// multiple of its clip's slot (clamped into the clip). kClipSampleSlot, the player's default:
+// each clip's own sample step (the poses its samples hold, none between); 0: exact times. A
+// crossfade's weight is never slotted.
+inline constexpr float kClipSampleSlot = -1.0f;
+inline constexpr float kMaxPaletteSlot = 10.0f; // seconds: longer, most clips would hold one pose
+// Each clip's slot in seconds: `slot` where it is >= 0, else (kClipSampleSlot) the clip's sample
+// step, the tick its tracks' times are whole multiples of (pack::timeTicks: a uniform table's
+// step, a grid's where samples were dropped from one), else 1 / its fps.
+std::vector<float> paletteSlots(const pack::AnimationPack &p, float slot = kClipSampleSlot);
+
 // What one palette shows: `clip` at `seconds` into it; in a crossfade, blended with `from` at
 // `fromSeconds`, `weight` of the way to `clip` (from = -1: no fade, weight 1).
 struct PaletteRequest {
@@ -40,9 +52,11 @@ struct PaletteRequest {
 };
 // The request of an instance playing `params` (clip, time offset, speed, palette) with `fade`
 // (clip faded from or -1, its time offset, fade start, fade length) at scene time `seconds`:
-// a looping clip (the clip table's flag) wraps over its duration, others clamp.
+// a looping clip (the clip table's flag) wraps over its duration, others clamp; then each clip
+// time goes to its clip's slot of `slots` (paletteSlots; none given: exact times).
 PaletteRequest paletteRequest(const pack::AnimationPack &p, const glm::vec4 &params,
-                              const glm::vec4 &fade, float seconds);
+                              const glm::vec4 &fade, float seconds,
+                              std::span<const float> slots = {});
 
 // The CPU mirror of the pass: the joints' matrices (global transform x inverse bind).
 std::vector<glm::mat4> decodePalette(const pack::AnimationPack &p, const PaletteRequest &r);
