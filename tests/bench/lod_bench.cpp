@@ -8,22 +8,28 @@
 // every animation frame (30 fps, all clips), as % of the rest pose's bounding-box diagonal
 // (lod_distance.h); and the time of our full sequence against meshopt's four calls, in the same
 // process.
-// Usage: lod_bench OUT.csv TIMES.csv FILE.glb...
+// With --cuts DIR, gltfpack's own cuts of each asset as well (DIR/ASSET.MODE.SHARE.glb, MODE
+// default or permissive: what lod_bench.sh writes with gltfpack -si SHARE [-sp] -noq), measured
+// as drawn beside ours cut at the same number of triangles (rows ours_at_gltfpack[_permissive]).
+// Usage: lod_bench OUT.csv TIMES.csv [--cuts DIR] FILE.glb...
 //        lod_bench --times-only TIMES.csv FILE.glb...   (the times alone: no distances, no grids;
 //        what tests/bench/lod_speed.sh runs, alternating with a baseline's lod_bench)
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <optional>
 #include <string>
+#include <unordered_map>
 
 #include <sys/resource.h>
 
 #include <meshoptimizer.h>
 
+#include "crowd/bake/import.h"
 #include "crowd/bake/lod_bake.h"
 #include "crowd/bake/malloc_tuning.h"
 #include "lod_distance.h"
@@ -86,6 +92,46 @@ template <class Work> double fastest(Work work) {
   return best;
 }
 
+// The triangles of an outside cut (gltfpack's) on the asset's vertices: each of its vertices is
+// the asset's vertex at the same position (meshopt_simplify moves none; -noq keeps the floats),
+// else the nearest, counted and said.
+std::vector<uint32_t> cutOnAsset(const std::string &file, const std::vector<glm::vec3> &positions,
+                                 crowd::Reporter &rep) {
+  const crowd::Character cut = crowd::importGltf(file, {}, rep);
+  const auto key = [](const glm::vec3 &p) {
+    uint32_t w[3];
+    std::memcpy(w, &p.x, 12);
+    return (uint64_t(w[0]) * 0x9e3779b97f4a7c15ull) ^ (uint64_t(w[1]) * 0xc2b2ae3d27d4eb4full) ^
+           w[2];
+  };
+  std::unordered_multimap<uint64_t, uint32_t> at;
+  for (uint32_t v = 0; v < positions.size(); ++v)
+    at.emplace(key(positions[v]), v);
+  std::vector<uint32_t> asset(cut.mesh.positions.size());
+  size_t moved = 0;
+  for (size_t v = 0; v < asset.size(); ++v) {
+    const glm::vec3 &p = cut.mesh.positions[v];
+    bool found = false;
+    for (auto [it, end] = at.equal_range(key(p)); it != end && !found; ++it)
+      if (positions[it->second] == p)
+        asset[v] = it->second, found = true;
+    if (found)
+      continue;
+    ++moved;
+    float best = INFINITY;
+    for (uint32_t u = 0; u < positions.size(); ++u)
+      if (const float d = glm::length(positions[u] - p); d < best)
+        best = d, asset[v] = u;
+  }
+  if (moved)
+    std::fprintf(stderr, "%s: %zu of %zu vertices at no vertex of the asset (the nearest taken)\n",
+                 file.c_str(), moved, asset.size());
+  std::vector<uint32_t> out;
+  for (uint32_t i : cut.mesh.indices)
+    out.push_back(asset[i]);
+  return out;
+}
+
 } // namespace
 
 int main(int argc, char **argv) {
@@ -98,11 +144,15 @@ int main(int argc, char **argv) {
     return 2;
   }
   std::ofstream csv(timesOnly ? "/dev/null" : argv[1]), times(argv[2]);
+  int first = 3;
+  std::string cuts;
+  if (!timesOnly && argc > 4 && std::string(argv[3]) == "--cuts")
+    cuts = argv[4], first = 5;
   csv << "asset,method,share,triangles,rest_hausdorff_pct,animated_max_hausdorff_pct,"
          "animated_mean_hausdorff_pct\n";
   times << "asset,triangles,ours_s,ours_bind_only_s,meshopt_4_calls_s,ours_mtris_per_s,"
            "ours_bind_only_mtris_per_s\n";
-  for (int f = 3; f < argc; ++f) {
+  for (int f = first; f < argc; ++f) {
     crowd::Reporter rep;
     rep.quiet = true;
     const crowd::bench::LodInput in = crowd::bench::loadLodInput(argv[f], rep);
@@ -166,6 +216,18 @@ int main(int argc, char **argv) {
       row("ours_bind_only", shares[k], blind[k]);
       row("meshopt", shares[k], meshopt[k]);
     }
+    const char *shareNames[4] = {"0.5", "0.25", "0.1", "0.05"}; // as lod_bench.sh names them
+    for (const std::string mode : {"default", "permissive"})
+      for (size_t k = 0; k < 4 && !cuts.empty(); ++k) {
+        const std::string file = cuts + "/" + asset + "." + mode + "." + shareNames[k] + ".glb";
+        if (!std::filesystem::exists(file))
+          continue;
+        const std::vector<uint32_t> theirs = cutOnAsset(file, in.character.mesh.positions, rep);
+        const std::string suffix = mode == "default" ? "" : "_permissive";
+        row(("gltfpack" + suffix).c_str(), shares[k], theirs);
+        row(("ours_at_gltfpack" + suffix).c_str(), shares[k],
+            crowd::bench::lodCut(ours, theirs.size() / 3));
+      }
   }
   if (!timesOnly) {
     bigMesh(times, false);
